@@ -1,0 +1,71 @@
+# Helpers that give every module, test, tool and benchmark the same flags.
+
+set(OCG_WARNING_FLAGS -Wall -Wextra -Wpedantic)
+
+function(_ocg_apply_flags target)
+  target_compile_options(${target} PRIVATE ${OCG_WARNING_FLAGS})
+  if(OCG_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(OCG_NATIVE_ARCH)
+    target_compile_options(${target} PRIVATE -march=native)
+  endif()
+endfunction()
+
+# ocg_add_library(<module> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# Creates target ocglib_<module> (file libocg_<module>) with alias ocg::<module>, headers under include/ocg/<module>.
+function(ocg_add_library module)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  set(target ocglib_${module})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(ocg::${module} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${module} OUTPUT_NAME ocg_${module})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  _ocg_apply_flags(${target})
+  install(TARGETS ${target} EXPORT ocgTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  set_property(GLOBAL APPEND PROPERTY OCG_MODULES ${module})
+endfunction()
+
+# ocg_add_test(<name> SOURCES ... DEPS ...): a GoogleTest executable registered with CTest.
+function(ocg_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} ocg_test_support GTest::gtest GTest::gtest_main)
+  _ocg_apply_flags(${name})
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
+    PROPERTIES ENVIRONMENT "OCG_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+endfunction()
+
+# ocg_add_tool(<name> SOURCES ... DEPS ...): an installed command-line program.
+function(ocg_add_tool name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+  _ocg_apply_flags(${name})
+  install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endfunction()
+
+# ocg_add_bench(<name> SOURCES ... DEPS ...): a Google Benchmark program (never run by ctest).
+function(ocg_add_bench name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark)
+  _ocg_apply_flags(${name})
+endfunction()
+
+function(ocg_install_package)
+  include(CMakePackageConfigHelpers)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/ocg DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT ocgTargets NAMESPACE ocg:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ocg)
+  configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/ocgConfig.cmake.in
+    ${PROJECT_BINARY_DIR}/ocgConfig.cmake INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ocg)
+  write_basic_package_version_file(${PROJECT_BINARY_DIR}/ocgConfigVersion.cmake
+    COMPATIBILITY SameMinorVersion)
+  install(FILES ${PROJECT_BINARY_DIR}/ocgConfig.cmake ${PROJECT_BINARY_DIR}/ocgConfigVersion.cmake
+    DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ocg)
+endfunction()

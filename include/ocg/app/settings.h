@@ -1,0 +1,37 @@
+#pragma once
+// The composition root of settings: every module's options read from one file, checked,
+// with warnings for keys nobody reads. Used by the command-line tools.
+
+#include <string>
+#include <vector>
+
+#include "ocg/core/core_settings.h"
+#include "ocg/features/orb_options.h"
+#include "ocg/ocg/options.h"
+#include "ocg/viewer/viewer_options.h"
+
+namespace ocg {
+
+struct Settings {
+  std::string source = "(defaults)";  // the file they came from
+  CameraSettings camera;
+  SystemOptions system;
+  OrbExtractorOptions orb;
+  OcgOptions ocg;
+  ViewerOptions viewer;
+
+  // Throws SettingsError "file:line: key 'K': message" for the first impossible value.
+  void Check() const;
+};
+
+struct LoadedSettings {
+  Settings settings;
+  std::vector<std::string> warnings;  // one per unknown key, also logged
+};
+
+// Throws SettingsError naming the file, line and key on a missing file, invalid YAML,
+// a wrong type or an impossible value.
+LoadedSettings LoadSettings(const std::string& path);
+LoadedSettings ParseSettings(const std::string& text, const std::string& name);
+
+}  // namespace ocg

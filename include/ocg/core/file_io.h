@@ -1,0 +1,28 @@
+#pragma once
+// File helpers used at the boundaries: every error names the file.
+
+#include <stdexcept>
+#include <string>
+
+namespace ocg {
+
+class FileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Whole file as text. Throws FileError naming the path when it cannot be read.
+std::string ReadTextFile(const std::string& path);
+
+// Writes content to a temporary file beside path, then renames it over path, so readers
+// never see a half-written file and a failure leaves any previous file intact.
+// Creates missing parent directories. Throws FileError naming the path.
+void WriteFileAtomically(const std::string& path, const std::string& content);
+
+// Creates the directory and its parents if missing. Throws FileError naming it.
+void EnsureDirectory(const std::string& path);
+
+// "path:line: message", the form editors and terminals turn into links.
+std::string FileLocation(const std::string& path, int line);
+
+}  // namespace ocg

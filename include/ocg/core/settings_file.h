@@ -1,0 +1,63 @@
+#pragma once
+// A settings file: our own YAML files and ORB-SLAM2's OpenCV-YAML settings files
+// (first line "%YAML:1.0", flat dotted keys such as "Camera.fx") read unchanged.
+//
+// Nested maps are flattened to dotted keys, so "OCG: {tau_doubt: 50}" and
+// "OCG.tau_doubt: 50" are the same key. The file remembers which keys were read, so the
+// loader can warn about the rest (typos, options of another program).
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ocg {
+
+class SettingsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class SettingsFile {
+ public:
+  // Throws SettingsError naming the file (and line) when it is missing or not YAML.
+  static SettingsFile Load(const std::string& path);
+  // Parses text; name stands for the file in messages.
+  static SettingsFile Parse(const std::string& text, const std::string& name);
+
+  const std::string& name() const { return name_; }
+  bool Has(const std::string& key) const { return values_.count(key) > 0; }
+  // 1-based line of the key in the file, 0 when absent.
+  int LineOf(const std::string& key) const;
+
+  // Each Read leaves *value untouched and returns false when the key is absent, and
+  // throws SettingsError naming file, line and key when the value has the wrong type.
+  bool Read(const std::string& key, double* value) const;
+  bool Read(const std::string& key, int* value) const;
+  bool Read(const std::string& key, std::uint64_t* value) const;
+  bool Read(const std::string& key, bool* value) const;
+  bool Read(const std::string& key, std::string* value) const;
+  bool Read(const std::string& key, std::vector<double>* value) const;
+
+  // Keys present in the file that no Read asked for, in file order.
+  std::vector<std::string> UnreadKeys() const;
+  // "file:line: key 'K': message".
+  std::string Describe(const std::string& key, const std::string& message) const;
+
+ private:
+  struct Value {
+    std::vector<std::string> items;  // one item for a scalar
+    bool is_sequence = false;
+    int line = 0;
+  };
+  const Value* Find(const std::string& key, bool expect_sequence) const;
+  [[noreturn]] void Fail(const std::string& key, const std::string& message) const;
+
+  std::string name_;
+  std::map<std::string, Value> values_;
+  mutable std::set<std::string> read_;
+};
+
+}  // namespace ocg

@@ -1,0 +1,45 @@
+#pragma once
+// Image sequences on disk: TUM RGB-D folders and EuRoC MAV folders.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocg/core/camera.h"
+#include "ocg/core/lie.h"
+#include "ocg/io/trajectory.h"
+
+namespace ocg {
+
+struct TimedImage {
+  std::string timestamp_text;  // exactly as in the list, used to find detection files
+  double timestamp = 0.0;      // seconds
+  std::string path;            // image file, sequence folder prepended
+};
+
+struct ImageSequence {
+  std::string root;
+  std::vector<TimedImage> images;
+  std::vector<StampedPose> groundtruth;  // camera poses T_wc; empty when not provided
+  // EuRoC only: the calibration from sensor.yaml and the body-from-camera transform.
+  std::optional<PinholeCamera> camera;
+  std::optional<SE3> T_body_camera;
+};
+
+// "timestamp path" lines (TUM rgb.txt). Paths are made relative to base_dir.
+std::vector<TimedImage> ReadTumImageList(const std::string& path, const std::string& base_dir);
+
+// A TUM RGB-D folder: rgb.txt, optional groundtruth.txt (camera-to-world).
+ImageSequence ReadTumSequence(const std::string& root);
+
+// A EuRoC MAV folder (the one holding mav0/): mav0/cam0/data.csv, mav0/cam0/sensor.yaml
+// (intrinsics, radial-tangential distortion, resolution, T_BS), and the ground truth of
+// mav0/state_groundtruth_estimate0/data.csv when present, turned into camera poses
+// T_wc = T_wb * T_BS. Timestamps in nanoseconds become seconds.
+ImageSequence ReadEurocSequence(const std::string& root);
+
+// Camera poses from body poses: T_wc = T_wb * T_body_camera.
+std::vector<StampedPose> BodyToCameraPoses(const std::vector<StampedPose>& body_poses,
+                                           const SE3& T_body_camera);
+
+}  // namespace ocg

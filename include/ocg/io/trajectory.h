@@ -1,0 +1,24 @@
+#pragma once
+// TUM trajectory files: "timestamp tx ty tz qx qy qz qw" per line, the pose of the
+// camera in the world (T_wc), '#' comments.
+
+#include <string>
+#include <vector>
+
+#include "ocg/core/lie.h"
+
+namespace ocg {
+
+struct StampedPose {
+  double timestamp = 0.0;
+  std::string timestamp_text;  // exactly as in the file; empty for computed poses
+  SE3 T_wc;
+};
+
+// Throws FileError when missing, ParseError naming file and line when malformed.
+std::vector<StampedPose> ReadTumTrajectory(const std::string& path);
+// Writes atomically; timestamps as their text when known, else with 6 decimals.
+void WriteTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
+std::string FormatTumTrajectory(const std::vector<StampedPose>& poses);
+
+}  // namespace ocg

@@ -1,0 +1,105 @@
+#pragma once
+// The OCG change detector: the graph plus every object's state and DoubtValue, updated
+// once per keyframe (SPEC 3). Not thread-safe; OcgManager owns one and serialises calls.
+//
+// Cost of Process(): O(sum of degrees of the observed objects + objects in states 1, 2
+// and 4), independent of the map size. In "fallback" mode, neighbourless objects in
+// state 3 are visited too (they can only be judged geometrically).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "ocg/ocg/graph.h"
+#include "ocg/ocg/judgement.h"
+#include "ocg/ocg/observation.h"
+#include "ocg/ocg/options.h"
+
+namespace ocg {
+
+struct ObjectStatus {
+  ObjectId id = 0;
+  ObjectState state = ObjectState::kObserved;
+  double doubt = 0.0;
+  double active_edge_rate = 0.0;  // at the last processed keyframe
+  bool judged_by_geometry = false;
+  int class_id = -1;  // -1 when never given
+  ObjectGeometry geometry;
+  std::uint32_t observations = 0;
+  std::int64_t first_keyframe = 0;
+  std::int64_t last_observed_keyframe = 0;
+};
+
+// An object that reached state 5 and left the map.
+struct RemovalEvent {
+  std::int64_t keyframe_id = 0;
+  double timestamp = 0.0;
+  ObjectId object_id = 0;
+  int class_id = -1;
+  std::optional<Eigen::Vector3d> centroid;  // last known
+  double doubt = 0.0;
+  std::string reason = "outlier";
+};
+
+struct KeyframeResult {
+  std::int64_t keyframe_id = 0;
+  std::vector<RemovalEvent> removed;  // ascending object id
+};
+
+class ObjectChangeDetector {
+ public:
+  explicit ObjectChangeDetector(OcgOptions options);
+
+  // SPEC 3.5 order: graph update, then every affected object's rate and state on the
+  // updated graph, then this keyframe's removals.
+  KeyframeResult Process(const KeyframeObservation& observation);
+  // Removes an object that the object map dropped for its own reasons (a merge): no
+  // change-log entry. Returns false when unknown.
+  bool Forget(ObjectId id);
+
+  std::optional<ObjectStatus> Status(ObjectId id) const;
+  // Every object in the graph, ascending id.
+  std::vector<ObjectStatus> Snapshot() const;
+  const ObjectCovisibilityGraph& graph() const { return graph_; }
+  const OcgOptions& options() const { return options_; }
+  std::int64_t last_keyframe() const { return last_keyframe_; }
+  std::size_t ObjectCount() const { return records_.size(); }
+
+  // ocg.json: options, nodes with their state, edges. FromJson throws
+  // std::invalid_argument naming what is wrong.
+  std::string ToJson() const;
+  static ObjectChangeDetector FromJson(const std::string& text);
+
+ private:
+  struct Record {
+    StateAndDoubt state;
+    double rate = 0.0;
+    std::int64_t rate_keyframe = -1;
+    bool judged_by_geometry = false;
+    int class_id = -1;
+    ObjectGeometry geometry;
+    std::uint32_t observations = 0;
+    std::int64_t first_keyframe = 0;
+    std::int64_t last_observed_keyframe = 0;
+  };
+  void ApplyUpdate(Record& record, const ObjectGeometryUpdate& update);
+  void SetState(ObjectId id, Record& record, const StateAndDoubt& next);
+  void UpdateIsolation(ObjectId id);
+  void RemoveObject(ObjectId id);
+  ObjectStatus MakeStatus(ObjectId id, const Record& record) const;
+
+  OcgOptions options_;
+  ObjectCovisibilityGraph graph_;
+  std::unordered_map<ObjectId, Record> records_;
+  std::unordered_set<ObjectId> active_;    // states 1, 2 and 4
+  std::unordered_set<ObjectId> isolated_;  // degree 0 (judged geometrically in "fallback")
+  std::int64_t last_keyframe_ = -1;
+  bool any_keyframe_ = false;
+  // Scratch buffers reused across keyframes.
+  std::unordered_map<ObjectId, std::pair<std::uint64_t, std::uint32_t>> observed_weight_;
+};
+
+}  // namespace ocg

@@ -1,0 +1,46 @@
+#pragma once
+// One object's judgement at one keyframe: ActiveEdgeRate, P, the DoubtValue increment
+// and the state transition, with the improved modes applied. The inputs are what the
+// graph knows about the object; how they are gathered (incrementally or from scratch)
+// is the caller's business.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+#include "ocg/ocg/observation.h"
+#include "ocg/ocg/options.h"
+#include "ocg/ocg/state_machine.h"
+
+namespace ocg {
+
+struct ObjectEvidence {
+  bool observed = false;                // in V_k
+  std::uint64_t observed_weight = 0;    // sum of E(i, j) over neighbours j in V_k
+  std::uint64_t total_weight = 0;       // sum of E(i, j) over all neighbours
+  std::size_t degree = 0;               // |N(i)|
+  std::size_t observed_neighbours = 0;  // |N(i) ∩ V_k|
+};
+
+struct ObjectGeometry {
+  std::optional<Eigen::Vector3d> centroid;  // world frame
+  std::optional<Eigen::Vector3d> size;      // world-axis extent
+  double max_observed_distance = 0.0;       // farthest camera distance it was detected from
+};
+
+struct Judgement {
+  StateAndDoubt next;
+  double rate = 0.0;  // the rate the transition used
+  bool judged_by_geometry = false;
+};
+
+Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
+                      const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
+                      const OcgOptions& options);
+
+// The "fallback" mode's visibility: in front, inside the image by options.image_margin,
+// and no farther than distance_slack times the farthest distance it was observed from.
+bool GeometricallyVisible(const ObjectGeometry& geometry, const SE3& T_cw,
+                          const PinholeCamera& camera, const OcgOptions& options);
+
+}  // namespace ocg

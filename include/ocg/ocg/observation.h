@@ -1,0 +1,34 @@
+#pragma once
+// What an object SLAM system hands the OCG once per keyframe. Nothing here depends on
+// how objects are detected or mapped, so any object SLAM system can drive the OCG.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "ocg/core/camera.h"
+#include "ocg/core/lie.h"
+
+namespace ocg {
+
+using ObjectId = std::int64_t;
+
+// New or changed geometry of one object, world frame. Fields left empty keep the last value.
+struct ObjectGeometryUpdate {
+  std::optional<Eigen::Vector3d> centroid;
+  // Extent along the world axes (full sizes); used by the "in_image" mode only.
+  std::optional<Eigen::Vector3d> size;
+  std::optional<int> class_id;  // COCO-80 index, for the change log
+};
+
+struct KeyframeObservation {
+  std::int64_t keyframe_id = 0;
+  double timestamp = 0.0;
+  SE3 T_cw;  // world to camera
+  PinholeCamera camera;
+  std::vector<ObjectId> observed;  // map objects matched to a detection in this keyframe
+  std::map<ObjectId, ObjectGeometryUpdate> updates;
+};
+
+}  // namespace ocg

@@ -1,0 +1,54 @@
+#pragma once
+// Options of the Object Covisibility Graph (settings section OCG.*).
+
+#include <string>
+
+namespace ocg {
+
+class SettingsFile;
+
+struct OcgOptions {
+  // OCG.mode: "paper" (SPEC 3 exactly) or improvements joined with '+':
+  //   "fallback"  objects with no neighbours are judged by geometric visibility,
+  //   "in_image"  P also needs the projected box mostly inside the image and the
+  //               increment is scaled by the fraction inside,
+  //   "guard"     increments need enough neighbours actually detected,
+  //   "improved"  all three. See docs/ocg.md for the case each one fixes.
+  std::string mode = "paper";
+
+  // OCG.tau_observable: ActiveEdgeRate threshold for entering/leaving the observable region.
+  double tau_observable = 0.2;
+  // OCG.tau_doubt: DoubtValue above which an object is declared an outlier on leaving.
+  double tau_doubt = 50.0;
+  // OCG.increment_full / _high / _low: Eq. (2) increments for r = 1, r in [rate_high, 1),
+  // and r in (tau_observable, rate_high).
+  double increment_full = 30.0;
+  double increment_high = 20.0;
+  double increment_low = 10.0;
+  // OCG.rate_high: lower bound of the middle band of Eq. (2).
+  double rate_high = 0.5;
+
+  // "fallback": ActiveEdgeRate assigned to a neighbourless object that is geometrically
+  // visible (in front, inside the image by image_margin pixels, no farther than
+  // distance_slack times the farthest distance it was observed from).
+  double isolated_rate = 0.5;
+  double image_margin = 10.0;
+  double distance_slack = 1.25;
+  // "in_image": the smallest fraction of the projected box inside the image for P = 1.
+  double min_box_fraction = 0.5;
+  // "guard": neighbours that must be detected in the keyframe for an increment (capped at
+  // the object's degree).
+  int guard_min_neighbours = 2;
+
+  // Derived from mode by Check().
+  bool isolated_fallback() const;
+  bool box_in_image() const;
+  bool dropout_guard() const;
+
+  // Throws OptionError naming the key.
+  void Check() const;
+};
+
+void ReadSettings(const SettingsFile& file, OcgOptions* options);
+
+}  // namespace ocg

@@ -1,0 +1,64 @@
+#include "ocg/app/settings.h"
+
+#include <spdlog/spdlog.h>
+
+#include "ocg/core/file_io.h"
+#include "ocg/core/options.h"
+#include "ocg/core/settings_file.h"
+
+namespace ocg {
+namespace {
+
+// ORB-SLAM2 keys we read nowhere but that its settings files carry: no warning for them.
+bool IsKnownForeignKey(const std::string& key) {
+  return key == "Camera.bf" || key == "ThDepth" || key == "DepthMapFactor";
+}
+
+void CheckAll(const Settings& settings) {
+  settings.camera.Check();
+  settings.system.Check();
+  settings.orb.Check();
+  settings.ocg.Check();
+  settings.viewer.Check();
+}
+
+LoadedSettings ReadAll(const SettingsFile& file) {
+  LoadedSettings loaded;
+  Settings& settings = loaded.settings;
+  settings.source = file.name();
+  ReadSettings(file, &settings.camera);
+  ReadSettings(file, &settings.system);
+  ReadSettings(file, &settings.orb);
+  ReadSettings(file, &settings.ocg);
+  ReadSettings(file, &settings.viewer);
+  try {
+    CheckAll(settings);
+  } catch (const OptionError& error) {
+    throw SettingsError(file.Describe(error.key(), error.message()));
+  }
+  for (const std::string& key : file.UnreadKeys()) {
+    if (IsKnownForeignKey(key)) continue;
+    loaded.warnings.push_back(FileLocation(file.name(), file.LineOf(key)) + ": unknown key '" +
+                              key + "' ignored");
+    spdlog::warn("{}", loaded.warnings.back());
+  }
+  return loaded;
+}
+
+}  // namespace
+
+void Settings::Check() const {
+  try {
+    CheckAll(*this);
+  } catch (const OptionError& error) {
+    throw SettingsError(source + ": key '" + error.key() + "': " + error.message());
+  }
+}
+
+LoadedSettings LoadSettings(const std::string& path) { return ReadAll(SettingsFile::Load(path)); }
+
+LoadedSettings ParseSettings(const std::string& text, const std::string& name) {
+  return ReadAll(SettingsFile::Parse(text, name));
+}
+
+}  // namespace ocg

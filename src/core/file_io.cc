@@ -1,0 +1,58 @@
+#include "ocg/core/file_io.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace ocg {
+
+std::string ReadTextFile(const std::string& path) {
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
+  std::ostringstream buffer;
+  buffer << stream.rdbuf();
+  if (stream.bad()) throw FileError("error while reading '" + path + "'");
+  return buffer.str();
+}
+
+void EnsureDirectory(const std::string& path) {
+  if (path.empty()) return;
+  std::error_code error;
+  std::filesystem::create_directories(path, error);
+  if (error) throw FileError("cannot create directory '" + path + "': " + error.message());
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& content) {
+  const std::filesystem::path target(path);
+  if (target.has_parent_path()) EnsureDirectory(target.parent_path().string());
+  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::FILE* file = std::fopen(temporary.c_str(), "wb");
+    if (file == nullptr) {
+      throw FileError("cannot write '" + temporary + "': " + std::strerror(errno));
+    }
+    const size_t written = std::fwrite(content.data(), 1, content.size(), file);
+    const bool flushed = std::fflush(file) == 0 && ::fsync(::fileno(file)) == 0;
+    const bool closed = std::fclose(file) == 0;
+    if (written != content.size() || !flushed || !closed) {
+      std::remove(temporary.c_str());
+      throw FileError("cannot write '" + path + "': " + std::strerror(errno));
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::remove(temporary.c_str());
+    throw FileError("cannot replace '" + path + "': " + reason);
+  }
+}
+
+std::string FileLocation(const std::string& path, int line) {
+  return path + ":" + std::to_string(line);
+}
+
+}  // namespace ocg

@@ -1,0 +1,158 @@
+#include "ocg/io/sequence.h"
+
+#include <filesystem>
+
+#include "ocg/core/file_io.h"
+#include "ocg/core/settings_file.h"
+#include "ocg/io/text_lines.h"
+
+namespace ocg {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string JoinPath(const std::string& base, const std::string& relative) {
+  return (fs::path(base) / relative).string();
+}
+
+// "1403715273262142976" (ns) to seconds, keeping precision by splitting the digits.
+double NanosecondsToSeconds(const std::string& text, const std::string& path, int line) {
+  const long long nanoseconds = ParseIntegerField(text, "timestamp [ns]", path, line);
+  return static_cast<double>(nanoseconds / 1000000000LL) +
+         static_cast<double>(nanoseconds % 1000000000LL) * 1e-9;
+}
+
+std::string SecondsText(const std::string& nanoseconds_text) {
+  if (nanoseconds_text.size() <= 9)
+    return "0." + std::string(9 - nanoseconds_text.size(), '0') + nanoseconds_text;
+  return nanoseconds_text.substr(0, nanoseconds_text.size() - 9) + "." +
+         nanoseconds_text.substr(nanoseconds_text.size() - 9);
+}
+
+void ReadEurocSensor(const std::string& path, ImageSequence* sequence) {
+  const SettingsFile sensor = SettingsFile::Load(path);
+  std::vector<double> intrinsics, distortion, resolution, extrinsics;
+  if (!sensor.Read("intrinsics", &intrinsics) || intrinsics.size() != 4) {
+    throw SettingsError(path + ": key 'intrinsics' must be a list [fu, fv, cu, cv]");
+  }
+  if (!sensor.Read("resolution", &resolution) || resolution.size() != 2) {
+    throw SettingsError(path + ": key 'resolution' must be a list [width, height]");
+  }
+  PinholeCamera camera;
+  camera.fx = intrinsics[0];
+  camera.fy = intrinsics[1];
+  camera.cx = intrinsics[2];
+  camera.cy = intrinsics[3];
+  camera.width = static_cast<int>(resolution[0]);
+  camera.height = static_cast<int>(resolution[1]);
+  if (sensor.Read("distortion_coefficients", &distortion)) {
+    if (distortion.size() < 4) {
+      throw SettingsError(path + ": key 'distortion_coefficients' must hold k1 k2 p1 p2");
+    }
+    camera.k1 = distortion[0];
+    camera.k2 = distortion[1];
+    camera.p1 = distortion[2];
+    camera.p2 = distortion[3];
+    if (distortion.size() > 4) camera.k3 = distortion[4];
+  }
+  std::string model;
+  if (sensor.Read("distortion_model", &model) && model != "radial-tangential") {
+    throw SettingsError(path + ": distortion_model '" + model +
+                        "' is not supported (only radial-tangential)");
+  }
+  camera.Check();
+  sequence->camera = camera;
+  if (sensor.Read("T_BS.data", &extrinsics)) {
+    if (extrinsics.size() != 16) throw SettingsError(path + ": key 'T_BS.data' needs 16 numbers");
+    sequence->T_body_camera = SE3::FromMatrix(
+        Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(extrinsics.data()));
+  }
+}
+
+std::vector<StampedPose> ReadEurocGroundtruth(const std::string& path) {
+  std::vector<StampedPose> poses;
+  ForEachDataLine(path, true, [&](int line, const std::vector<std::string>& fields) {
+    if (fields.size() < 8) {
+      ThrowParseError(path, line, "expected at least 8 fields 'timestamp px py pz qw qx qy qz'");
+    }
+    double values[7];
+    for (int i = 0; i < 7; ++i) values[i] = ParseNumberField(fields[i + 1], "pose", path, line);
+    StampedPose pose;
+    pose.timestamp = NanosecondsToSeconds(fields[0], path, line);
+    pose.timestamp_text = SecondsText(fields[0]);
+    pose.T_wc = SE3(Eigen::Quaterniond(values[3], values[4], values[5], values[6]),
+                    Eigen::Vector3d(values[0], values[1], values[2]));
+    poses.push_back(pose);
+  });
+  return poses;
+}
+
+}  // namespace
+
+std::vector<TimedImage> ReadTumImageList(const std::string& path, const std::string& base_dir) {
+  std::vector<TimedImage> images;
+  ForEachDataLine(path, false, [&](int line, const std::vector<std::string>& fields) {
+    if (fields.size() != 2) {
+      ThrowParseError(
+          path, line,
+          "expected 2 fields 'timestamp filename', got " + std::to_string(fields.size()));
+    }
+    TimedImage image;
+    image.timestamp_text = fields[0];
+    image.timestamp = ParseNumberField(fields[0], "timestamp", path, line);
+    image.path = JoinPath(base_dir, fields[1]);
+    images.push_back(std::move(image));
+  });
+  return images;
+}
+
+ImageSequence ReadTumSequence(const std::string& root) {
+  const std::string list = JoinPath(root, "rgb.txt");
+  if (!fs::exists(list)) {
+    throw FileError("'" + root + "' is not a TUM RGB-D sequence folder: '" + list + "' is missing");
+  }
+  ImageSequence sequence;
+  sequence.root = root;
+  sequence.images = ReadTumImageList(list, root);
+  const std::string groundtruth = JoinPath(root, "groundtruth.txt");
+  if (fs::exists(groundtruth)) sequence.groundtruth = ReadTumTrajectory(groundtruth);
+  return sequence;
+}
+
+ImageSequence ReadEurocSequence(const std::string& root) {
+  const std::string camera_dir = JoinPath(root, "mav0/cam0");
+  const std::string list = JoinPath(camera_dir, "data.csv");
+  if (!fs::exists(list)) {
+    throw FileError("'" + root + "' is not a EuRoC sequence folder: '" + list + "' is missing");
+  }
+  ImageSequence sequence;
+  sequence.root = root;
+  ForEachDataLine(list, true, [&](int line, const std::vector<std::string>& fields) {
+    if (fields.size() != 2) {
+      ThrowParseError(list, line, "expected 2 fields 'timestamp [ns],filename'");
+    }
+    TimedImage image;
+    image.timestamp = NanosecondsToSeconds(fields[0], list, line);
+    image.timestamp_text = fields[0];
+    image.path = JoinPath(camera_dir, "data/" + fields[1]);
+    sequence.images.push_back(std::move(image));
+  });
+  ReadEurocSensor(JoinPath(camera_dir, "sensor.yaml"), &sequence);
+  const std::string groundtruth = JoinPath(root, "mav0/state_groundtruth_estimate0/data.csv");
+  if (fs::exists(groundtruth)) {
+    sequence.groundtruth = ReadEurocGroundtruth(groundtruth);
+    if (sequence.T_body_camera) {
+      sequence.groundtruth = BodyToCameraPoses(sequence.groundtruth, *sequence.T_body_camera);
+    }
+  }
+  return sequence;
+}
+
+std::vector<StampedPose> BodyToCameraPoses(const std::vector<StampedPose>& body_poses,
+                                           const SE3& T_body_camera) {
+  std::vector<StampedPose> camera_poses = body_poses;
+  for (StampedPose& pose : camera_poses) pose.T_wc = pose.T_wc * T_body_camera;
+  return camera_poses;
+}
+
+}  // namespace ocg

@@ -1,0 +1,60 @@
+#include "ocg/io/trajectory.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "ocg/core/file_io.h"
+#include "ocg/io/text_lines.h"
+
+namespace ocg {
+
+std::vector<StampedPose> ReadTumTrajectory(const std::string& path) {
+  std::vector<StampedPose> poses;
+  ForEachDataLine(path, false, [&](int line, const std::vector<std::string>& fields) {
+    if (fields.size() != 8) {
+      ThrowParseError(path, line,
+                      "expected 8 fields 'timestamp tx ty tz qx qy qz qw', got " +
+                          std::to_string(fields.size()));
+    }
+    static const char* const kNames[] = {"timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+    double values[8];
+    for (int i = 0; i < 8; ++i) values[i] = ParseNumberField(fields[i], kNames[i], path, line);
+    const Eigen::Quaterniond rotation(values[7], values[4], values[5], values[6]);
+    const double norm = rotation.norm();
+    if (std::abs(norm - 1.0) > 1e-2) {
+      ThrowParseError(
+          path, line,
+          "quaternion (qx qy qz qw) must have unit length, has " + std::to_string(norm));
+    }
+    StampedPose pose;
+    pose.timestamp = values[0];
+    pose.timestamp_text = fields[0];
+    pose.T_wc = SE3(rotation, Eigen::Vector3d(values[1], values[2], values[3]));
+    poses.push_back(pose);
+  });
+  return poses;
+}
+
+std::string FormatTumTrajectory(const std::vector<StampedPose>& poses) {
+  std::string text;
+  char buffer[256];
+  for (const StampedPose& pose : poses) {
+    const Eigen::Vector3d& t = pose.T_wc.translation();
+    const Eigen::Quaterniond& q = pose.T_wc.quaternion();
+    const std::string stamp =
+        pose.timestamp_text.empty()
+            ? (std::snprintf(buffer, sizeof(buffer), "%.6f", pose.timestamp), std::string(buffer))
+            : pose.timestamp_text;
+    std::snprintf(buffer, sizeof(buffer), " %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", t.x(), t.y(),
+                  t.z(), q.x(), q.y(), q.z(), q.w());
+    text += stamp;
+    text += buffer;
+  }
+  return text;
+}
+
+void WriteTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
+  WriteFileAtomically(path, FormatTumTrajectory(poses));
+}
+
+}  // namespace ocg

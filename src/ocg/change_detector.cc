@@ -1,0 +1,303 @@
+#include "ocg/ocg/change_detector.h"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "ocg/core/options.h"
+#include "ocg/ocg/observability.h"
+
+namespace ocg {
+namespace {
+
+bool IsActive(ObjectState state) {
+  return state == ObjectState::kObserved || state == ObjectState::kRecentlyObserved ||
+         state == ObjectState::kSuspicious;
+}
+
+nlohmann::json VectorJson(const std::optional<Eigen::Vector3d>& vector) {
+  if (!vector) return nullptr;
+  return {vector->x(), vector->y(), vector->z()};
+}
+
+std::optional<Eigen::Vector3d> VectorFromJson(const nlohmann::json& json) {
+  if (json.is_null()) return std::nullopt;
+  const auto values = json.get<std::vector<double>>();
+  if (values.size() != 3) throw std::invalid_argument("expected 3 numbers");
+  return Eigen::Vector3d(values[0], values[1], values[2]);
+}
+
+}  // namespace
+
+ObjectChangeDetector::ObjectChangeDetector(OcgOptions options) : options_(std::move(options)) {
+  options_.Check();
+}
+
+void ObjectChangeDetector::ApplyUpdate(Record& record, const ObjectGeometryUpdate& update) {
+  if (update.centroid) record.geometry.centroid = update.centroid;
+  if (update.size) record.geometry.size = update.size;
+  if (update.class_id) record.class_id = *update.class_id;
+}
+
+void ObjectChangeDetector::SetState(ObjectId id, Record& record, const StateAndDoubt& next) {
+  record.state = next;
+  if (IsActive(next.state)) {
+    active_.insert(id);
+  } else {
+    active_.erase(id);
+  }
+}
+
+void ObjectChangeDetector::UpdateIsolation(ObjectId id) {
+  if (graph_.Degree(id) == 0) {
+    isolated_.insert(id);
+  } else {
+    isolated_.erase(id);
+  }
+}
+
+KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observation) {
+  const std::int64_t keyframe = observation.keyframe_id;
+  last_keyframe_ = keyframe;
+  any_keyframe_ = true;
+  std::vector<ObjectId> observed = observation.observed;
+  std::sort(observed.begin(), observed.end());
+  observed.erase(std::unique(observed.begin(), observed.end()), observed.end());
+
+  // 1. Graph update, with new objects entering in state 1.
+  for (ObjectId id : observed) {
+    auto [it, created] = records_.try_emplace(id);
+    if (created) it->second.first_keyframe = keyframe;
+  }
+  graph_.AddCovisibility(observed);
+  for (const auto& [id, update] : observation.updates) {
+    const auto it = records_.find(id);
+    if (it != records_.end()) ApplyUpdate(it->second, update);
+  }
+  const Eigen::Vector3d camera_centre = observation.T_cw.Inverse().translation();
+  for (ObjectId id : observed) {
+    Record& record = records_.at(id);
+    ++record.observations;
+    record.last_observed_keyframe = keyframe;
+    if (record.geometry.centroid) {
+      record.geometry.max_observed_distance =
+          std::max(record.geometry.max_observed_distance,
+                   (*record.geometry.centroid - camera_centre).norm());
+    }
+    UpdateIsolation(id);
+  }
+
+  // 2. Numerators of Eq. (1), touching only the neighbours of observed objects.
+  observed_weight_.clear();
+  for (ObjectId id : observed) {
+    for (const CovisibilityEdge& edge : graph_.Neighbours(id)) {
+      auto& entry = observed_weight_[edge.neighbour];
+      entry.first += edge.weight;
+      entry.second += 1;
+    }
+  }
+
+  // Objects whose state can change: observed ones, states 1, 2, 4, state-3 objects with
+  // an observed neighbour (others have rate 0 and stay), and in "fallback" mode the
+  // neighbourless ones.
+  std::vector<ObjectId> candidates(observed.begin(), observed.end());
+  candidates.insert(candidates.end(), active_.begin(), active_.end());
+  for (const auto& entry : observed_weight_) candidates.push_back(entry.first);
+  if (options_.isolated_fallback()) {
+    candidates.insert(candidates.end(), isolated_.begin(), isolated_.end());
+  }
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+
+  std::vector<ObjectId> outliers;
+  for (ObjectId id : candidates) {
+    Record& record = records_.at(id);
+    ObjectEvidence evidence;
+    evidence.observed = std::binary_search(observed.begin(), observed.end(), id);
+    const auto weight = observed_weight_.find(id);
+    if (weight != observed_weight_.end()) {
+      evidence.observed_weight = weight->second.first;
+      evidence.observed_neighbours = weight->second.second;
+    }
+    evidence.total_weight = graph_.WeightSum(id);
+    evidence.degree = graph_.Degree(id);
+    const Judgement judgement = JudgeObject(record.state, evidence, record.geometry,
+                                            observation.T_cw, observation.camera, options_);
+    record.rate = judgement.rate;
+    record.rate_keyframe = keyframe;
+    record.judged_by_geometry = judgement.judged_by_geometry;
+    SetState(id, record, judgement.next);
+    if (judgement.next.state == ObjectState::kOutlier) outliers.push_back(id);
+  }
+
+  // 3. Removals last, so they did not change any rate above.
+  KeyframeResult result;
+  result.keyframe_id = keyframe;
+  for (ObjectId id : outliers) {
+    const Record& record = records_.at(id);
+    RemovalEvent event;
+    event.keyframe_id = keyframe;
+    event.timestamp = observation.timestamp;
+    event.object_id = id;
+    event.class_id = record.class_id;
+    event.centroid = record.geometry.centroid;
+    event.doubt = record.state.doubt;
+    result.removed.push_back(event);
+    RemoveObject(id);
+  }
+  return result;
+}
+
+void ObjectChangeDetector::RemoveObject(ObjectId id) {
+  std::vector<ObjectId> neighbours;
+  for (const CovisibilityEdge& edge : graph_.Neighbours(id)) neighbours.push_back(edge.neighbour);
+  graph_.RemoveNode(id);
+  records_.erase(id);
+  active_.erase(id);
+  isolated_.erase(id);
+  for (ObjectId neighbour : neighbours) UpdateIsolation(neighbour);
+}
+
+bool ObjectChangeDetector::Forget(ObjectId id) {
+  if (records_.count(id) == 0) return false;
+  RemoveObject(id);
+  return true;
+}
+
+ObjectStatus ObjectChangeDetector::MakeStatus(ObjectId id, const Record& record) const {
+  ObjectStatus status;
+  status.id = id;
+  status.state = record.state.state;
+  status.doubt = record.state.doubt;
+  const bool current = any_keyframe_ && record.rate_keyframe == last_keyframe_;
+  // Objects not visited at this keyframe had no observed neighbour: their rate is 0.
+  status.active_edge_rate = current ? record.rate : 0.0;
+  status.judged_by_geometry = current && record.judged_by_geometry;
+  status.class_id = record.class_id;
+  status.geometry = record.geometry;
+  status.observations = record.observations;
+  status.first_keyframe = record.first_keyframe;
+  status.last_observed_keyframe = record.last_observed_keyframe;
+  return status;
+}
+
+std::optional<ObjectStatus> ObjectChangeDetector::Status(ObjectId id) const {
+  const auto it = records_.find(id);
+  if (it == records_.end()) return std::nullopt;
+  return MakeStatus(id, it->second);
+}
+
+std::vector<ObjectStatus> ObjectChangeDetector::Snapshot() const {
+  std::vector<ObjectStatus> statuses;
+  statuses.reserve(records_.size());
+  for (ObjectId id : graph_.NodeIds()) statuses.push_back(MakeStatus(id, records_.at(id)));
+  return statuses;
+}
+
+std::string ObjectChangeDetector::ToJson() const {
+  nlohmann::json nodes = nlohmann::json::array();
+  nlohmann::json edges = nlohmann::json::array();
+  for (const ObjectStatus& status : Snapshot()) {
+    nodes.push_back({{"id", status.id},
+                     {"state", static_cast<int>(status.state)},
+                     {"doubt", status.doubt},
+                     {"active_edge_rate", status.active_edge_rate},
+                     {"class_id", status.class_id},
+                     {"centroid", VectorJson(status.geometry.centroid)},
+                     {"size", VectorJson(status.geometry.size)},
+                     {"max_observed_distance", status.geometry.max_observed_distance},
+                     {"observations", status.observations},
+                     {"first_keyframe", status.first_keyframe},
+                     {"last_observed_keyframe", status.last_observed_keyframe}});
+    for (const CovisibilityEdge& edge : graph_.Neighbours(status.id)) {
+      if (edge.neighbour > status.id) edges.push_back({status.id, edge.neighbour, edge.weight});
+    }
+  }
+  const nlohmann::json root = {
+      {"format", "ocg-graph"},
+      {"version", 1},
+      {"keyframe", any_keyframe_ ? nlohmann::json(last_keyframe_) : nlohmann::json(nullptr)},
+      {"options",
+       {{"mode", options_.mode},
+        {"tau_observable", options_.tau_observable},
+        {"tau_doubt", options_.tau_doubt},
+        {"increment_full", options_.increment_full},
+        {"increment_high", options_.increment_high},
+        {"increment_low", options_.increment_low},
+        {"rate_high", options_.rate_high},
+        {"isolated_rate", options_.isolated_rate},
+        {"image_margin", options_.image_margin},
+        {"distance_slack", options_.distance_slack},
+        {"min_box_fraction", options_.min_box_fraction},
+        {"guard_min_neighbours", options_.guard_min_neighbours}}},
+      {"nodes", nodes},
+      {"edges", edges}};
+  return root.dump(1) + "\n";
+}
+
+ObjectChangeDetector ObjectChangeDetector::FromJson(const std::string& text) {
+  try {
+    const nlohmann::json root = nlohmann::json::parse(text);
+    if (root.value("format", "") != "ocg-graph") {
+      throw std::invalid_argument("not an OCG graph file (\"format\" is not \"ocg-graph\")");
+    }
+    const nlohmann::json& json_options = root.at("options");
+    OcgOptions options;
+    options.mode = json_options.at("mode").get<std::string>();
+    options.tau_observable = json_options.at("tau_observable").get<double>();
+    options.tau_doubt = json_options.at("tau_doubt").get<double>();
+    options.increment_full = json_options.at("increment_full").get<double>();
+    options.increment_high = json_options.at("increment_high").get<double>();
+    options.increment_low = json_options.at("increment_low").get<double>();
+    options.rate_high = json_options.at("rate_high").get<double>();
+    options.isolated_rate = json_options.at("isolated_rate").get<double>();
+    options.image_margin = json_options.at("image_margin").get<double>();
+    options.distance_slack = json_options.at("distance_slack").get<double>();
+    options.min_box_fraction = json_options.at("min_box_fraction").get<double>();
+    options.guard_min_neighbours = json_options.at("guard_min_neighbours").get<int>();
+    ObjectChangeDetector detector(options);
+    if (!root.at("keyframe").is_null()) {
+      detector.last_keyframe_ = root.at("keyframe").get<std::int64_t>();
+      detector.any_keyframe_ = true;
+    }
+    for (const nlohmann::json& node : root.at("nodes")) {
+      const ObjectId id = node.at("id").get<ObjectId>();
+      const int state = node.at("state").get<int>();
+      if (state < 1 || state > 4) {
+        throw std::invalid_argument("node " + std::to_string(id) + ": state must be 1 to 4");
+      }
+      if (!detector.graph_.AddNode(id)) {
+        throw std::invalid_argument("node " + std::to_string(id) + " listed twice");
+      }
+      Record& record = detector.records_[id];
+      record.class_id = node.at("class_id").get<int>();
+      record.geometry.centroid = VectorFromJson(node.at("centroid"));
+      record.geometry.size = VectorFromJson(node.at("size"));
+      record.geometry.max_observed_distance = node.at("max_observed_distance").get<double>();
+      record.observations = node.at("observations").get<std::uint32_t>();
+      record.first_keyframe = node.at("first_keyframe").get<std::int64_t>();
+      record.last_observed_keyframe = node.at("last_observed_keyframe").get<std::int64_t>();
+      record.rate = node.at("active_edge_rate").get<double>();
+      record.rate_keyframe = detector.last_keyframe_;
+      detector.SetState(id, record,
+                        {static_cast<ObjectState>(state), node.at("doubt").get<double>()});
+    }
+    for (const nlohmann::json& edge : root.at("edges")) {
+      const auto a = edge.at(0).get<ObjectId>();
+      const auto b = edge.at(1).get<ObjectId>();
+      if (!detector.graph_.Contains(a) || !detector.graph_.Contains(b)) {
+        throw std::invalid_argument("edge " + std::to_string(a) + "-" + std::to_string(b) +
+                                    " names an unknown node");
+      }
+      detector.graph_.SetEdge(a, b, edge.at(2).get<std::uint32_t>());
+    }
+    for (const auto& entry : detector.records_) detector.UpdateIsolation(entry.first);
+    return detector;
+  } catch (const nlohmann::json::exception& error) {
+    throw std::invalid_argument(std::string("OCG graph JSON: ") + error.what());
+  } catch (const OptionError& error) {
+    throw std::invalid_argument(std::string("OCG graph JSON options: ") + error.what());
+  }
+}
+
+}  // namespace ocg

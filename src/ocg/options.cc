@@ -1,0 +1,78 @@
+#include "ocg/ocg/options.h"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "ocg/core/options.h"
+#include "ocg/core/settings_file.h"
+
+namespace ocg {
+namespace {
+
+std::set<std::string> ModeParts(const std::string& mode) {
+  std::set<std::string> parts;
+  std::istringstream stream(mode);
+  for (std::string part; std::getline(stream, part, '+');) parts.insert(part);
+  return parts;
+}
+
+bool HasPart(const std::string& mode, const std::string& part) {
+  const std::set<std::string> parts = ModeParts(mode);
+  return parts.count(part) > 0 || parts.count("improved") > 0;
+}
+
+}  // namespace
+
+bool OcgOptions::isolated_fallback() const { return HasPart(mode, "fallback"); }
+bool OcgOptions::box_in_image() const { return HasPart(mode, "in_image"); }
+bool OcgOptions::dropout_guard() const { return HasPart(mode, "guard"); }
+
+void OcgOptions::Check() const {
+  static const std::set<std::string> kKnown = {"paper", "fallback", "in_image", "guard",
+                                               "improved"};
+  const std::set<std::string> parts = ModeParts(mode);
+  RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
+  for (const std::string& part : parts) {
+    RequireOption(kKnown.count(part) > 0, "OCG.mode",
+                  "unknown mode '" + part +
+                      "' (use paper, or fallback, in_image, guard joined with '+', or improved)");
+  }
+  RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
+                "'paper' cannot be combined with improvements");
+  RequireOption(tau_observable > 0 && tau_observable < 1, "OCG.tau_observable",
+                "must be in (0, 1)");
+  RequireOption(std::isfinite(tau_doubt) && tau_doubt >= 0, "OCG.tau_doubt",
+                "must be non-negative");
+  RequireOption(rate_high > tau_observable && rate_high < 1, "OCG.rate_high",
+                "must be in (OCG.tau_observable, 1)");
+  for (const auto& [key, value] :
+       {std::pair<const char*, double>{"OCG.increment_full", increment_full},
+        {"OCG.increment_high", increment_high},
+        {"OCG.increment_low", increment_low}}) {
+    RequireOption(std::isfinite(value) && value >= 0, key, "must be non-negative");
+  }
+  RequireOption(isolated_rate >= 0 && isolated_rate <= 1, "OCG.isolated_rate", "must be in [0, 1]");
+  RequireOption(image_margin >= 0, "OCG.image_margin", "must be non-negative");
+  RequireOption(distance_slack >= 1, "OCG.distance_slack", "must be at least 1");
+  RequireOption(min_box_fraction > 0 && min_box_fraction <= 1, "OCG.min_box_fraction",
+                "must be in (0, 1]");
+  RequireOption(guard_min_neighbours >= 1, "OCG.guard_min_neighbours", "must be at least 1");
+}
+
+void ReadSettings(const SettingsFile& file, OcgOptions* options) {
+  file.Read("OCG.mode", &options->mode);
+  file.Read("OCG.tau_observable", &options->tau_observable);
+  file.Read("OCG.tau_doubt", &options->tau_doubt);
+  file.Read("OCG.increment_full", &options->increment_full);
+  file.Read("OCG.increment_high", &options->increment_high);
+  file.Read("OCG.increment_low", &options->increment_low);
+  file.Read("OCG.rate_high", &options->rate_high);
+  file.Read("OCG.isolated_rate", &options->isolated_rate);
+  file.Read("OCG.image_margin", &options->image_margin);
+  file.Read("OCG.distance_slack", &options->distance_slack);
+  file.Read("OCG.min_box_fraction", &options->min_box_fraction);
+  file.Read("OCG.guard_min_neighbours", &options->guard_min_neighbours);
+}
+
+}  // namespace ocg

@@ -1,0 +1,88 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "ocg/core/file_io.h"
+#include "ocg/io/sequence.h"
+#include "ocg/io/text_lines.h"
+#include "test_support.h"
+
+namespace ocg {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(TumSequence, ReadsRealFramesAndGroundTruth) {
+  const auto data = testing::SharedDataDir();
+  if (!data) GTEST_SKIP() << testing::SharedDataSkipMessage();
+  const ImageSequence sequence = ReadTumSequence(*data + "/tum_fr3_long_office");
+  ASSERT_EQ(sequence.images.size(), 20u);
+  EXPECT_EQ(sequence.images[0].timestamp_text, "1341847980.722988");
+  EXPECT_DOUBLE_EQ(sequence.images[0].timestamp, 1341847980.722988);
+  for (const TimedImage& image : sequence.images) EXPECT_TRUE(fs::exists(image.path)) << image.path;
+  EXPECT_EQ(sequence.groundtruth.size(), 8710u);
+  EXPECT_NEAR(sequence.groundtruth[0].T_wc.translation().x(), -0.6832, 1e-12);
+  const auto all = ReadTumImageList(*data + "/tum_fr3_long_office/rgb_all_frames.txt", "/base");
+  EXPECT_EQ(all.size(), 2585u);
+  EXPECT_EQ(all[0].path.rfind("/base/rgb/", 0), 0u);
+}
+
+TEST(EurocSequence, ReadsRealCalibrationFramesAndExtrinsics) {
+  const auto data = testing::SharedDataDir();
+  if (!data) GTEST_SKIP() << testing::SharedDataSkipMessage();
+  const ImageSequence sequence = ReadEurocSequence(*data + "/euroc_v101_micro");
+  ASSERT_EQ(sequence.images.size(), 95u);
+  EXPECT_EQ(sequence.images[0].timestamp_text, "1403715273262142976");
+  EXPECT_NEAR(sequence.images[0].timestamp, 1403715273.262142976, 1e-6);
+  EXPECT_TRUE(fs::exists(sequence.images[0].path));
+  ASSERT_TRUE(sequence.camera.has_value());
+  EXPECT_DOUBLE_EQ(sequence.camera->fx, 458.654);
+  EXPECT_DOUBLE_EQ(sequence.camera->k1, -0.28340811);
+  EXPECT_DOUBLE_EQ(sequence.camera->p2, 1.76187114e-05);
+  EXPECT_EQ(sequence.camera->width, 752);
+  ASSERT_TRUE(sequence.T_body_camera.has_value());
+  EXPECT_NEAR(sequence.T_body_camera->translation().x(), -0.0216401454975, 1e-12);
+  // The body ground truth turned into camera poses moves the position by T_BS's offset.
+  const auto body = ReadTumTrajectory(*data + "/euroc_v101_micro/groundtruth_body_tum.txt");
+  const auto camera = BodyToCameraPoses(body, *sequence.T_body_camera);
+  ASSERT_EQ(camera.size(), body.size());
+  EXPECT_NEAR((camera[0].T_wc.translation() - body[0].T_wc.translation()).norm(),
+              sequence.T_body_camera->translation().norm(), 1e-9);
+}
+
+TEST(EurocSequence, GroundTruthCsvBecomesCameraPoses) {
+  const std::string root = testing::MakeTempDir("euroc");
+  WriteFileAtomically(root + "/mav0/cam0/data.csv", "#timestamp [ns],filename\n1000000000,1.png\n");
+  WriteFileAtomically(root + "/mav0/cam0/sensor.yaml",
+                      "%YAML:1.0\nT_BS:\n  cols: 4\n  rows: 4\n  data: [1, 0, 0, 0.5, 0, 1, 0, 0, "
+                      "0, 0, 1, 0, 0, 0, 0, 1]\nresolution: [752, 480]\nintrinsics: [400, 400, "
+                      "376, 240]\ndistortion_model: radial-tangential\n"
+                      "distortion_coefficients: [0, 0, 0, 0]\n");
+  WriteFileAtomically(root + "/mav0/state_groundtruth_estimate0/data.csv",
+                      "#timestamp,p_x,p_y,p_z,q_w,q_x,q_y,q_z,v\n1000000000,1,2,3,1,0,0,0,0\n");
+  const ImageSequence sequence = ReadEurocSequence(root);
+  ASSERT_EQ(sequence.groundtruth.size(), 1u);
+  EXPECT_EQ(sequence.groundtruth[0].timestamp_text, "1.000000000");
+  EXPECT_NEAR(sequence.groundtruth[0].T_wc.translation().x(), 1.5, 1e-12);
+}
+
+TEST(Sequence, MissingFolderOrBadListNamesTheFile) {
+  try {
+    ReadTumSequence("/nonexistent/seq");
+    FAIL();
+  } catch (const FileError& error) {
+    EXPECT_NE(std::string(error.what()).find("/nonexistent/seq/rgb.txt"), std::string::npos);
+  }
+  EXPECT_THROW(ReadEurocSequence("/nonexistent/seq"), FileError);
+  const std::string root = testing::MakeTempDir("tum_bad");
+  WriteFileAtomically(root + "/rgb.txt", "# x\n1.0 rgb/1.png\n2.0\n");
+  try {
+    ReadTumSequence(root);
+    FAIL();
+  } catch (const ParseError& error) {
+    EXPECT_NE(std::string(error.what()).find("rgb.txt:3"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace ocg

@@ -1,0 +1,57 @@
+#include <gtest/gtest.h>
+
+#include "ocg/core/file_io.h"
+#include "ocg/io/text_lines.h"
+#include "ocg/io/trajectory.h"
+#include "test_support.h"
+
+namespace ocg {
+namespace {
+
+std::string WriteFixture(const std::string& text) {
+  const std::string path = testing::MakeTempDir("trajectory") + "/traj.txt";
+  WriteFileAtomically(path, text);
+  return path;
+}
+
+TEST(TumTrajectory, RoundTripKeepsTimestampTextAndPose) {
+  std::vector<StampedPose> poses(2);
+  poses[0].timestamp = 1341847980.722988;
+  poses[0].timestamp_text = "1341847980.722988";
+  poses[0].T_wc = SE3::Exp((Vector6d() << 1, 2, 3, 0.1, 0.2, 0.3).finished());
+  poses[1].timestamp = 2.5;  // no text: written with 6 decimals
+  const std::string path = WriteFixture("");
+  WriteTumTrajectory(path, poses);
+  const auto read = ReadTumTrajectory(path);
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[0].timestamp_text, "1341847980.722988");
+  EXPECT_EQ(read[1].timestamp_text, "2.500000");
+  EXPECT_TRUE(read[0].T_wc.Matrix().isApprox(poses[0].T_wc.Matrix(), 1e-8));
+}
+
+TEST(TumTrajectory, CommentsBlankLinesAndCrlfAreAccepted) {
+  const auto poses =
+      ReadTumTrajectory(WriteFixture("# header\n\n1.0 0 0 0 0 0 0 1\r\n2.0 1 0 0 0 0 0 1"));
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_DOUBLE_EQ(poses[1].T_wc.translation().x(), 1.0);
+}
+
+TEST(TumTrajectory, MalformedLinesNameFileAndLine) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"# c\n1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n", ":3: expected 8 fields"},
+      {"1 0 0 zero 0 0 0 1\n", ":1: tz must be a number"},
+      {"1 0 0 0 0 0 0 2\n", ":1: quaternion"}};
+  for (const auto& [text, expected] : cases) {
+    const std::string path = WriteFixture(text);
+    try {
+      ReadTumTrajectory(path);
+      FAIL() << "accepted: " << text;
+    } catch (const ParseError& error) {
+      EXPECT_NE(std::string(error.what()).find(path + expected), std::string::npos) << error.what();
+    }
+  }
+  EXPECT_THROW(ReadTumTrajectory("/nonexistent/traj.txt"), FileError);
+}
+
+}  // namespace
+}  // namespace ocg

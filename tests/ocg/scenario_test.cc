@@ -1,0 +1,271 @@
+// The paper's Fig. 4/5 story and the cases the improved modes fix, as keyframe scripts.
+
+#include <gtest/gtest.h>
+
+#include "ocg/ocg/change_detector.h"
+#include "ocg/ocg/observability.h"
+#include "ocg_test_scene.h"
+
+namespace ocg {
+namespace {
+
+using testing::LookAt;
+using testing::MakeObservation;
+using S = ObjectState;
+
+// Objects 1-4 on a table at the origin, 5-6 on a shelf ten metres away.
+const std::map<ObjectId, Eigen::Vector3d> kPlaces = {
+    {1, {0.0, 0.0, 0.0}},  {2, {0.3, 0.2, 0.0}},  {3, {-0.3, 0.2, 0.0}}, {4, {0.0, -0.3, 0.0}},
+    {5, {10.0, 0.0, 0.0}}, {6, {10.0, 0.4, 0.0}}, {7, {0.1, 0.1, 0.0}}};
+
+class Story : public ::testing::Test {
+ protected:
+  explicit Story(const std::string& mode = "paper") : detector_(Options(mode)) {}
+  static OcgOptions Options(const std::string& mode) {
+    OcgOptions options;
+    options.mode = mode;
+    return options;
+  }
+  // The camera looks at the table (from 2 m) or at the shelf (with the table behind it).
+  KeyframeResult AtTable(std::vector<ObjectId> seen) {
+    return Step(LookAt({-2, 0, 0.8}, {0, 0, 0}), seen);
+  }
+  KeyframeResult AtShelf(std::vector<ObjectId> seen) {
+    return Step(LookAt({8, 0, 0.8}, {10, 0, 0}), seen);
+  }
+  KeyframeResult Step(const SE3& T_cw, const std::vector<ObjectId>& seen) {
+    KeyframeObservation observation = MakeObservation(keyframe_++, T_cw, seen);
+    for (ObjectId id : seen) {
+      observation.updates[id].centroid = kPlaces.at(id);
+      observation.updates[id].class_id = 41;
+    }
+    return detector_.Process(observation);
+  }
+  S StateOf(ObjectId id) const { return detector_.Status(id)->state; }
+  double DoubtOf(ObjectId id) const { return detector_.Status(id)->doubt; }
+
+  ObjectChangeDetector detector_;
+  std::int64_t keyframe_ = 0;
+};
+
+TEST_F(Story, MovedObjectIsSuspectedThenRemoved) {
+  for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});
+  EXPECT_EQ(StateOf(1), S::kObserved);
+  AtShelf({5, 6});  // the camera leaves the table's observable region
+  EXPECT_EQ(StateOf(1), S::kUnknown);
+  AtShelf({5, 6});
+  // Object 1 is taken away while the camera looks at the shelf. The camera comes back:
+  AtTable({2, 3, 4});
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  EXPECT_EQ(DoubtOf(1), 30.0);  // r = 1: all of its neighbours are seen
+  EXPECT_DOUBLE_EQ(detector_.Status(1)->active_edge_rate, 1.0);
+  AtTable({2, 3, 4});
+  EXPECT_EQ(DoubtOf(1), 60.0);
+  const KeyframeResult leaving = AtShelf({5, 6});
+  ASSERT_EQ(leaving.removed.size(), 1u);
+  const RemovalEvent& event = leaving.removed[0];
+  EXPECT_EQ(event.object_id, 1);
+  EXPECT_EQ(event.keyframe_id, 7);
+  EXPECT_DOUBLE_EQ(event.timestamp, 3.5);
+  EXPECT_EQ(event.doubt, 60.0);
+  EXPECT_EQ(event.class_id, 41);
+  EXPECT_TRUE(event.centroid->isApprox(kPlaces.at(1)));
+  // Removal deletes the node and its edges.
+  EXPECT_FALSE(detector_.Status(1).has_value());
+  EXPECT_FALSE(detector_.graph().Contains(1));
+  EXPECT_EQ(detector_.graph().EdgeWeight(2, 1), 0u);
+  EXPECT_EQ(detector_.graph().WeightSum(2), 5u + 5u);  // 2-3 and 2-4, five keyframes each
+  for (ObjectId id : {2, 3, 4, 5, 6}) EXPECT_TRUE(detector_.Status(id).has_value()) << id;
+}
+
+TEST_F(Story, ObjectStillThereIsKept) {
+  for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});
+  AtShelf({5, 6});
+  AtTable({1, 2, 3, 4});
+  EXPECT_EQ(StateOf(1), S::kObserved);
+  AtTable({1, 2, 3, 4});
+  const KeyframeResult leaving = AtShelf({5, 6});
+  EXPECT_TRUE(leaving.removed.empty());
+  EXPECT_EQ(StateOf(1), S::kUnknown);
+  EXPECT_EQ(DoubtOf(1), 0.0);
+}
+
+TEST_F(Story, SingleMissedDetectionKeepsTheObject) {
+  for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});
+  AtTable({2, 3, 4});  // missed while the camera stays: recently observed, not suspicious
+  EXPECT_EQ(StateOf(1), S::kRecentlyObserved);
+  AtTable({1, 2, 3, 4});
+  AtShelf({5, 6});
+  AtTable({2, 3, 4});  // missed right after coming back
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  AtTable({1, 2, 3, 4});
+  EXPECT_EQ(StateOf(1), S::kObserved);
+  EXPECT_TRUE(AtShelf({5, 6}).removed.empty());
+  EXPECT_TRUE(detector_.Status(1).has_value());
+}
+
+TEST_F(Story, RedundantDuplicateSeenOnceIsRemoved) {
+  AtTable({1, 2, 3, 4, 7});  // 7: a duplicate of 1 created by a detector hiccup
+  AtTable({1, 2, 3, 4});
+  EXPECT_EQ(StateOf(7), S::kRecentlyObserved);
+  AtShelf({5, 6});
+  EXPECT_EQ(StateOf(7), S::kUnknown);
+  AtTable({1, 2, 3, 4});
+  AtTable({1, 2, 3, 4});
+  EXPECT_EQ(StateOf(7), S::kSuspicious);
+  const KeyframeResult leaving = AtShelf({5, 6});
+  ASSERT_EQ(leaving.removed.size(), 1u);
+  EXPECT_EQ(leaving.removed[0].object_id, 7);
+}
+
+TEST_F(Story, ReobservedAfterRemovalReentersAsNewNode) {
+  AtTable({1, 7});
+  AtShelf({5, 6});
+  AtTable({1});
+  AtTable({1});
+  ASSERT_EQ(AtShelf({5, 6}).removed.size(), 1u);
+  AtTable({7, 2});
+  EXPECT_EQ(StateOf(7), S::kObserved);
+  EXPECT_EQ(detector_.graph().EdgeWeight(7, 1), 0u);  // old edges are gone
+  EXPECT_EQ(detector_.graph().EdgeWeight(7, 2), 1u);
+  EXPECT_EQ(detector_.Status(7)->observations, 1u);
+}
+
+TEST_F(Story, NeighbourlessObjectIsNeverJudgedInPaperMode) {
+  AtTable({1});  // seen alone, once
+  AtShelf({5, 6});
+  for (int i = 0; i < 5; ++i) AtTable({});
+  EXPECT_TRUE(AtShelf({5, 6}).removed.empty());
+  EXPECT_EQ(StateOf(1), S::kUnknown);
+  EXPECT_EQ(DoubtOf(1), 0.0);
+}
+
+TEST_F(Story, RemovalsDoNotChangeOtherRatesInTheSameKeyframe) {
+  AtTable({1, 7});
+  AtTable({7, 2});
+  AtShelf({5, 6});
+  AtTable({7});
+  AtTable({7});  // 1 is suspicious with doubt 60
+  const KeyframeResult result = AtTable({2});
+  ASSERT_EQ(result.removed.size(), 1u);
+  EXPECT_EQ(result.removed[0].object_id, 1);
+  // 7 was judged on the graph that still held 1: E(7,2) / (E(7,1) + E(7,2)) = 0.5, not 1.
+  EXPECT_DOUBLE_EQ(detector_.Status(7)->active_edge_rate, 0.5);
+}
+
+TEST_F(Story, ObjectsThatVanishTogetherAreRemovedTogether) {
+  AtTable({1, 7, 2});
+  AtShelf({5, 6});
+  for (int i = 0; i < 3; ++i) AtTable({2});  // r = 0.5 for both: 20 per keyframe
+  const KeyframeResult leaving = AtShelf({5, 6});
+  ASSERT_EQ(leaving.removed.size(), 2u);
+  EXPECT_EQ(leaving.removed[0].object_id, 1);
+  EXPECT_EQ(leaving.removed[1].object_id, 7);
+}
+
+class FallbackStory : public Story {
+ protected:
+  FallbackStory() : Story("fallback") {}
+};
+
+TEST_F(FallbackStory, NeighbourlessObjectIsJudgedGeometrically) {
+  AtTable({1});
+  AtShelf({5, 6});
+  EXPECT_EQ(StateOf(1), S::kUnknown);
+  AtTable({});
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  EXPECT_TRUE(detector_.Status(1)->judged_by_geometry);
+  EXPECT_EQ(DoubtOf(1), 20.0);  // isolated_rate 0.5 -> the [0.5, 1) band
+  AtTable({});
+  AtTable({});
+  ASSERT_EQ(AtShelf({5, 6}).removed.size(), 1u);
+}
+
+TEST_F(FallbackStory, TooFarToBeDetectedIsNotVisible) {
+  AtTable({1});  // seen from about 2.2 m
+  AtShelf({5, 6});
+  Step(LookAt({-8, 0, 0.8}, {0, 0, 0}), {});  // 8 m away, beyond 1.25 x 2.2 m
+  EXPECT_EQ(StateOf(1), S::kUnknown);
+}
+
+class InImageStory : public Story {
+ protected:
+  InImageStory() : Story("in_image") {}
+};
+
+TEST_F(InImageStory, IncrementScaledByTheBoxFractionInsideTheImage) {
+  for (int i = 0; i < 2; ++i) AtTable({1, 2, 3, 4});
+  AtShelf({5, 6});
+  KeyframeObservation observation =
+      MakeObservation(keyframe_++, LookAt({-2, 0, 0.8}, {0, 0, 0}), {2, 3, 4});
+  observation.updates[1].size = Eigen::Vector3d(0.2, 0.2, 0.2);
+  detector_.Process(observation);
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  EXPECT_DOUBLE_EQ(DoubtOf(1), 30.0);  // the whole box is in the image
+  // A camera that sees object 1 in the image corner, at pixel (620, 465): the centroid is
+  // inside, but most of a 1 m box is not.
+  const Eigen::Vector3d eye(-2, 0, 0.8);
+  const Eigen::Quaterniond R_cw = Eigen::Quaterniond::FromTwoVectors(
+      (kPlaces.at(1) - eye).normalized(), Eigen::Vector3d(0.6, 0.45, 1.0).normalized());
+  observation.keyframe_id = keyframe_++;
+  observation.updates.clear();
+  observation.updates[1].size = Eigen::Vector3d(1.0, 1.0, 1.0);
+  observation.T_cw = SE3(R_cw, -(R_cw * eye));
+  detector_.Process(observation);
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  EXPECT_DOUBLE_EQ(DoubtOf(1), 30.0) << "box mostly outside: P = 0, no increment";
+  // Near the right border, at pixel (570, 240): most of the box is inside, and the
+  // increment is scaled by that fraction.
+  const Eigen::Quaterniond R_side = Eigen::Quaterniond::FromTwoVectors(
+      (kPlaces.at(1) - eye).normalized(), Eigen::Vector3d(0.5, 0.0, 1.0).normalized());
+  observation.keyframe_id = keyframe_++;
+  observation.T_cw = SE3(R_side, -(R_side * eye));
+  const double fraction = BoxFractionInImage(kPlaces.at(1), Eigen::Vector3d(1, 1, 1),
+                                             observation.T_cw, observation.camera);
+  ASSERT_GT(fraction, 0.5);
+  ASSERT_LT(fraction, 0.95);
+  detector_.Process(observation);
+  EXPECT_NEAR(DoubtOf(1), 30.0 + 30.0 * fraction, 1e-9);
+}
+
+class GuardStory : public Story {
+ protected:
+  GuardStory() : Story("guard") {}
+};
+
+TEST_F(GuardStory, OneDetectedNeighbourGrantsNoIncrement) {
+  for (int i = 0; i < 5; ++i) AtTable({1, 2});  // heavy edge 1-2
+  AtTable({1, 3});                              // light edges 1-3, 1-4
+  AtTable({1, 4});
+  AtShelf({5, 6});
+  AtTable({2});  // only neighbour 2 detected: r = 5/7 > tau, but a single neighbour
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  EXPECT_EQ(DoubtOf(1), 0.0);
+  AtTable({2, 3});
+  EXPECT_EQ(DoubtOf(1), 20.0);  // r = 6/7: two neighbours now
+}
+
+TEST(Detector, JsonExportImportRestoresTheGraphAndStates) {
+  OcgOptions options;
+  options.mode = "fallback+guard";
+  options.tau_doubt = 40;
+  ObjectChangeDetector detector(options);
+  KeyframeObservation observation = MakeObservation(0, LookAt({-2, 0, 0.8}, {0, 0, 0}), {1, 2, 3});
+  observation.updates[1].centroid = Eigen::Vector3d(0, 0, 0);
+  observation.updates[1].size = Eigen::Vector3d(0.1, 0.2, 0.3);
+  detector.Process(observation);
+  observation.keyframe_id = 1;
+  observation.observed = {1, 2};
+  detector.Process(observation);
+  const ObjectChangeDetector restored = ObjectChangeDetector::FromJson(detector.ToJson());
+  EXPECT_EQ(restored.ToJson(), detector.ToJson());
+  EXPECT_EQ(restored.options().tau_doubt, 40.0);
+  EXPECT_EQ(restored.graph().EdgeWeight(1, 2), 2u);
+  EXPECT_EQ(restored.Status(3)->state, S::kRecentlyObserved);
+  EXPECT_TRUE(restored.Status(1)->geometry.size->isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
+  EXPECT_THROW(ObjectChangeDetector::FromJson("{\"format\": \"other\"}"), std::invalid_argument);
+  EXPECT_THROW(ObjectChangeDetector::FromJson("[1, 2"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ocg

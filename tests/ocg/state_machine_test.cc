@@ -1,0 +1,97 @@
+#include <gtest/gtest.h>
+
+#include "ocg/ocg/state_machine.h"
+
+namespace ocg {
+namespace {
+
+using S = ObjectState;
+
+TEST(Equation1, ActiveEdgeRate) {
+  EXPECT_DOUBLE_EQ(ActiveEdgeRate(0, 0), 0.0);  // no neighbours: treated as 0
+  EXPECT_DOUBLE_EQ(ActiveEdgeRate(0, 7), 0.0);
+  EXPECT_DOUBLE_EQ(ActiveEdgeRate(3, 12), 0.25);
+  EXPECT_DOUBLE_EQ(ActiveEdgeRate(12, 12), 1.0);
+}
+
+TEST(Equation2, IncrementBandsAndBoundaries) {
+  const OcgOptions options;
+  EXPECT_EQ(DoubtIncrement(1.0, true, options), 30.0);
+  EXPECT_EQ(DoubtIncrement(0.999, true, options), 20.0);
+  EXPECT_EQ(DoubtIncrement(0.5, true, options), 20.0);  // [0.5, 1)
+  EXPECT_EQ(DoubtIncrement(0.4999, true, options), 10.0);
+  EXPECT_EQ(DoubtIncrement(0.2001, true, options), 10.0);
+  EXPECT_EQ(DoubtIncrement(0.2, true, options), 0.0);  // (tau, 0.5) is open at tau
+  EXPECT_EQ(DoubtIncrement(0.1, true, options), 0.0);
+  for (double rate : {0.0, 0.2, 0.3, 0.5, 1.0})
+    EXPECT_EQ(DoubtIncrement(rate, false, options), 0.0);
+}
+
+TEST(StateMachine, ObservedResetsFromAnyLiveState) {
+  const OcgOptions options;
+  for (S state : {S::kObserved, S::kRecentlyObserved, S::kUnknown, S::kSuspicious}) {
+    const StateAndDoubt next = NextState({state, 45.0}, true, 0.0, 30.0, options);
+    EXPECT_EQ(next.state, S::kObserved);
+    EXPECT_EQ(next.doubt, 0.0);
+  }
+}
+
+TEST(StateMachine, RecentStatesAtAndAroundTau) {
+  const OcgOptions options;
+  for (S state : {S::kObserved, S::kRecentlyObserved}) {
+    EXPECT_EQ(NextState({state, 0}, false, 0.19, 0, options).state, S::kUnknown);
+    EXPECT_EQ(NextState({state, 0}, false, 0.2, 0, options).state, S::kRecentlyObserved);
+    EXPECT_EQ(NextState({state, 0}, false, 0.9, 0, options).state, S::kRecentlyObserved);
+  }
+}
+
+TEST(StateMachine, UnknownEntersSuspiciousOnlyAboveTau) {
+  const OcgOptions options;
+  EXPECT_EQ(NextState({S::kUnknown, 0}, false, 0.2, 0, options).state, S::kUnknown);
+  const StateAndDoubt entered = NextState({S::kUnknown, 0}, false, 0.6, 20, options);
+  EXPECT_EQ(entered.state, S::kSuspicious);
+  EXPECT_EQ(entered.doubt, 20.0);  // d = inc(r, P), not accumulated
+}
+
+TEST(StateMachine, SuspiciousAccumulatesThenDecidesOnLeaving) {
+  const OcgOptions options;
+  EXPECT_EQ(NextState({S::kSuspicious, 30}, false, 1.0, 30, options).doubt, 60.0);
+  // At exactly tau the camera has not left: keep accumulating (increment 0 there).
+  const StateAndDoubt at_tau = NextState({S::kSuspicious, 30}, false, 0.2, 0, options);
+  EXPECT_EQ(at_tau.state, S::kSuspicious);
+  EXPECT_EQ(at_tau.doubt, 30.0);
+  const StateAndDoubt outlier = NextState({S::kSuspicious, 60}, false, 0.1, 0, options);
+  EXPECT_EQ(outlier.state, S::kOutlier);
+  const StateAndDoubt exactly = NextState({S::kSuspicious, 50}, false, 0.1, 0, options);
+  EXPECT_EQ(exactly.state, S::kUnknown) << "d must exceed tau_doubt, not equal it";
+  EXPECT_EQ(exactly.doubt, 0.0);
+}
+
+TEST(StateMachine, ThresholdsAreConfigurable) {
+  OcgOptions options;
+  options.tau_observable = 0.4;
+  options.tau_doubt = 100;
+  EXPECT_EQ(NextState({S::kObserved, 0}, false, 0.3, 0, options).state, S::kUnknown);
+  EXPECT_EQ(NextState({S::kSuspicious, 90}, false, 0.3, 0, options).state, S::kUnknown);
+  EXPECT_EQ(DoubtIncrement(0.45, true, options), 10.0);
+  EXPECT_EQ(DoubtIncrement(0.35, true, options), 0.0);
+}
+
+TEST(Options, ModesParseAndReject) {
+  OcgOptions options;
+  EXPECT_FALSE(options.isolated_fallback() || options.box_in_image() || options.dropout_guard());
+  options.mode = "fallback+guard";
+  EXPECT_NO_THROW(options.Check());
+  EXPECT_TRUE(options.isolated_fallback());
+  EXPECT_FALSE(options.box_in_image());
+  EXPECT_TRUE(options.dropout_guard());
+  options.mode = "improved";
+  EXPECT_TRUE(options.isolated_fallback() && options.box_in_image() && options.dropout_guard());
+  options.mode = "paper+guard";
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options.mode = "fallbak";
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ocg

@@ -1,0 +1,101 @@
+#include "test_support.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+
+#include <unistd.h>
+
+namespace ocg::testing {
+
+namespace fs = std::filesystem;
+
+std::string SourceDir() {
+  const char* from_environment = std::getenv("OCG_SOURCE_DIR");
+  return from_environment != nullptr ? from_environment : OCG_TEST_SOURCE_DIR;
+}
+
+std::optional<std::string> SharedDataDir() {
+  const char* override_dir = std::getenv("OCG_SHARED_DATA");
+  const fs::path path = override_dir != nullptr ? fs::path(override_dir)
+                                                : fs::path(SourceDir()) / ".." / "shared" / "data";
+  if (!fs::is_directory(path)) return std::nullopt;
+  return fs::canonical(path).string();
+}
+
+std::string SharedDataSkipMessage() {
+  return "shared data not found at " + (fs::path(SourceDir()) / ".." / "shared" / "data").string() +
+         " (set OCG_SHARED_DATA to its location to run this test)";
+}
+
+std::string MakeTempDir(const std::string& name) {
+  static std::atomic<int> counter{0};
+  const fs::path path =
+      fs::temp_directory_path() /
+      ("ocg_test_" + name + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  fs::remove_all(path);
+  fs::create_directories(path);
+  return path.string();
+}
+
+std::uint32_t NaiveOcg::EdgeWeight(ObjectId a, ObjectId b) const {
+  const auto it = edges_.find({std::min(a, b), std::max(a, b)});
+  return it == edges_.end() ? 0 : it->second;
+}
+
+std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) {
+  const std::set<ObjectId> observed(observation.observed.begin(), observation.observed.end());
+  for (ObjectId id : observed) objects_.try_emplace(id);
+  for (auto a = observed.begin(); a != observed.end(); ++a) {
+    for (auto b = std::next(a); b != observed.end(); ++b) ++edges_[{*a, *b}];
+  }
+  for (const auto& [id, update] : observation.updates) {
+    auto it = objects_.find(id);
+    if (it == objects_.end()) continue;
+    if (update.centroid) it->second.geometry.centroid = update.centroid;
+    if (update.size) it->second.geometry.size = update.size;
+  }
+  const Eigen::Vector3d camera_centre = observation.T_cw.Inverse().translation();
+  for (ObjectId id : observed) {
+    ObjectGeometry& geometry = objects_.at(id).geometry;
+    if (geometry.centroid) {
+      geometry.max_observed_distance =
+          std::max(geometry.max_observed_distance, (*geometry.centroid - camera_centre).norm());
+    }
+  }
+
+  // Everything from scratch: one pass over all edges gives every object's evidence.
+  std::map<ObjectId, ObjectEvidence> evidence;
+  for (const auto& [id, object] : objects_) evidence[id].observed = observed.count(id) > 0;
+  for (const auto& [pair, weight] : edges_) {
+    for (const auto& [self, other] :
+         {std::pair{pair.first, pair.second}, std::pair{pair.second, pair.first}}) {
+      ObjectEvidence& entry = evidence.at(self);
+      entry.total_weight += weight;
+      entry.degree += 1;
+      if (observed.count(other) > 0) {
+        entry.observed_weight += weight;
+        entry.observed_neighbours += 1;
+      }
+    }
+  }
+  std::vector<ObjectId> removed;
+  for (auto& [id, object] : objects_) {
+    const Judgement judgement = JudgeObject(object.state, evidence.at(id), object.geometry,
+                                            observation.T_cw, observation.camera, options_);
+    object.rate = judgement.rate;
+    object.state = judgement.next;
+    if (judgement.next.state == ObjectState::kOutlier) removed.push_back(id);
+  }
+  for (ObjectId id : removed) {
+    objects_.erase(id);
+    for (auto it = edges_.begin(); it != edges_.end();) {
+      it = (it->first.first == id || it->first.second == id) ? edges_.erase(it) : std::next(it);
+    }
+  }
+  return removed;
+}
+
+}  // namespace ocg::testing
