@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
                              ocg::ChangeLogJson(manager.Removals()));
     ocg::WriteFileAtomically((fs::path(output) / "ocg.json").string(), manager.GraphJson());
     std::cout << "ocg_replay: " << observations.size() << " keyframes, mode " << settings.ocg.mode
-              << ", " << manager.Removals().size() << " objects removed, "
+              << ", removed " << manager.Removals().size() << " object(s), "
               << manager.Snapshot().size() << " left\n"
               << "  " << (fs::path(output) / "states.jsonl").string() << "\n"
               << "  " << (fs::path(output) / "changes.json").string() << "\n"

@@ -37,6 +37,11 @@ class NaiveOcg {
   std::vector<ObjectId> Process(const KeyframeObservation& observation);
   const std::map<ObjectId, Object>& objects() const { return objects_; }
   std::uint32_t EdgeWeight(ObjectId a, ObjectId b) const;
+  // Direct seeding, so benchmarks can build large maps without replaying keyframes.
+  void Seed(ObjectId id, const Object& object) { objects_[id] = object; }
+  void SeedEdge(ObjectId a, ObjectId b, std::uint32_t weight) {
+    edges_[{std::min(a, b), std::max(a, b)}] = weight;
+  }
 
  private:
   OcgOptions options_;

@@ -1,1 +1,84 @@
-echo "1 passed, 0 failed"
+#!/usr/bin/env bash
+# End-to-end checks of the command-line tools, run by CTest:
+#   tools_test.sh <folder with the tool binaries> <project source folder>
+set -u
+BIN=$1
+SRC=$2
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+passed=0
+failed=0
+
+check() {  # check "description" command...
+  local description=$1
+  shift
+  if "$@" >"$WORK/out" 2>&1; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAILED: $description"
+    sed 's/^/    /' "$WORK/out"
+  fi
+}
+fails_with() {  # fails_with "description" "expected text" command...
+  local description=$1 expected=$2
+  shift 2
+  if "$@" >"$WORK/out" 2>&1; then
+    failed=$((failed + 1)); echo "FAILED: $description (exit code 0)"
+  elif ! grep -qF -- "$expected" "$WORK/out"; then
+    failed=$((failed + 1)); echo "FAILED: $description (no '$expected' in:)"; sed 's/^/    /' "$WORK/out"
+  else
+    passed=$((passed + 1))
+  fi
+}
+
+for tool in ocg_eval ocg_replay ocg_convert_detections; do
+  check "$tool --help" "$BIN/$tool" --help
+done
+
+# ocg_replay on the shipped example: the cup (object 1) is removed at keyframe 7.
+check "ocg_replay example" "$BIN/ocg_replay" --input "$SRC/tests/data/ocg_example.jsonl" --out "$WORK/replay"
+check "states.jsonl has one line per keyframe" test "$(wc -l <"$WORK/replay/states.jsonl")" -eq 9
+check "changes.json names the moved cup" grep -q '"object_id": 1' "$WORK/replay/changes.json"
+check "removed at keyframe 7" grep -q '"keyframe": 7' "$WORK/replay/changes.json"
+check "keyframe 7 line lists the removal" grep -q '"keyframe":7,.*"removed":\[1\]' "$WORK/replay/states.jsonl"
+check "ocg.json written" grep -q '"format": "ocg-graph"' "$WORK/replay/ocg.json"
+
+# Malformed input: an error naming the line, and nothing written.
+{ head -n 3 "$SRC/tests/data/ocg_example.jsonl"; echo '{"keyframe": 3, "T_cw": [1, 2]}'; } >"$WORK/bad.jsonl"
+fails_with "ocg_replay names the bad line" "bad.jsonl:4" "$BIN/ocg_replay" --input "$WORK/bad.jsonl" --out "$WORK/bad_out"
+check "nothing written on failure" test ! -e "$WORK/bad_out"
+fails_with "ocg_replay rejects an unknown mode" "OCG.mode" "$BIN/ocg_replay" --input "$SRC/tests/data/ocg_example.jsonl" --out "$WORK/x" --mode nonsense
+
+# ocg_eval ate: an estimate that is the ground truth scaled by 3 and shifted.
+awk '{ printf "%s %.9f %.9f %.9f 0 0 0 1\n", $1, $2, $3, $4 }' >"$WORK/gt.txt" <<'DATA'
+1.00 0.0 0.0 0.0
+1.10 1.0 0.0 0.0
+1.20 1.0 1.0 0.0
+1.30 0.0 1.0 0.5
+1.40 0.5 0.5 1.0
+DATA
+awk '{ printf "%.3f %.9f %.9f %.9f 0 0 0 1\n", $1 + 0.005, 3 * $2 + 1, 3 * $3 - 2, 3 * $4 }' "$WORK/gt.txt" >"$WORK/est.txt"
+check "ocg_eval ate runs" "$BIN/ocg_eval" ate --gt "$WORK/gt.txt" --est "$WORK/est.txt"
+"$BIN/ocg_eval" ate --gt "$WORK/gt.txt" --est "$WORK/est.txt" >"$WORK/ate.txt"
+check "ate scale is 1/3" grep -q "^scale   0.333333" "$WORK/ate.txt"
+check "ate rmse is 0" grep -q "^rmse    0.000000" "$WORK/ate.txt"
+check "ate --json" "$BIN/ocg_eval" ate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --json
+fails_with "ate with disjoint times" "time base" "$BIN/ocg_eval" ate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --max-dt 0.001
+check "ocg_eval rpe runs" "$BIN/ocg_eval" rpe --gt "$WORK/gt.txt" --est "$WORK/est.txt"
+fails_with "missing file is named" "nope.txt" "$BIN/ocg_eval" ate --gt "$WORK/nope.txt" --est "$WORK/est.txt"
+
+# ocg_convert_detections: EAO folder -> JSON -> EAO folder gives the same detections.
+mkdir -p "$WORK/eao"
+printf '56 16 256 220 215 0.909657\n39 289 18 23 92 0.767674\n' >"$WORK/eao/1341847980.722988.txt"
+printf '41 1 2 3 4 0.5' >"$WORK/eao/1341847981.000000.txt"
+check "EAO to JSON" "$BIN/ocg_convert_detections" --from "$WORK/eao" --to "$WORK/d.json"
+check "JSON to EAO" "$BIN/ocg_convert_detections" --from "$WORK/d.json" --to "$WORK/eao2"
+check "round trip identical" diff "$WORK/eao/1341847980.722988.txt" "$WORK/eao2/1341847980.722988.txt"
+check "file_name carries prefix" grep -q '"rgb/1341847980.722988.png"' "$WORK/d.json"
+printf '56 16 256 220\n' >"$WORK/eao/1341847982.000000.txt"
+fails_with "malformed detection names file and line" "1341847982.000000.txt:1" "$BIN/ocg_convert_detections" --from "$WORK/eao" --to "$WORK/d2.json"
+check "lenient skips it" "$BIN/ocg_convert_detections" --from "$WORK/eao" --to "$WORK/d3.json" --lenient
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
