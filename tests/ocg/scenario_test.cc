@@ -184,7 +184,7 @@ TEST_F(FallbackStory, NeighbourlessObjectIsJudgedGeometrically) {
 TEST_F(FallbackStory, TooFarToBeDetectedIsNotVisible) {
   AtTable({1});  // seen from about 2.2 m
   AtShelf({5, 6});
-  Step(LookAt({-8, 0, 0.8}, {0, 0, 0}), {});  // 8 m away, beyond 1.25 x 2.2 m
+  Step(LookAt({-8, 0, 0.8}, {0, 0, 0}), {});  // 8 m away, beyond distance_slack x 2.2 m
   EXPECT_EQ(StateOf(1), S::kUnknown);
 }
 

@@ -33,7 +33,7 @@ struct OcgOptions {
   // distance_slack times the farthest distance it was observed from).
   double isolated_rate = 0.5;
   double image_margin = 10.0;
-  double distance_slack = 1.25;
+  double distance_slack = 1.1;
   // "in_image": the smallest fraction of the projected box inside the image for P = 1.
   double min_box_fraction = 0.5;
   // "guard": neighbours that must be detected in the keyframe for an increment (capped at
