@@ -41,7 +41,7 @@ struct Tally {
 };
 
 struct Scenario {
-  bool partition = true;         // the central partition hides half of the table
+  bool partition = true;          // the central partition hides half of the table
   bool truncation_misses = true;  // detectors miss objects mostly outside the image
   double large_share = 0.3;       // share of large objects (monitors, laptops, plants)
 };
@@ -61,8 +61,9 @@ class Simulation {
       angle += Uniform(-0.05, 0.25);  // mostly one way round, hand-held jitter
       const Eigen::Vector3d eye(2.2 * std::cos(angle), 2.2 * std::sin(angle), 1.3);
       if (outward == 0 && Uniform(0, 1) < 0.08) outward = 3;
-      const Eigen::Vector3d target = outward > 0 ? Eigen::Vector3d(0, (eye.y() > 0 ? 4.2 : -4.2), 0.5)
-                                                 : Eigen::Vector3d(Uniform(-0.3, 0.3), Uniform(-0.2, 0.2), 0.0);
+      const Eigen::Vector3d target =
+          outward > 0 ? Eigen::Vector3d(0, (eye.y() > 0 ? 4.2 : -4.2), 0.5)
+                      : Eigen::Vector3d(Uniform(-0.3, 0.3), Uniform(-0.2, 0.2), 0.0);
       if (outward > 0) --outward;
       ocg::KeyframeObservation observation;
       observation.keyframe_id = keyframe;
@@ -73,7 +74,8 @@ class Simulation {
         if (!object.present || !Visible(object, eye, observation)) continue;
         if (Uniform(0, 1) < (dropout ? 0.8 : 0.1)) continue;
         if (scenario_.truncation_misses &&
-            ocg::BoxFractionInImage(object.position, object.size, observation.T_cw, observation.camera) < 0.6 &&
+            ocg::BoxFractionInImage(object.position, object.size, observation.T_cw,
+                                    observation.camera) < 0.6 &&
             Uniform(0, 1) < 0.9) {
           continue;
         }
@@ -110,12 +112,15 @@ class Simulation {
   }
 
  private:
-  double Uniform(double low, double high) { return std::uniform_real_distribution<double>(low, high)(rng_); }
+  double Uniform(double low, double high) {
+    return std::uniform_real_distribution<double>(low, high)(rng_);
+  }
 
   void AddTableObject(double side) {
     objects_.push_back({next_id_++, {side * Uniform(0.1, 1.1), Uniform(-0.55, 0.55), 0.0}});
     if (Uniform(0, 1) < scenario_.large_share) {
-      objects_.back().size = Eigen::Vector3d(Uniform(0.3, 0.7), Uniform(0.3, 0.7), Uniform(0.3, 0.6));
+      objects_.back().size =
+          Eigen::Vector3d(Uniform(0.3, 0.7), Uniform(0.3, 0.7), Uniform(0.3, 0.6));
     }
   }
   void AddIsolated(const Eigen::Vector3d& position) {
@@ -148,7 +153,8 @@ class Simulation {
   bool Visible(const SceneObject& object, const Eigen::Vector3d& eye,
                const ocg::KeyframeObservation& observation) const {
     if ((object.position - eye).norm() > 3.5) return false;
-    if (!ocg::CentroidInImage(object.position, observation.T_cw, observation.camera, 5.0)) return false;
+    if (!ocg::CentroidInImage(object.position, observation.T_cw, observation.camera, 5.0))
+      return false;
     if (object.isolated || !scenario_.partition) return true;
     // The partition (x = 0, |y| < 0.6, up to 0.6 m) hides the other half of the table.
     if (eye.x() * object.position.x() >= 0) return true;
@@ -183,17 +189,21 @@ int main(int argc, char** argv) {
   double distance_slack = ocg::OcgOptions().distance_slack;
   app.add_flag("--no-partition", no_partition, "remove the central partition");
   app.add_flag("--no-truncation-misses", no_truncation, "detect truncated objects like whole ones");
-  app.add_option("--large-share", scenario.large_share, "share of large objects")->capture_default_str();
+  app.add_option("--large-share", scenario.large_share, "share of large objects")
+      ->capture_default_str();
   app.add_option("--distance-slack", distance_slack, "OCG.distance_slack")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   scenario.partition = !no_partition;
   scenario.truncation_misses = !no_truncation;
 
-  std::printf("%d sequences x %d keyframes per mode; partition %s, truncation misses %s, "
-              "large objects %.0f%%, distance_slack %.2f\n\n",
-              seeds, keyframes, scenario.partition ? "on" : "off",
-              scenario.truncation_misses ? "on" : "off", 100 * scenario.large_share, distance_slack);
-  std::printf("| mode | Corr.M (moved removed) | Delet.S (static removed) | duplicates removed | isolated moved removed | isolated static removed |\n");
+  std::printf(
+      "%d sequences x %d keyframes per mode; partition %s, truncation misses %s, "
+      "large objects %.0f%%, distance_slack %.2f\n\n",
+      seeds, keyframes, scenario.partition ? "on" : "off",
+      scenario.truncation_misses ? "on" : "off", 100 * scenario.large_share, distance_slack);
+  std::printf(
+      "| mode | Corr.M (moved removed) | Delet.S (static removed) | duplicates removed | isolated "
+      "moved removed | isolated static removed |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const char* mode : {"paper", "fallback", "in_image", "guard", "improved"}) {
     ocg::OcgOptions options;
@@ -205,13 +215,16 @@ int main(int argc, char** argv) {
       Simulation(static_cast<unsigned>(seed), scenario).Run(detector, tally, keyframes);
     }
     auto share = [](int part, int whole) { return whole > 0 ? 100.0 * part / whole : 0.0; };
-    std::printf("| %s | %d/%d (%.1f%%) | %d/%d (%.2f%%) | %d/%d (%.1f%%) | %d/%d (%.1f%%) | %d/%d (%.1f%%) |\n",
-                mode, tally.moved_removed, tally.moved, share(tally.moved_removed, tally.moved),
-                tally.static_removed, tally.static_objects, share(tally.static_removed, tally.static_objects),
-                tally.duplicates_removed, tally.duplicates, share(tally.duplicates_removed, tally.duplicates),
-                tally.isolated_moved_removed, tally.isolated_moved,
-                share(tally.isolated_moved_removed, tally.isolated_moved), tally.isolated_static_removed,
-                tally.isolated_static, share(tally.isolated_static_removed, tally.isolated_static));
+    std::printf(
+        "| %s | %d/%d (%.1f%%) | %d/%d (%.2f%%) | %d/%d (%.1f%%) | %d/%d (%.1f%%) | %d/%d (%.1f%%) "
+        "|\n",
+        mode, tally.moved_removed, tally.moved, share(tally.moved_removed, tally.moved),
+        tally.static_removed, tally.static_objects,
+        share(tally.static_removed, tally.static_objects), tally.duplicates_removed,
+        tally.duplicates, share(tally.duplicates_removed, tally.duplicates),
+        tally.isolated_moved_removed, tally.isolated_moved,
+        share(tally.isolated_moved_removed, tally.isolated_moved), tally.isolated_static_removed,
+        tally.isolated_static, share(tally.isolated_static_removed, tally.isolated_static));
   }
   return 0;
 }

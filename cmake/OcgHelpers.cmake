@@ -41,13 +41,16 @@ function(ocg_add_test name)
     PROPERTIES ENVIRONMENT "OCG_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 endfunction()
 
-# ocg_add_tool(<name> SOURCES ... DEPS ...): an installed command-line program.
+# ocg_add_tool(<name> SOURCES ... DEPS ... [NO_INSTALL]): a command-line program,
+# installed unless NO_INSTALL (benchmark programs).
 function(ocg_add_tool name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "NO_INSTALL" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
   _ocg_apply_flags(${name})
-  install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  if(NOT ARG_NO_INSTALL)
+    install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  endif()
 endfunction()
 
 # ocg_add_bench(<name> SOURCES ... DEPS ...): a Google Benchmark program (never run by ctest).

@@ -10,6 +10,7 @@
 #include "cli_common.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/core/logging.h"
 #include "ocg/ocg/manager.h"
 #include "ocg/ocg/replay_format.h"
 
@@ -51,18 +52,23 @@ int main(int argc, char** argv) {
       }
     }
     ocg::OcgManager manager(settings.ocg, /*sequential=*/true);
+    std::vector<ocg::RemovalEvent> removed;  // this keyframe's
+    manager.SetRemovalCallback(
+        [&](const ocg::KeyframeResult& result) { removed = result.removed; });
     std::string states;
-    for (const ocg::KeyframeObservation& observation : observations) {
-      std::vector<ocg::RemovalEvent> removed;
-      manager.SetRemovalCallback(
-          [&](const ocg::KeyframeResult& result) { removed = result.removed; });
-      manager.Submit(observation);
-      states += ocg::StatesLineJson(observation.keyframe_id, manager.Snapshot(), removed) + "\n";
+    ocg::ProgressLine progress("keyframes", observations.size());
+    for (std::size_t index = 0; index < observations.size(); ++index) {
+      removed.clear();
+      manager.Submit(observations[index]);
+      states +=
+          ocg::StatesLineJson(observations[index].keyframe_id, manager.Snapshot(), removed) + "\n";
       for (const ocg::RemovalEvent& event : removed) {
         spdlog::info("keyframe {}: object {} removed (doubt {})", event.keyframe_id,
                      event.object_id, event.doubt);
       }
+      progress.Update(index + 1);
     }
+    progress.Finish();
     namespace fs = std::filesystem;
     ocg::WriteFileAtomically((fs::path(output) / "states.jsonl").string(), states);
     ocg::WriteFileAtomically((fs::path(output) / "changes.json").string(),
