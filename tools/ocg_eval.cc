@@ -24,6 +24,30 @@ void PrintStatistics(const ocg::ErrorStatistics& stats, const char* unit) {
       stats.max, unit);
 }
 
+// The options ate and rpe share.
+struct TrajectoryPair {
+  std::string gt, est, align = "sim3";
+  double max_dt = 0.02;
+  bool json = false;
+};
+
+void AddTrajectoryPairOptions(CLI::App* command, TrajectoryPair* pair,
+                              const std::string& align_help) {
+  command->add_option("--gt", pair->gt, "ground-truth trajectory (TUM format)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--est", pair->est, "estimated trajectory (TUM format)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--align", pair->align, align_help)
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sim3", "se3", "none"}));
+  command->add_option("--max-dt", pair->max_dt, "largest timestamp difference of a pair, seconds")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  command->add_flag("--json", pair->json, "print JSON instead of text");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -33,75 +57,48 @@ int main(int argc, char** argv) {
   std::string log_level;
   ocg::tools::AddLogLevelOption(app, &log_level);
 
-  std::string ate_gt, ate_est, ate_align = "sim3";
-  double ate_max_dt = 0.02;
-  bool ate_json = false;
+  TrajectoryPair ate_input, rpe_input;
   CLI::App* ate = app.add_subcommand("ate", "absolute trajectory error of the positions");
-  ate->add_option("--gt", ate_gt, "ground-truth trajectory (TUM format)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  ate->add_option("--est", ate_est, "estimated trajectory (TUM format)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  ate->add_option("--align", ate_align, "alignment: sim3 (monocular), se3 or none")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"sim3", "se3", "none"}));
-  ate->add_option("--max-dt", ate_max_dt, "largest timestamp difference of a pair, seconds")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  ate->add_flag("--json", ate_json, "print JSON instead of text");
-
-  std::string rpe_gt, rpe_est, rpe_align = "sim3", rpe_unit = "frames";
-  double rpe_max_dt = 0.02, rpe_delta = 1.0;
-  bool rpe_json = false;
+  AddTrajectoryPairOptions(ate, &ate_input, "alignment: sim3 (monocular), se3 or none");
   CLI::App* rpe = app.add_subcommand("rpe", "relative pose error over a fixed delta");
-  rpe->add_option("--gt", rpe_gt, "ground-truth trajectory (TUM format)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  rpe->add_option("--est", rpe_est, "estimated trajectory (TUM format)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  rpe->add_option("--align", rpe_align, "scale from: sim3 (monocular), se3 or none")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"sim3", "se3", "none"}));
-  rpe->add_option("--max-dt", rpe_max_dt, "largest timestamp difference of a pair, seconds")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  AddTrajectoryPairOptions(rpe, &rpe_input, "scale from: sim3 (monocular), se3 or none");
+  double rpe_delta = 1.0;
+  std::string rpe_unit = "frames";
   rpe->add_option("--delta", rpe_delta, "distance between the two poses")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   rpe->add_option("--delta-unit", rpe_unit, "frames (associated poses) or seconds")
       ->capture_default_str()
       ->check(CLI::IsMember({"frames", "seconds"}));
-  rpe->add_flag("--json", rpe_json, "print JSON instead of text");
 
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
     if (ate->parsed()) {
       ocg::AteOptions options;
-      options.alignment = ocg::ParseAlignmentMode(ate_align);
-      options.max_dt = ate_max_dt;
-      const ocg::AteResult result =
-          ocg::ComputeAte(ocg::ReadTumTrajectory(ate_gt), ocg::ReadTumTrajectory(ate_est), options);
-      if (ate_json) {
+      options.alignment = ocg::ParseAlignmentMode(ate_input.align);
+      options.max_dt = ate_input.max_dt;
+      const ocg::AteResult result = ocg::ComputeAte(ocg::ReadTumTrajectory(ate_input.gt),
+                                                    ocg::ReadTumTrajectory(ate_input.est), options);
+      if (ate_input.json) {
         nlohmann::json json = StatisticsJson(result.translation);
         json["pairs"] = result.pairs.size();
         json["scale"] = result.reference_from_estimate.scale();
-        json["alignment"] = ate_align;
+        json["alignment"] = ate_input.align;
         std::cout << json.dump(1) << "\n";
         return;
       }
-      std::printf("ATE (translation), alignment %s\npairs   %zu\nscale   %.6f\n", ate_align.c_str(),
-                  result.pairs.size(), result.reference_from_estimate.scale());
+      std::printf("ATE (translation), alignment %s\npairs   %zu\nscale   %.6f\n",
+                  ate_input.align.c_str(), result.pairs.size(),
+                  result.reference_from_estimate.scale());
       PrintStatistics(result.translation, "m");
     } else {
       ocg::RpeOptions options;
-      options.alignment = ocg::ParseAlignmentMode(rpe_align);
-      options.max_dt = rpe_max_dt;
+      options.alignment = ocg::ParseAlignmentMode(rpe_input.align);
+      options.max_dt = rpe_input.max_dt;
       options.delta = rpe_delta;
       options.delta_in_seconds = rpe_unit == "seconds";
-      const ocg::RpeResult result =
-          ocg::ComputeRpe(ocg::ReadTumTrajectory(rpe_gt), ocg::ReadTumTrajectory(rpe_est), options);
-      if (rpe_json) {
+      const ocg::RpeResult result = ocg::ComputeRpe(ocg::ReadTumTrajectory(rpe_input.gt),
+                                                    ocg::ReadTumTrajectory(rpe_input.est), options);
+      if (rpe_input.json) {
         std::cout << nlohmann::json({{"pairs", result.associated},
                                      {"scale", result.scale},
                                      {"translation", StatisticsJson(result.translation)},
@@ -113,7 +110,7 @@ int main(int argc, char** argv) {
       std::printf(
           "RPE, delta %g %s, scale from %s\npairs   %zu\nscale   %.6f\nrelative motions %zu\n"
           "-- translation\n",
-          rpe_delta, rpe_unit.c_str(), rpe_align.c_str(), result.associated, result.scale,
+          rpe_delta, rpe_unit.c_str(), rpe_input.align.c_str(), result.associated, result.scale,
           result.translation.count);
       PrintStatistics(result.translation, "m");
       std::printf("-- rotation\n");

@@ -29,7 +29,8 @@ std::optional<Eigen::Vector3d> VectorFromJson(const nlohmann::json& json) {
 
 }  // namespace
 
-ObjectChangeDetector::ObjectChangeDetector(OcgOptions options) : options_(std::move(options)) {
+ObjectChangeDetector::ObjectChangeDetector(OcgOptions options)
+    : options_(std::move(options)), modes_(options_.modes()) {
   options_.Check();
 }
 
@@ -87,42 +88,52 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     UpdateIsolation(id);
   }
 
-  // 2. Numerators of Eq. (1), touching only the neighbours of observed objects.
-  observed_weight_.clear();
+  // 2. Numerators of Eq. (1), touching only the neighbours of observed objects: every
+  // (neighbour, weight) pair in one reused buffer, sorted, then summed per neighbour.
+  touched_.clear();
   for (ObjectId id : observed) {
-    for (const CovisibilityEdge& edge : graph_.Neighbours(id)) {
-      auto& entry = observed_weight_[edge.neighbour];
-      entry.first += edge.weight;
-      entry.second += 1;
+    for (const CovisibilityEdge& edge : graph_.Neighbours(id)) touched_.push_back(edge);
+  }
+  std::sort(touched_.begin(), touched_.end(),
+            [](const CovisibilityEdge& a, const CovisibilityEdge& b) {
+              return a.neighbour < b.neighbour;
+            });
+  observed_weight_.clear();  // (neighbour, summed weight, observed neighbours), by neighbour
+  for (const CovisibilityEdge& edge : touched_) {
+    if (observed_weight_.empty() || observed_weight_.back().id != edge.neighbour) {
+      observed_weight_.push_back({edge.neighbour, 0, 0});
     }
+    observed_weight_.back().weight += edge.weight;
+    observed_weight_.back().neighbours += 1;
   }
 
   // Objects whose state can change: observed ones, states 1, 2, 4, state-3 objects with
   // an observed neighbour (others have rate 0 and stay), and in "fallback" mode the
   // neighbourless ones.
-  std::vector<ObjectId> candidates(observed.begin(), observed.end());
-  candidates.insert(candidates.end(), active_.begin(), active_.end());
-  for (const auto& entry : observed_weight_) candidates.push_back(entry.first);
-  if (options_.isolated_fallback()) {
-    candidates.insert(candidates.end(), isolated_.begin(), isolated_.end());
+  candidates_.assign(observed.begin(), observed.end());
+  candidates_.insert(candidates_.end(), active_.begin(), active_.end());
+  for (const ObservedWeight& entry : observed_weight_) candidates_.push_back(entry.id);
+  if (modes_.isolated_fallback) {
+    candidates_.insert(candidates_.end(), isolated_.begin(), isolated_.end());
   }
-  std::sort(candidates.begin(), candidates.end());
-  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  std::sort(candidates_.begin(), candidates_.end());
+  candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
 
   std::vector<ObjectId> outliers;
-  for (ObjectId id : candidates) {
+  auto weight = observed_weight_.begin();  // both lists ascend by id: walk them together
+  for (ObjectId id : candidates_) {
     Record& record = records_.at(id);
     ObjectEvidence evidence;
     evidence.observed = std::binary_search(observed.begin(), observed.end(), id);
-    const auto weight = observed_weight_.find(id);
-    if (weight != observed_weight_.end()) {
-      evidence.observed_weight = weight->second.first;
-      evidence.observed_neighbours = weight->second.second;
+    while (weight != observed_weight_.end() && weight->id < id) ++weight;
+    if (weight != observed_weight_.end() && weight->id == id) {
+      evidence.observed_weight = weight->weight;
+      evidence.observed_neighbours = weight->neighbours;
     }
     evidence.total_weight = graph_.WeightSum(id);
     evidence.degree = graph_.Degree(id);
     const Judgement judgement = JudgeObject(record.state, evidence, record.geometry,
-                                            observation.T_cw, observation.camera, options_);
+                                            observation.T_cw, observation.camera, options_, modes_);
     record.rate = judgement.rate;
     record.rate_keyframe = keyframe;
     record.judged_by_geometry = judgement.judged_by_geometry;

@@ -16,14 +16,14 @@ bool GeometricallyVisible(const ObjectGeometry& geometry, const SE3& T_cw,
 
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
-                      const OcgOptions& options) {
+                      const OcgOptions& options, const OcgModes& modes) {
   Judgement judgement;
   judgement.rate = ActiveEdgeRate(evidence.observed_weight, evidence.total_weight);
   if (evidence.observed) {
     judgement.next = NextState(current, true, judgement.rate, 0.0, options);
     return judgement;
   }
-  if (evidence.degree == 0 && options.isolated_fallback()) {
+  if (evidence.degree == 0 && modes.isolated_fallback) {
     judgement.judged_by_geometry = true;
     judgement.rate =
         GeometricallyVisible(geometry, T_cw, camera, options) ? options.isolated_rate : 0.0;
@@ -34,12 +34,12 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
   if (current.state == ObjectState::kUnknown || current.state == ObjectState::kSuspicious) {
     bool in_image = geometry.centroid && CentroidInImage(*geometry.centroid, T_cw, camera);
     double fraction = 1.0;
-    if (in_image && options.box_in_image() && geometry.size) {
+    if (in_image && modes.box_in_image && geometry.size) {
       fraction = BoxFractionInImage(*geometry.centroid, *geometry.size, T_cw, camera);
       in_image = fraction >= options.min_box_fraction;
     }
     increment = DoubtIncrement(judgement.rate, in_image, options) * fraction;
-    if (options.dropout_guard() && evidence.degree > 0) {
+    if (modes.dropout_guard && evidence.degree > 0) {
       const std::size_t required = std::min<std::size_t>(
           static_cast<std::size_t>(options.guard_min_neighbours), evidence.degree);
       if (evidence.observed_neighbours < required) increment = 0.0;

@@ -17,18 +17,9 @@ std::set<std::string> ModeParts(const std::string& mode) {
   return parts;
 }
 
-bool HasPart(const std::string& mode, const std::string& part) {
-  const std::set<std::string> parts = ModeParts(mode);
-  return parts.count(part) > 0 || parts.count("improved") > 0;
-}
-
 }  // namespace
 
-bool OcgOptions::isolated_fallback() const { return HasPart(mode, "fallback"); }
-bool OcgOptions::box_in_image() const { return HasPart(mode, "in_image"); }
-bool OcgOptions::dropout_guard() const { return HasPart(mode, "guard"); }
-
-void OcgOptions::Check() const {
+OcgModes ParseOcgMode(const std::string& mode) {
   static const std::set<std::string> kKnown = {"paper", "fallback", "in_image", "guard",
                                                "improved"};
   const std::set<std::string> parts = ModeParts(mode);
@@ -40,6 +31,16 @@ void OcgOptions::Check() const {
   }
   RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
                 "'paper' cannot be combined with improvements");
+  const bool all = parts.count("improved") > 0;
+  OcgModes modes;
+  modes.isolated_fallback = all || parts.count("fallback") > 0;
+  modes.box_in_image = all || parts.count("in_image") > 0;
+  modes.dropout_guard = all || parts.count("guard") > 0;
+  return modes;
+}
+
+void OcgOptions::Check() const {
+  ParseOcgMode(mode);
   RequireOption(tau_observable > 0 && tau_observable < 1, "OCG.tau_observable",
                 "must be in (0, 1)");
   RequireOption(std::isfinite(tau_doubt) && tau_doubt >= 0, "OCG.tau_doubt",

@@ -64,7 +64,7 @@ TEST(Settings, NestedAndDottedKeysAreTheSame) {
   EXPECT_DOUBLE_EQ(nested.settings.ocg.tau_doubt, 70.0);
   EXPECT_DOUBLE_EQ(dotted.settings.ocg.tau_doubt, 70.0);
   EXPECT_EQ(nested.settings.ocg.mode, "improved");
-  EXPECT_TRUE(nested.settings.ocg.dropout_guard());
+  EXPECT_TRUE(nested.settings.ocg.modes().dropout_guard);
 }
 
 TEST(Settings, DefaultsMatchTheSpec) {

@@ -79,14 +79,16 @@ TEST(StateMachine, ThresholdsAreConfigurable) {
 
 TEST(Options, ModesParseAndReject) {
   OcgOptions options;
-  EXPECT_FALSE(options.isolated_fallback() || options.box_in_image() || options.dropout_guard());
+  const OcgModes paper = options.modes();
+  EXPECT_FALSE(paper.isolated_fallback || paper.box_in_image || paper.dropout_guard);
   options.mode = "fallback+guard";
   EXPECT_NO_THROW(options.Check());
-  EXPECT_TRUE(options.isolated_fallback());
-  EXPECT_FALSE(options.box_in_image());
-  EXPECT_TRUE(options.dropout_guard());
+  EXPECT_TRUE(options.modes().isolated_fallback);
+  EXPECT_FALSE(options.modes().box_in_image);
+  EXPECT_TRUE(options.modes().dropout_guard);
   options.mode = "improved";
-  EXPECT_TRUE(options.isolated_fallback() && options.box_in_image() && options.dropout_guard());
+  const OcgModes all = options.modes();
+  EXPECT_TRUE(all.isolated_fallback && all.box_in_image && all.dropout_guard);
   options.mode = "paper+guard";
   EXPECT_THROW(options.Check(), std::invalid_argument);
   options.mode = "fallbak";

@@ -82,9 +82,10 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
     }
   }
   std::vector<ObjectId> removed;
+  const OcgModes modes = options_.modes();
   for (auto& [id, object] : objects_) {
     const Judgement judgement = JudgeObject(object.state, evidence.at(id), object.geometry,
-                                            observation.T_cw, observation.camera, options_);
+                                            observation.T_cw, observation.camera, options_, modes);
     object.rate = judgement.rate;
     object.state = judgement.next;
     if (judgement.next.state == ObjectState::kOutlier) removed.push_back(id);

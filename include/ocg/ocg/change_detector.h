@@ -92,14 +92,22 @@ class ObjectChangeDetector {
   ObjectStatus MakeStatus(ObjectId id, const Record& record) const;
 
   OcgOptions options_;
+  OcgModes modes_;
   ObjectCovisibilityGraph graph_;
   std::unordered_map<ObjectId, Record> records_;
   std::unordered_set<ObjectId> active_;    // states 1, 2 and 4
   std::unordered_set<ObjectId> isolated_;  // degree 0 (judged geometrically in "fallback")
   std::int64_t last_keyframe_ = -1;
   bool any_keyframe_ = false;
-  // Scratch buffers reused across keyframes.
-  std::unordered_map<ObjectId, std::pair<std::uint64_t, std::uint32_t>> observed_weight_;
+  // Scratch buffers reused across keyframes, so a keyframe allocates nothing.
+  struct ObservedWeight {
+    ObjectId id;
+    std::uint64_t weight;      // sum of E(id, j) over observed j
+    std::uint32_t neighbours;  // number of observed j
+  };
+  std::vector<CovisibilityEdge> touched_;
+  std::vector<ObservedWeight> observed_weight_;
+  std::vector<ObjectId> candidates_;
 };
 
 }  // namespace ocg

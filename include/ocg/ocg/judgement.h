@@ -34,9 +34,10 @@ struct Judgement {
   bool judged_by_geometry = false;
 };
 
+// modes must be ParseOcgMode(options.mode), parsed once by the caller.
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
-                      const OcgOptions& options);
+                      const OcgOptions& options, const OcgModes& modes);
 
 // The "fallback" mode's visibility: in front, inside the image by options.image_margin,
 // and no farther than distance_slack times the farthest distance it was observed from.

@@ -7,6 +7,16 @@ namespace ocg {
 
 class SettingsFile;
 
+// The improvements named by OCG.mode, parsed once (the hot loop must not parse strings).
+struct OcgModes {
+  bool isolated_fallback = false;  // "fallback"
+  bool box_in_image = false;       // "in_image"
+  bool dropout_guard = false;      // "guard"
+};
+
+// Parses OCG.mode; throws OptionError naming the key when it is not a valid mode.
+OcgModes ParseOcgMode(const std::string& mode);
+
 struct OcgOptions {
   // OCG.mode: "paper" (SPEC 3 exactly) or improvements joined with '+':
   //   "fallback"  objects with no neighbours are judged by geometric visibility,
@@ -40,10 +50,8 @@ struct OcgOptions {
   // the object's degree).
   int guard_min_neighbours = 2;
 
-  // Derived from mode by Check().
-  bool isolated_fallback() const;
-  bool box_in_image() const;
-  bool dropout_guard() const;
+  // The parsed mode. Throws OptionError when mode is invalid.
+  OcgModes modes() const { return ParseOcgMode(mode); }
 
   // Throws OptionError naming the key.
   void Check() const;
