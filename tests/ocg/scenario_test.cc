@@ -269,3 +269,21 @@ TEST(Detector, JsonExportImportRestoresTheGraphAndStates) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+TEST(Detector, ForgetDropsAnObjectWithoutAChangeLogEntry) {
+  ObjectChangeDetector detector{OcgOptions{}};
+  detector.Process(MakeObservation(0, LookAt({-2, 0, 0.8}, {0, 0, 0}), {1, 2, 3}));
+  EXPECT_TRUE(detector.Forget(2));
+  EXPECT_FALSE(detector.Forget(2));
+  EXPECT_FALSE(detector.Status(2).has_value());
+  EXPECT_EQ(detector.graph().WeightSum(1), 1u);  // only 1-3 left
+  const KeyframeResult next =
+      detector.Process(MakeObservation(1, LookAt({8, 0, 0.8}, {10, 0, 0}), {5}));
+  EXPECT_TRUE(next.removed.empty());
+}
+
+}  // namespace
+}  // namespace ocg

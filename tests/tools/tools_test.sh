@@ -43,6 +43,8 @@ check "changes.json names the moved cup" grep -q '"object_id": 1' "$WORK/replay/
 check "removed at keyframe 7" grep -q '"keyframe": 7' "$WORK/replay/changes.json"
 check "keyframe 7 line lists the removal" grep -q '"keyframe":7,.*"removed":\[1\]' "$WORK/replay/states.jsonl"
 check "ocg.json written" grep -q '"format": "ocg-graph"' "$WORK/replay/ocg.json"
+check "second run" "$BIN/ocg_replay" --input "$SRC/tests/data/ocg_example.jsonl" --out "$WORK/replay2"
+check "identical outputs for identical inputs" diff -r "$WORK/replay" "$WORK/replay2"
 
 # Malformed input: an error naming the line, and nothing written.
 { head -n 3 "$SRC/tests/data/ocg_example.jsonl"; echo '{"keyframe": 3, "T_cw": [1, 2]}'; } >"$WORK/bad.jsonl"
