@@ -9,11 +9,9 @@ START=$(date +%s)
 
 "$ROOT/tools/install_deps.sh"
 
+# Ninja when available for a new build folder; an existing folder keeps its generator.
 GENERATOR=()
-command -v ninja >/dev/null 2>&1 && GENERATOR=(-G Ninja)
-if [ -f "$BUILD/CMakeCache.txt" ] && ! grep -q "CMAKE_GENERATOR:INTERNAL=${GENERATOR[1]:-Unix Makefiles}" "$BUILD/CMakeCache.txt"; then
-  GENERATOR=()  # keep the generator the folder was configured with
-fi
+[ -f "$BUILD/CMakeCache.txt" ] || { command -v ninja >/dev/null 2>&1 && GENERATOR=(-G Ninja); }
 echo "== configure ($BUILD)"
 cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DOCG_WERROR=ON >"$BUILD.configure.log" 2>&1 || {
   cat "$BUILD.configure.log"; exit 1; }
