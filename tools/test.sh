@@ -13,8 +13,9 @@ START=$(date +%s)
 GENERATOR=()
 [ -f "$BUILD/CMakeCache.txt" ] || { command -v ninja >/dev/null 2>&1 && GENERATOR=(-G Ninja); }
 echo "== configure ($BUILD)"
-cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DOCG_WERROR=ON >"$BUILD.configure.log" 2>&1 || {
-  cat "$BUILD.configure.log"; exit 1; }
+mkdir -p "$BUILD"
+cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DOCG_WERROR=ON \
+  >"$BUILD/configure.log" 2>&1 || { cat "$BUILD/configure.log"; exit 1; }
 echo "== build ($JOBS jobs)"
 cmake --build "$BUILD" --parallel "$JOBS"
 echo "== test"
