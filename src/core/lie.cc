@@ -70,6 +70,17 @@ Eigen::Matrix3d Sim3TranslationJacobian(const Eigen::Vector3d& phi, double sigma
   return a * identity + b * hat + c * hat2;
 }
 
+SE3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+           const Eigen::Vector3d& world_up) {
+  const Eigen::Vector3d z = (target - eye).normalized();
+  Eigen::Vector3d x = z.cross(world_up);
+  if (x.norm() < 1e-9) x = z.unitOrthogonal();  // looking straight along world_up
+  x.normalize();
+  Eigen::Matrix3d rotation_wc;
+  rotation_wc << x, z.cross(x), z;
+  return SE3(rotation_wc, eye).Inverse();
+}
+
 // ---------------------------------------------------------------- SE3
 
 SE3::SE3(const Eigen::Quaterniond& rotation, const Eigen::Vector3d& translation)

@@ -79,3 +79,18 @@ TEST(Lie, Sim3OfRigidHasUnitScale) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+TEST(LookAt, TargetOnTheOpticalAxisAndUpIsUp) {
+  const SE3 T_cw = LookAt({1, 2, 3}, {4, 2, 3});
+  EXPECT_LT(((T_cw * Eigen::Vector3d(4, 2, 3)).head<2>()).norm(), 1e-12);  // on the axis
+  EXPECT_GT((T_cw * Eigen::Vector3d(4, 2, 3)).z(), 0);                     // in front
+  EXPECT_LT((T_cw * Eigen::Vector3d(4, 2, 4)).y(), 0);  // world up is image up (y down)
+  const SE3 down = LookAt({0, 0, 5}, {0, 0, 0});        // looking along -up: still valid
+  EXPECT_NEAR((down * Eigen::Vector3d(0, 0, 0)).z(), 5.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace ocg

@@ -18,17 +18,7 @@ inline PinholeCamera TestCamera() {
   return camera;
 }
 
-// World-to-camera pose of a camera at eye looking at target, world up = +z, image y down.
-inline SE3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - eye).normalized();
-  Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ());
-  if (x.norm() < 1e-9) x = Eigen::Vector3d::UnitX();
-  x.normalize();
-  const Eigen::Vector3d y = z.cross(x);
-  Eigen::Matrix3d rotation_wc;
-  rotation_wc << x, y, z;
-  return SE3(rotation_wc, eye).Inverse();
-}
+using ::ocg::LookAt;
 
 inline KeyframeObservation MakeObservation(std::int64_t keyframe, const SE3& T_cw,
                                            std::vector<ObjectId> observed) {

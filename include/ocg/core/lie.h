@@ -76,6 +76,11 @@ class Sim3 {
   Eigen::Vector3d translation_ = Eigen::Vector3d::Zero();
 };
 
+// World-to-camera pose T_cw of a camera at eye looking at target, with the image's "up"
+// towards world_up (camera axes: x right, y down, z forward). eye != target.
+SE3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+           const Eigen::Vector3d& world_up = Eigen::Vector3d::UnitZ());
+
 // The matrix W of the Sim(3) exponential, t = W(phi, sigma) * rho. With sigma = 0 it is
 // the left Jacobian of SO(3) used by the SE(3) exponential. Exposed for tests.
 Eigen::Matrix3d Sim3TranslationJacobian(const Eigen::Vector3d& phi, double sigma);
