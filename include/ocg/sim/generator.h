@@ -1,0 +1,117 @@
+#pragma once
+// Renders a scene into a TUM-format sequence with YOLO-like detections and ground truth.
+//
+// Threading: everything here runs on the calling thread (one OSMesa context).
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "ocg/io/detections.h"
+#include "ocg/render/renderer.h"
+#include "ocg/sim/presets.h"
+#include "ocg/sim/scene.h"
+
+namespace ocg::sim {
+
+// The scene's meshes and textures on a renderer; renders any time and pose.
+class SceneRenderer {
+ public:
+  explicit SceneRenderer(const Scene& scene);
+
+  // Colour image with mild sensor noise (deterministic in noise_seed).
+  cv::Mat Colour(double t, const SE3& T_cw, std::uint64_t noise_seed);
+  // Object ids per pixel (scene object ids; furniture and background are 0).
+  cv::Mat Ids(double t, const SE3& T_cw, cv::Mat* depth = nullptr);
+  // Pixels of object_id visible from T_cw if it stood at pose (the rest of the scene as
+  // at time t, the object's other poses hidden).
+  int VisiblePixels(int object_id, const PlacedPose& pose, double t, const SE3& T_cw);
+  const Scene& scene() const { return scene_; }
+
+ private:
+  std::vector<const DrawItem*> ItemsAt(double t, int skip_object) const;
+  DrawItem MakeObjectItem(const SceneObject& object, const PlacedPose& pose);
+
+  Scene scene_;
+  Renderer renderer_;
+  std::vector<DrawItem> furniture_;
+  std::map<int, std::vector<DrawItem>> object_items_;  // per object, one per history entry
+  std::map<int, int> object_textures_;
+  cv::Mat noise_tile_;  // sensor noise, twice the image size
+};
+
+// Turns planned moves into history entries, each at the first frame from its earliest
+// time at which neither the old nor the new place is visible (checked by rendering, one
+// frame before and after). Throws std::runtime_error when no such time exists.
+void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRenderer& renderer);
+
+// Refuses (std::invalid_argument naming object and time) a scene whose changes happen
+// while the old or the new place is visible.
+void ValidateChanges(const Scene& scene, SceneRenderer& renderer);
+
+// The YOLO-like detector (SPEC 2 format); deterministic in the scene seed and frame.
+class DetectionModel {
+ public:
+  explicit DetectionModel(const Scene& scene) : scene_(scene) {}
+
+  struct FrameResult {
+    std::vector<Detection> detections;
+    int visible = 0;  // objects with enough visible pixels
+    int missed = 0;
+    int false_positives = 0;
+    int duplicates = 0;
+    int confused = 0;
+    std::vector<int> detected_objects;  // scene ids behind the true detections
+  };
+  FrameResult Detect(const cv::Mat& ids, double t, const SE3& T_cw, int frame);
+
+ private:
+  const Scene& scene_;
+  std::map<int, bool> missed_last_frame_;
+};
+
+struct GeneratorOptions {
+  int max_frames = 0;  // 0: the whole scene
+  bool write_depth = false;
+  bool overwrite = false;  // replace an existing output folder
+  // Every N-th frame is a keyframe of oracle_observations.jsonl (0: no file).
+  int keyframe_interval = 10;
+};
+
+struct GenerationStats {
+  int frames = 0;
+  double seconds = 0.0;
+  std::size_t detections = 0;
+  std::size_t visible = 0;
+  std::size_t missed = 0;
+  std::size_t false_positives = 0;
+  std::size_t duplicates = 0;
+  // Seconds spent per stage, over all frames.
+  double colour_seconds = 0.0, ids_seconds = 0.0, detect_seconds = 0.0, write_seconds = 0.0;
+};
+
+// Writes the sequence into out_dir (built in a temporary folder beside it and renamed at
+// the end, so a failure leaves nothing half-written). Throws on an existing non-empty
+// out_dir unless overwrite.
+GenerationStats Generate(const Scene& scene, const std::string& out_dir,
+                         const GeneratorOptions& options);
+
+// Oracle map ids: object id * kOracleIdStride + index of its pose in the history, so an
+// object seen at a new place is a new map object, as a real object map would make it.
+constexpr std::int64_t kOracleIdStride = 100;
+std::int64_t OracleMapId(int object_id, std::size_t pose_index);
+// One ocg_replay input line: ground-truth pose, the objects truly detected in the frame.
+std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double t, const SE3& T_cw,
+                              const std::vector<int>& detected_objects);
+
+// objects_gt.json text for the scene.
+std::string ObjectsGroundTruthJson(const Scene& scene);
+// A settings file (our format) for the rendered camera.
+std::string CameraSettingsYaml(const Scene& scene);
+// Timestamp text of a frame ("1000.033333").
+std::string FrameTimestamp(const Scene& scene, int frame);
+
+}  // namespace ocg::sim

@@ -1,0 +1,560 @@
+#include "ocg/sim/generator.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "ocg/core/coco.h"
+#include "ocg/core/file_io.h"
+#include "ocg/core/logging.h"
+#include "ocg/io/trajectory.h"
+#include "ocg/ocg/replay_format.h"
+#include "ocg/sim/scene_io.h"
+#include "ocg/sim/texture.h"
+
+namespace ocg::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kTimestampStart = 1000.0;
+constexpr double kSensorNoise = 2.0;  // grey levels, std
+
+SE3 PoseOf(const PlacedPose& pose) {
+  return SE3(Eigen::Matrix3d(Eigen::AngleAxisd(pose.yaw, Eigen::Vector3d::UnitZ())), pose.centre);
+}
+
+Mesh ShapeMesh(Shape shape, const Eigen::Vector3d& size) {
+  const float uv_scale = 1.0f / static_cast<float>(size.maxCoeff());
+  if (shape == Shape::kCylinder) {
+    return Mesh::Cylinder(static_cast<float>(size.x() / 2), static_cast<float>(size.z()), 32,
+                          uv_scale);
+  }
+  return Mesh::Box(size.cast<float>(), uv_scale);
+}
+
+std::uint64_t Mix(std::uint64_t a, std::uint64_t b) {
+  std::uint64_t x = a * 0x9e3779b97f4a7c15ULL ^ (b + 0x632be59bd9b4e019ULL + (a << 6) + (a >> 2));
+  x ^= x >> 31;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  return x ^ (x >> 29);
+}
+
+// Pairs of classes a detector confuses.
+int ConfusedClass(int class_id) {
+  switch (class_id) {
+    case 41:
+      return 45;  // cup -> bowl
+    case 45:
+      return 41;
+    case 73:
+      return 63;  // book -> laptop
+    case 63:
+      return 73;
+    case 39:
+      return 41;  // bottle -> cup
+    default:
+      return class_id;
+  }
+}
+
+// Corners of an object's oriented box projected (clipped to a near plane), and the share
+// of their convex hull inside the image.
+struct Projection {
+  double hull_area = 0.0;
+  double hull_area_inside = 0.0;
+};
+
+Projection ProjectBox(const SceneObject& object, const PlacedPose& pose, const SE3& T_cw,
+                      const PinholeCamera& camera) {
+  std::vector<cv::Point2f> points;
+  const SE3 T_wo = PoseOf(pose);
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d local((corner & 1 ? 0.5 : -0.5) * object.size.x(),
+                                (corner & 2 ? 0.5 : -0.5) * object.size.y(),
+                                (corner & 4 ? 0.5 : -0.5) * object.size.z());
+    Eigen::Vector3d p = T_cw * (T_wo * local);
+    p.z() = std::max(p.z(), 0.05);
+    const Eigen::Vector2d pixel = camera.ProjectUndistorted(p);
+    points.emplace_back(static_cast<float>(pixel.x()), static_cast<float>(pixel.y()));
+  }
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(points, hull);
+  Projection projection;
+  projection.hull_area = cv::contourArea(hull);
+  const std::vector<cv::Point2f> image = {{-0.5f, -0.5f},
+                                          {camera.width - 0.5f, -0.5f},
+                                          {camera.width - 0.5f, camera.height - 0.5f},
+                                          {-0.5f, camera.height - 0.5f}};
+  std::vector<cv::Point2f> inside;
+  projection.hull_area_inside = cv::intersectConvexConvex(hull, image, inside);
+  return projection;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- SceneRenderer
+
+SceneRenderer::SceneRenderer(const Scene& scene)
+    : scene_(scene), renderer_(scene.camera.width, scene.camera.height) {
+  const Eigen::Vector3f light = scene.light_direction.cast<float>();
+  for (const Furniture& item : scene.furniture) {
+    DrawItem draw;
+    const double largest = item.size.maxCoeff();
+    draw.mesh = Mesh::Box(item.size.cast<float>(), static_cast<float>(1.0 / largest))
+                    .Transformed(PoseOf({0.0, true, item.centre, item.yaw}));
+    draw.texture = renderer_.AddTexture(MakeTexture(item.texture_seed, largest > 2.0 ? 1024 : 512));
+    draw.colour = Eigen::Vector3f::Ones();
+    Renderer::Shade(draw, light, static_cast<float>(scene.ambient));
+    furniture_.push_back(std::move(draw));
+  }
+  for (const SceneObject& object : scene.objects) {
+    object_textures_[object.id] = renderer_.AddTexture(MakeTexture(object.texture_seed, 256));
+    auto& items = object_items_[object.id];
+    for (const PlacedPose& pose : object.history) items.push_back(MakeObjectItem(object, pose));
+  }
+}
+
+DrawItem SceneRenderer::MakeObjectItem(const SceneObject& object, const PlacedPose& pose) {
+  DrawItem draw;
+  draw.mesh = ShapeMesh(object.shape, object.size).Transformed(PoseOf(pose));
+  draw.texture = object_textures_.at(object.id);
+  draw.colour = Eigen::Vector3f::Ones();
+  draw.id = static_cast<std::uint32_t>(object.id);
+  Renderer::Shade(draw, scene_.light_direction.cast<float>(), static_cast<float>(scene_.ambient));
+  return draw;
+}
+
+std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object) const {
+  std::vector<const DrawItem*> items;
+  for (const DrawItem& item : furniture_) items.push_back(&item);
+  for (const SceneObject& object : scene_.objects) {
+    if (object.id == skip_object) continue;
+    const std::vector<DrawItem>& poses = object_items_.at(object.id);
+    int current = -1;
+    for (size_t i = 0; i < object.history.size(); ++i) {
+      if (object.history[i].time <= t) current = static_cast<int>(i);
+    }
+    if (current >= 0 && object.history[static_cast<size_t>(current)].present) {
+      items.push_back(&poses[static_cast<size_t>(current)]);
+    }
+  }
+  return items;
+}
+
+cv::Mat SceneRenderer::Colour(double t, const SE3& T_cw, std::uint64_t noise_seed) {
+  const cv::Mat image = renderer_.RenderColour(ItemsAt(t, -1), T_cw, scene_.camera,
+                                               Eigen::Vector3f(0.3f, 0.3f, 0.3f));
+  // Sensor noise: a window of a pre-drawn noise tile at a seeded offset (drawing a
+  // million Gaussian samples per frame would cost more than the rendering).
+  if (noise_tile_.empty()) {
+    noise_tile_.create(2 * image.rows, 2 * image.cols, CV_16SC3);
+    cv::RNG(scene_.seed)
+        .fill(noise_tile_, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(kSensorNoise));
+  }
+  const int dx = static_cast<int>(noise_seed % static_cast<std::uint64_t>(image.cols));
+  const int dy = static_cast<int>((noise_seed >> 20) % static_cast<std::uint64_t>(image.rows));
+  cv::Mat noisy;
+  cv::add(image, noise_tile_(cv::Rect(dx, dy, image.cols, image.rows)), noisy, cv::noArray(),
+          CV_8UC3);
+  return noisy;
+}
+
+cv::Mat SceneRenderer::Ids(double t, const SE3& T_cw, cv::Mat* depth) {
+  cv::Mat ids = renderer_.RenderIds(ItemsAt(t, -1), T_cw, scene_.camera, depth);
+  // Furniture carries id 0 already (DrawItem default), so only objects remain.
+  return ids;
+}
+
+int SceneRenderer::VisiblePixels(int object_id, const PlacedPose& pose, double t, const SE3& T_cw) {
+  std::vector<const DrawItem*> items = ItemsAt(t, object_id);
+  const SceneObject* object = nullptr;
+  for (const SceneObject& candidate : scene_.objects) {
+    if (candidate.id == object_id) object = &candidate;
+  }
+  if (object == nullptr) throw std::invalid_argument("no object " + std::to_string(object_id));
+  const DrawItem probe = MakeObjectItem(*object, pose);
+  items.push_back(&probe);
+  const cv::Mat ids = renderer_.RenderIds(items, T_cw, scene_.camera);
+  return cv::countNonZero(ids == object_id);
+}
+
+// ---------------------------------------------------------------- changes
+
+namespace {
+
+// Both places hidden at the frames just before and after time t?
+bool ChangeIsUnseen(SceneRenderer& renderer, int object_id, const PlacedPose& before,
+                    const PlacedPose& after, double t) {
+  const Scene& scene = renderer.scene();
+  const double step = 1.0 / scene.fps;
+  for (double when : {t - step, t, t + step}) {
+    if (when < 0) continue;
+    const SE3 T_cw = CameraPoseAt(scene, when);
+    if (before.present && renderer.VisiblePixels(object_id, before, when, T_cw) > 0) return false;
+    if (after.present && renderer.VisiblePixels(object_id, after, when, T_cw) > 0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRenderer& renderer) {
+  for (const PlannedMove& move : moves) {
+    SceneObject* object = nullptr;
+    for (SceneObject& candidate : scene.objects) {
+      if (candidate.id == move.object_id) object = &candidate;
+    }
+    if (object == nullptr)
+      throw std::runtime_error("planned move of unknown object " + std::to_string(move.object_id));
+    const PlacedPose before = object->history.back();
+    PlacedPose after = before;
+    after.present = !move.removal;
+    after.centre = move.new_centre;
+    after.yaw = move.new_yaw;
+    bool scheduled = false;
+    // Every third frame is a candidate; the check itself covers the frames around it.
+    const int first = static_cast<int>(std::ceil(move.earliest * scene.fps));
+    for (int frame = std::max(first, object->history.size() > 1 ? 0 : first);
+         frame < scene.FrameCount() - 1; frame += 3) {
+      const double t = (frame + 0.5) / scene.fps;  // between two frames
+      if (t <= before.time) continue;
+      if (ChangeIsUnseen(renderer, object->id, before, after, t)) {
+        after.time = t;
+        object->history.push_back(after);
+        scheduled = true;
+        break;
+      }
+    }
+    if (!scheduled) {
+      throw std::runtime_error("no time after " + std::to_string(move.earliest) +
+                               " s at which object " + std::to_string(move.object_id) +
+                               " can change unseen");
+    }
+  }
+}
+
+void ValidateChanges(const Scene& scene, SceneRenderer& renderer) {
+  for (const SceneObject& object : scene.objects) {
+    for (size_t i = 1; i < object.history.size(); ++i) {
+      if (!ChangeIsUnseen(renderer, object.id, object.history[i - 1], object.history[i],
+                          object.history[i].time)) {
+        throw std::invalid_argument("scene: object " + std::to_string(object.id) +
+                                    " changes at t = " + std::to_string(object.history[i].time) +
+                                    " s while its old or new place is visible to the camera");
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------- detections
+
+DetectionModel::FrameResult DetectionModel::Detect(const cv::Mat& ids, double t, const SE3& T_cw,
+                                                   int frame) {
+  const DetectionNoise& noise = scene_.noise;
+  std::mt19937_64 rng(Mix(scene_.seed, static_cast<std::uint64_t>(frame) + 1));
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> gaussian(0.0, 1.0);
+  // Visible pixels and their bounding box, per object.
+  struct Stats {
+    int pixels = 0;
+    int min_x = INT32_MAX, min_y = INT32_MAX, max_x = -1, max_y = -1;
+  };
+  std::map<int, Stats> stats;
+  for (int row = 0; row < ids.rows; ++row) {
+    const std::int32_t* line = ids.ptr<std::int32_t>(row);
+    for (int column = 0; column < ids.cols; ++column) {
+      if (line[column] == 0) continue;
+      Stats& s = stats[line[column]];
+      ++s.pixels;
+      s.min_x = std::min(s.min_x, column);
+      s.max_x = std::max(s.max_x, column);
+      s.min_y = std::min(s.min_y, row);
+      s.max_y = std::max(s.max_y, row);
+    }
+  }
+  FrameResult result;
+  const double width = scene_.camera.width, height = scene_.camera.height;
+  for (const SceneObject& object : scene_.objects) {
+    const auto found = stats.find(object.id);
+    if (found == stats.end() || found->second.pixels < noise.min_visible_pixels) {
+      missed_last_frame_[object.id] = false;
+      continue;
+    }
+    const Stats& s = found->second;
+    ++result.visible;
+    Detection detection;
+    detection.class_id = object.class_id;
+    detection.x = s.min_x;
+    detection.y = s.min_y;
+    detection.width = s.max_x - s.min_x + 1;
+    detection.height = s.max_y - s.min_y + 1;
+    if (noise.perfect) {
+      detection.confidence = 1.0;
+      result.detections.push_back(detection);
+      result.detected_objects.push_back(object.id);
+      continue;
+    }
+    const Projection projection = ProjectBox(object, *object.PoseAt(t), T_cw, scene_.camera);
+    const double truncation =
+        projection.hull_area > 0 ? 1.0 - projection.hull_area_inside / projection.hull_area : 0.0;
+    const double occlusion =
+        projection.hull_area_inside > 0
+            ? std::clamp(1.0 - s.pixels / projection.hull_area_inside, 0.0, 1.0)
+            : 0.0;
+    double miss =
+        noise.miss_base + noise.miss_occlusion * occlusion + noise.miss_truncation * truncation;
+    if (detection.width * detection.height < noise.small_box_pixels) miss += noise.miss_small;
+    if (missed_last_frame_[object.id]) miss = std::max(miss, noise.burst_continue);
+    if (uniform(rng) < std::min(miss, 1.0)) {
+      missed_last_frame_[object.id] = true;
+      ++result.missed;
+      continue;
+    }
+    missed_last_frame_[object.id] = false;
+    if (uniform(rng) < noise.confusion && ConfusedClass(object.class_id) != object.class_id) {
+      detection.class_id = ConfusedClass(object.class_id);
+      ++result.confused;
+    }
+    // Edge jitter, clipped to the image.
+    const double jx = noise.box_jitter * detection.width, jy = noise.box_jitter * detection.height;
+    double x1 = detection.x + jx * gaussian(rng), y1 = detection.y + jy * gaussian(rng);
+    double x2 = detection.x + detection.width + jx * gaussian(rng);
+    double y2 = detection.y + detection.height + jy * gaussian(rng);
+    x1 = std::clamp(std::round(x1), 0.0, width - 2);
+    y1 = std::clamp(std::round(y1), 0.0, height - 2);
+    x2 = std::clamp(std::round(x2), x1 + 1, width - 1);
+    y2 = std::clamp(std::round(y2), y1 + 1, height - 1);
+    detection.x = x1;
+    detection.y = y1;
+    detection.width = x2 - x1;
+    detection.height = y2 - y1;
+    // Calibrated on the real YOLO detections of TUM fr3 long_office (mean 0.63, 1 % above
+    // 0.9): fully visible objects score about 0.7, occlusion and truncation lower it.
+    const double small = detection.width * detection.height < noise.small_box_pixels ? 0.1 : 0.0;
+    detection.confidence = std::clamp(
+        0.72 - 0.3 * occlusion - 0.25 * truncation - small + 0.1 * gaussian(rng), 0.25, 0.97);
+    result.detections.push_back(detection);
+    result.detected_objects.push_back(object.id);
+    if (uniform(rng) < noise.duplicate) {
+      Detection duplicate = detection;
+      duplicate.x =
+          std::clamp(detection.x + 0.15 * detection.width * gaussian(rng), 0.0, width - 2);
+      duplicate.y =
+          std::clamp(detection.y + 0.15 * detection.height * gaussian(rng), 0.0, height - 2);
+      duplicate.width = std::max(
+          1.0, std::min(detection.width * (0.8 + 0.3 * uniform(rng)), width - 1 - duplicate.x));
+      duplicate.height = std::max(
+          1.0, std::min(detection.height * (0.8 + 0.3 * uniform(rng)), height - 1 - duplicate.y));
+      duplicate.confidence = std::clamp(detection.confidence - 0.2, 0.25, 0.97);
+      result.detections.push_back(duplicate);
+      ++result.duplicates;
+    }
+  }
+  if (!noise.perfect) {
+    std::poisson_distribution<int> false_positives(noise.false_positives_per_frame);
+    for (int i = false_positives(rng); i > 0; --i) {
+      Detection ghost;
+      ghost.class_id =
+          scene_.objects.empty() ? 41 : scene_.objects[rng() % scene_.objects.size()].class_id;
+      ghost.width = std::round(30 + 120 * uniform(rng));
+      ghost.height = std::round(30 + 120 * uniform(rng));
+      ghost.x = std::round(uniform(rng) * (width - ghost.width - 1));
+      ghost.y = std::round(uniform(rng) * (height - ghost.height - 1));
+      ghost.confidence = 0.25 + 0.3 * uniform(rng);
+      result.detections.push_back(ghost);
+      ++result.false_positives;
+    }
+  }
+  return result;
+}
+
+// ---------------------------------------------------------------- writing
+
+std::int64_t OracleMapId(int object_id, std::size_t pose_index) {
+  return static_cast<std::int64_t>(object_id) * kOracleIdStride +
+         static_cast<std::int64_t>(pose_index);
+}
+
+std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double t, const SE3& T_cw,
+                              const std::vector<int>& detected_objects) {
+  KeyframeObservation observation;
+  observation.keyframe_id = keyframe;
+  observation.timestamp = kTimestampStart + t;
+  observation.T_cw = T_cw;
+  observation.camera = scene.camera;
+  for (int id : detected_objects) {
+    for (const SceneObject& object : scene.objects) {
+      if (object.id != id) continue;
+      std::size_t index = 0;
+      for (std::size_t i = 0; i < object.history.size(); ++i) {
+        if (object.history[i].time <= t) index = i;
+      }
+      const std::int64_t map_id = OracleMapId(id, index);
+      observation.observed.push_back(map_id);
+      ObjectGeometryUpdate& update = observation.updates[map_id];
+      update.centroid = object.history[index].centre;
+      update.size = object.size;
+      update.class_id = object.class_id;
+    }
+  }
+  return ObservationToJson(observation);
+}
+
+std::string FrameTimestamp(const Scene& scene, int frame) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6f", kTimestampStart + frame / scene.fps);
+  return buffer;
+}
+
+std::string ObjectsGroundTruthJson(const Scene& scene) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const SceneObject& object : scene.objects) {
+    nlohmann::json history = nlohmann::json::array();
+    for (const PlacedPose& pose : object.history) {
+      history.push_back({{"time", kTimestampStart + pose.time},
+                         {"present", pose.present},
+                         {"centre", {pose.centre.x(), pose.centre.y(), pose.centre.z()}},
+                         {"yaw", pose.yaw}});
+    }
+    std::string status = "static";
+    if (object.Moves()) {
+      const bool starts = object.history.front().present;
+      const bool ends = object.history.back().present;
+      status = starts && ends ? "moved" : starts ? "removed" : "added";
+    }
+    objects.push_back({{"id", object.id},
+                       {"class_id", object.class_id},
+                       {"class", CocoClassName(object.class_id)},
+                       {"shape", object.shape == Shape::kBox ? "box" : "cylinder"},
+                       {"size", {object.size.x(), object.size.y(), object.size.z()}},
+                       {"status", status},
+                       {"history", history}});
+  }
+  return nlohmann::json({{"scene", scene.name},
+                         {"seed", scene.seed},
+                         {"time_origin", kTimestampStart},
+                         {"objects", objects}})
+             .dump(1) +
+         "\n";
+}
+
+std::string CameraSettingsYaml(const Scene& scene) {
+  const PinholeCamera& c = scene.camera;
+  char text[512];
+  std::snprintf(text, sizeof(text),
+                "# Settings for the rendered camera of the synthetic scene '%s' (ideal pinhole).\n"
+                "Camera:\n  fx: %.6f\n  fy: %.6f\n  cx: %.6f\n  cy: %.6f\n"
+                "  k1: 0\n  k2: 0\n  p1: 0\n  p2: 0\n  k3: 0\n"
+                "  width: %d\n  height: %d\n  fps: %.3f\n  RGB: 0\n",
+                scene.name.c_str(), c.fx, c.fy, c.cx, c.cy, c.width, c.height, scene.fps);
+  return text;
+}
+
+GenerationStats Generate(const Scene& input, const std::string& out_dir,
+                         const GeneratorOptions& options) {
+  input.Check();
+  std::error_code error;
+  if (fs::exists(out_dir, error) && !fs::is_empty(out_dir, error) && !options.overwrite) {
+    throw FileError("output folder '" + out_dir + "' exists and is not empty (use --overwrite)");
+  }
+  const std::string staging = out_dir + ".partial." + std::to_string(::getpid());
+  fs::remove_all(staging, error);
+  EnsureDirectory(staging + "/rgb");
+  EnsureDirectory(staging + "/detections");
+  if (options.write_depth) EnsureDirectory(staging + "/depth");
+
+  const Scene& scene = input;
+  SceneRenderer renderer(scene);
+  ValidateChanges(scene, renderer);
+  DetectionModel detector(scene);
+  const int frames = options.max_frames > 0 ? std::min(options.max_frames, scene.FrameCount())
+                                            : scene.FrameCount();
+  GenerationStats stats;
+  std::string rgb_list =
+      "# color images\n# synthetic scene '" + scene.name + "'\n# timestamp filename\n";
+  std::string depth_list = "# depth maps\n# timestamp filename\n";
+  std::vector<StampedPose> groundtruth;
+  std::string oracle;
+  const auto start = std::chrono::steady_clock::now();
+  ProgressLine progress("frames", static_cast<std::size_t>(frames));
+  // Huffman-only deflate: sensor noise defeats string matching, so this is both the
+  // fastest and (nearly) the smallest choice for rendered frames.
+  const std::vector<int> png_options = {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_PNG_STRATEGY,
+                                        cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY};
+  for (int frame = 0; frame < frames; ++frame) {
+    const double t = scene.TimeOfFrame(frame);
+    const std::string stamp = FrameTimestamp(scene, frame);
+    const SE3 T_cw = CameraPoseAt(scene, t);
+    auto lap = std::chrono::steady_clock::now();
+    auto stage = [&lap](double& total) {
+      const auto now = std::chrono::steady_clock::now();
+      total += std::chrono::duration<double>(now - lap).count();
+      lap = now;
+    };
+    const cv::Mat colour =
+        renderer.Colour(t, T_cw, Mix(scene.seed, static_cast<std::uint64_t>(frame)));
+    stage(stats.colour_seconds);
+    cv::Mat depth;
+    const cv::Mat ids = renderer.Ids(t, T_cw, options.write_depth ? &depth : nullptr);
+    stage(stats.ids_seconds);
+    if (!cv::imwrite(staging + "/rgb/" + stamp + ".png", colour, png_options)) {
+      throw FileError("cannot write '" + staging + "/rgb/" + stamp + ".png'");
+    }
+    rgb_list += stamp + " rgb/" + stamp + ".png\n";
+    if (options.write_depth) {
+      cv::Mat depth16;
+      depth.convertTo(depth16, CV_16UC1, 5000.0);  // TUM: 5000 units per metre
+      cv::imwrite(staging + "/depth/" + stamp + ".png", depth16, png_options);
+      depth_list += stamp + " depth/" + stamp + ".png\n";
+    }
+    stage(stats.write_seconds);
+    const DetectionModel::FrameResult detections = detector.Detect(ids, t, T_cw, frame);
+    stage(stats.detect_seconds);
+    WriteFileAtomically(staging + "/detections/" + stamp + ".txt",
+                        FormatEaoDetections(detections.detections));
+    stage(stats.write_seconds);
+    stats.detections += detections.detections.size();
+    stats.visible += static_cast<std::size_t>(detections.visible);
+    stats.missed += static_cast<std::size_t>(detections.missed);
+    stats.false_positives += static_cast<std::size_t>(detections.false_positives);
+    stats.duplicates += static_cast<std::size_t>(detections.duplicates);
+    if (options.keyframe_interval > 0 && frame % options.keyframe_interval == 0) {
+      oracle += OracleObservation(scene, frame / options.keyframe_interval, t, T_cw,
+                                  detections.detected_objects) +
+                "\n";
+    }
+    StampedPose pose;
+    pose.timestamp = kTimestampStart + t;
+    pose.timestamp_text = stamp;
+    pose.T_wc = T_cw.Inverse();
+    groundtruth.push_back(pose);
+    ++stats.frames;
+    progress.Update(static_cast<std::size_t>(frame + 1));
+  }
+  progress.Finish();
+  WriteFileAtomically(staging + "/rgb.txt", rgb_list);
+  if (options.write_depth) WriteFileAtomically(staging + "/depth.txt", depth_list);
+  WriteFileAtomically(
+      staging + "/groundtruth.txt",
+      "# ground truth trajectory (camera to world)\n# timestamp tx ty tz qx qy qz qw\n" +
+          FormatTumTrajectory(groundtruth));
+  WriteFileAtomically(staging + "/objects_gt.json", ObjectsGroundTruthJson(scene));
+  if (options.keyframe_interval > 0)
+    WriteFileAtomically(staging + "/oracle_observations.jsonl", oracle);
+  WriteFileAtomically(staging + "/scene.yaml", SceneToYaml(scene));
+  WriteFileAtomically(staging + "/camera.yaml", CameraSettingsYaml(scene));
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (fs::exists(out_dir, error)) fs::remove_all(out_dir);
+  fs::rename(staging, out_dir);
+  return stats;
+}
+
+}  // namespace ocg::sim

@@ -1,0 +1,235 @@
+#include "ocg/sim/presets.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace ocg::sim {
+namespace {
+
+struct ObjectKind {
+  int class_id;
+  Shape shape;
+  Eigen::Vector3d size;  // full extents, metres (cylinder: diameter, diameter, height)
+};
+
+// COCO desk-scene classes with real-world sizes.
+const ObjectKind kDeskKinds[] = {
+    {41, Shape::kCylinder, {0.085, 0.085, 0.10}},  // cup
+    {39, Shape::kCylinder, {0.07, 0.07, 0.24}},    // bottle
+    {45, Shape::kCylinder, {0.16, 0.16, 0.07}},    // bowl
+    {73, Shape::kBox, {0.16, 0.23, 0.035}},        // book
+    {63, Shape::kBox, {0.33, 0.23, 0.03}},         // laptop (closed)
+    {66, Shape::kBox, {0.44, 0.14, 0.03}},         // keyboard
+    {64, Shape::kBox, {0.065, 0.11, 0.035}},       // mouse
+    {67, Shape::kBox, {0.075, 0.15, 0.012}},       // cell phone
+    {62, Shape::kBox, {0.50, 0.07, 0.32}},         // tv / monitor
+    {77, Shape::kBox, {0.20, 0.15, 0.28}},         // teddy bear
+    {58, Shape::kCylinder, {0.15, 0.15, 0.30}},    // potted plant
+    {75, Shape::kCylinder, {0.10, 0.10, 0.22}},    // vase
+    {65, Shape::kBox, {0.05, 0.18, 0.022}},        // remote
+    {74, Shape::kCylinder, {0.20, 0.20, 0.05}},    // clock
+};
+constexpr double kTableTop = 0.75;
+constexpr double kTableLength = 2.0;  // along x
+constexpr double kTableWidth = 1.0;   // along y; the partition stands at y = 0
+
+PinholeCamera TumLikeCamera() {
+  PinholeCamera camera;  // TUM freiburg3 intrinsics, rendered without distortion
+  camera.fx = 535.4;
+  camera.fy = 539.2;
+  camera.cx = 320.1;
+  camera.cy = 247.6;
+  camera.width = 640;
+  camera.height = 480;
+  return camera;
+}
+
+void AddFurniture(Scene& scene, const std::string& name, const Eigen::Vector3d& centre,
+                  const Eigen::Vector3d& size) {
+  Furniture item;
+  item.name = name;
+  item.centre = centre;
+  item.size = size;
+  item.texture_seed = scene.seed * 1000 + scene.furniture.size() + 1;
+  scene.furniture.push_back(item);
+}
+
+void AddRoom(Scene& scene) {
+  const Eigen::Vector3d room = scene.room_size;
+  const double t = 0.05;  // wall thickness
+  AddFurniture(scene, "floor", {0, 0, -t / 2}, {room.x(), room.y(), t});
+  AddFurniture(scene, "ceiling", {0, 0, room.z() + t / 2}, {room.x(), room.y(), t});
+  AddFurniture(scene, "wall_north", {0, room.y() / 2 + t / 2, room.z() / 2},
+               {room.x(), t, room.z()});
+  AddFurniture(scene, "wall_south", {0, -room.y() / 2 - t / 2, room.z() / 2},
+               {room.x(), t, room.z()});
+  AddFurniture(scene, "wall_east", {room.x() / 2 + t / 2, 0, room.z() / 2},
+               {t, room.y(), room.z()});
+  AddFurniture(scene, "wall_west", {-room.x() / 2 - t / 2, 0, room.z() / 2},
+               {t, room.y(), room.z()});
+  AddFurniture(scene, "table_top", {0, 0, kTableTop - 0.02}, {kTableLength, kTableWidth, 0.04});
+  for (double x : {-0.92, 0.92}) {
+    for (double y : {-0.42, 0.42})
+      AddFurniture(scene, "table_leg", {x, y, (kTableTop - 0.04) / 2},
+                   {0.05, 0.05, kTableTop - 0.04});
+  }
+  AddFurniture(scene, "partition", {0, 0, kTableTop + 0.24}, {kTableLength, 0.03, 0.48});
+  AddFurniture(scene, "cabinet_east", {room.x() / 2 - 0.3, 0.8, 0.45}, {0.5, 1.4, 0.9});
+  AddFurniture(scene, "cabinet_west", {-room.x() / 2 + 0.3, -0.9, 0.5}, {0.5, 1.2, 1.0});
+  AddFurniture(scene, "shelf_north", {0.6, room.y() / 2 - 0.2, 1.0}, {1.6, 0.35, 2.0});
+}
+
+class Placer {
+ public:
+  Placer(Scene& scene, std::mt19937_64& rng) : scene_(scene), rng_(rng) {}
+
+  // A free place on one half of the table (side -1: y < 0, +1: y > 0), or nullopt.
+  std::optional<Eigen::Vector3d> FreePlace(const ObjectKind& kind, int side, int ignore_id = -1) {
+    const double radius = 0.5 * std::max(kind.size.x(), kind.size.y());
+    std::uniform_real_distribution<double> x(-kTableLength / 2 + radius + 0.03,
+                                             kTableLength / 2 - radius - 0.03);
+    std::uniform_real_distribution<double> y(0.04 + radius, kTableWidth / 2 - radius - 0.03);
+    for (int attempt = 0; attempt < 200; ++attempt) {
+      const Eigen::Vector3d centre(x(rng_), side * y(rng_), kTableTop + kind.size.z() / 2);
+      if (IsFree(centre, radius, ignore_id)) return centre;
+    }
+    return std::nullopt;
+  }
+
+  bool Add(int side) {
+    std::uniform_int_distribution<size_t> pick(0, std::size(kDeskKinds) - 1);
+    const ObjectKind& kind = kDeskKinds[pick(rng_)];
+    const auto centre = FreePlace(kind, side);
+    if (!centre) return false;
+    SceneObject object;
+    object.id = static_cast<int>(scene_.objects.size()) + 1;
+    object.class_id = kind.class_id;
+    object.shape = kind.shape;
+    object.size = kind.size;
+    object.texture_seed = scene_.seed * 100000 + static_cast<std::uint64_t>(object.id);
+    PlacedPose pose;
+    pose.centre = *centre;
+    pose.yaw = std::uniform_real_distribution<double>(-0.5, 0.5)(rng_);
+    object.history.push_back(pose);
+    scene_.objects.push_back(object);
+    return true;
+  }
+
+ private:
+  bool IsFree(const Eigen::Vector3d& centre, double radius, int ignore_id) const {
+    for (const SceneObject& other : scene_.objects) {
+      if (other.id == ignore_id) continue;
+      const double other_radius = 0.5 * std::max(other.size.x(), other.size.y());
+      for (const PlacedPose& pose : other.history) {
+        if (pose.present && (pose.centre - centre).head<2>().norm() < radius + other_radius + 0.03)
+          return false;
+      }
+    }
+    return true;
+  }
+
+  Scene& scene_;
+  std::mt19937_64& rng_;
+};
+
+struct PresetSpec {
+  std::string name;
+  std::string path;
+  double duration;
+  double fps;
+  int objects;
+  int moves;
+  int removals;
+};
+
+// Durations give the camera time to see everything (a lap), to be away while objects
+// change (moves start after 0.8 laps) and to come back and leave again (about 2.8 laps).
+const PresetSpec kPresets[] = {
+    {"smoke", "round", 50.0, 10.0, 8, 1, 0},
+    {"straight_1", "straight", 100.0, 30.0, 28, 7, 0},
+    {"straight_2", "straight", 110.0, 30.0, 32, 9, 1},
+    {"round_1", "round", 95.0, 30.0, 38, 6, 0},
+    {"round_2", "round", 115.0, 30.0, 42, 9, 1},
+    {"desk_static", "round", 60.0, 30.0, 30, 0, 0},
+};
+
+const PresetSpec& FindPreset(const std::string& name) {
+  for (const PresetSpec& spec : kPresets) {
+    if (spec.name == name) return spec;
+  }
+  std::string names;
+  for (const PresetSpec& spec : kPresets) names += (names.empty() ? "" : ", ") + spec.name;
+  throw std::invalid_argument("unknown preset '" + name + "' (use " + names + ")");
+}
+
+}  // namespace
+
+std::vector<std::string> PresetNames() {
+  std::vector<std::string> names;
+  for (const PresetSpec& spec : kPresets) names.push_back(spec.name);
+  return names;
+}
+
+Scene MakePreset(const std::string& name, std::uint64_t seed) {
+  const PresetSpec& spec = FindPreset(name);
+  Scene scene;
+  scene.name = spec.name;
+  scene.seed = seed;
+  scene.camera = TumLikeCamera();
+  scene.fps = spec.fps;
+  scene.duration = spec.duration;
+  scene.path.kind = spec.path;
+  scene.path.speed = name == "smoke" ? 0.4 : 0.35;
+  AddRoom(scene);
+  std::mt19937_64 rng(seed);
+  Placer placer(scene, rng);
+  for (int i = 0; i < spec.objects; ++i) placer.Add(i % 2 == 0 ? -1 : 1);
+  scene.Check();
+  return scene;
+}
+
+std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene,
+                                     std::uint64_t seed) {
+  const PresetSpec* spec = nullptr;
+  for (const PresetSpec& candidate : kPresets) {
+    if (candidate.name == name) spec = &candidate;
+  }
+  if (spec == nullptr || spec->moves + spec->removals == 0) return {};
+  std::mt19937_64 rng(seed * 31 + 7);
+  Scene planning = scene;  // new places must not collide with earlier moves
+  Placer placer(planning, rng);
+  std::vector<PlannedMove> moves;
+  const int total = spec->moves + spec->removals;
+  // Spread the changes over the middle of the sequence, alternating halves of the table.
+  for (int i = 0; i < total; ++i) {
+    const int side = i % 2 == 0 ? 1 : -1;
+    for (SceneObject& object : planning.objects) {
+      if (object.Moves() || object.history[0].centre.y() * side <= 0) continue;
+      const bool removal = i >= spec->moves;
+      PlannedMove move;
+      move.object_id = object.id;
+      move.removal = removal;
+      const double lap = LapLength(scene.path) / scene.path.speed;
+      move.earliest = lap * (0.8 + 0.8 * i / std::max(1, total));
+      if (!removal) {
+        const ObjectKind kind{object.class_id, object.shape, object.size};
+        const auto place = placer.FreePlace(kind, side, object.id);
+        if (!place) continue;
+        move.new_centre = *place;
+        move.new_yaw = std::uniform_real_distribution<double>(-0.5, 0.5)(rng);
+      }
+      PlacedPose marker = object.history[0];  // reserve the new place for later choices
+      marker.time = 1.0;
+      marker.centre = move.new_centre;
+      marker.present = !removal;
+      object.history.push_back(marker);
+      moves.push_back(move);
+      break;
+    }
+  }
+  return moves;
+}
+
+}  // namespace ocg::sim

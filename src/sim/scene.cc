@@ -1,0 +1,112 @@
+#include "ocg/sim/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+namespace ocg::sim {
+namespace {
+
+void Require(bool condition, const std::string& message) {
+  if (!condition) throw std::invalid_argument("scene: " + message);
+}
+
+// Smooth pseudo-random wobble: a few sines with seeded phases and frequencies.
+double Wobble(std::uint64_t seed, int channel, double t) {
+  double value = 0.0;
+  for (int k = 1; k <= 3; ++k) {
+    const std::uint64_t h =
+        (seed + 0x9e3779b97f4a7c15ULL * static_cast<std::uint64_t>(channel * 7 + k)) *
+        0xbf58476d1ce4e5b9ULL;
+    const double phase = static_cast<double>(h % 10000) / 10000.0 * 2.0 * M_PI;
+    const double frequency = 0.15 * k + static_cast<double>((h >> 20) % 100) / 400.0;
+    value += std::sin(2.0 * M_PI * frequency * t + phase) / k;
+  }
+  return value / 1.83;  // roughly within [-1, 1]
+}
+
+// Straight path: the length of each straight pass along x, beyond the table's ends.
+constexpr double kStraightLength = 2.6;
+
+}  // namespace
+
+std::optional<PlacedPose> SceneObject::PoseAt(double t) const {
+  const PlacedPose* current = nullptr;
+  for (const PlacedPose& pose : history) {
+    if (pose.time <= t) current = &pose;
+  }
+  if (current == nullptr || !current->present) return std::nullopt;
+  return *current;
+}
+
+void Scene::Check() const {
+  camera.Check();
+  Require(fps > 0 && duration > 0, "fps and duration must be positive");
+  Require(path.kind == "round" || path.kind == "straight", "path.kind must be round or straight");
+  Require(path.speed > 0 && path.speed <= 0.4, "path.speed must be in (0, 0.4] m/s");
+  std::set<int> ids;
+  for (const SceneObject& object : objects) {
+    Require(object.id > 0 && ids.insert(object.id).second,
+            "object ids must be positive and unique (id " + std::to_string(object.id) + ")");
+    Require(object.class_id >= 0 && object.class_id < 80,
+            "object " + std::to_string(object.id) + ": class_id must be a COCO-80 index");
+    Require(!object.history.empty() && object.history[0].time == 0.0,
+            "object " + std::to_string(object.id) + ": history must start at time 0");
+    for (size_t i = 1; i < object.history.size(); ++i) {
+      Require(object.history[i].time > object.history[i - 1].time,
+              "object " + std::to_string(object.id) + ": history times must increase");
+    }
+    Require((object.size.array() > 0).all(),
+            "object " + std::to_string(object.id) + ": size must be positive");
+  }
+}
+
+double LapLength(const CameraPath& path) {
+  if (path.kind == "round") {  // ellipse with half axes 1.25 r and r (Ramanujan)
+    const double a = 1.25 * path.radius, b = path.radius;
+    return M_PI * (3 * (a + b) - std::sqrt((3 * a + b) * (a + 3 * b)));
+  }
+  return 2.0 * (kStraightLength + M_PI * path.side_offset);
+}
+
+SE3 CameraPoseAt(const Scene& scene, double t) {
+  const CameraPath& path = scene.path;
+  const std::uint64_t seed = scene.seed;
+  Eigen::Vector3d eye, target;
+  if (path.kind == "round") {
+    const double angle = path.speed * t / path.radius - M_PI / 2;
+    eye = Eigen::Vector3d(path.radius * 1.25 * std::cos(angle), path.radius * std::sin(angle),
+                          path.height);
+    target = Eigen::Vector3d(0.35 * std::cos(angle), 0.2 * std::sin(angle), 0.75);
+  } else {
+    // Along one long side, round the end, back along the other side, round the other
+    // end. The camera looks at the near half of the table (the partition hides the far
+    // half), and the target follows the eye continuously, so turns stay smooth.
+    const double length = kStraightLength;
+    const double side = path.side_offset;
+    const double end_arc = M_PI * side;  // the ends are half ellipses (0.4 m deep)
+    const double lap = 2.0 * (length + end_arc);
+    double s = std::fmod(path.speed * t, lap);
+    if (s < length) {
+      eye = Eigen::Vector3d(-length / 2 + s, -side, path.height);
+    } else if ((s -= length) < end_arc) {
+      const double angle = -M_PI / 2 + s / side;
+      eye =
+          Eigen::Vector3d(length / 2 + 0.4 * std::cos(angle), side * std::sin(angle), path.height);
+    } else if ((s -= end_arc) < length) {
+      eye = Eigen::Vector3d(length / 2 - s, side, path.height);
+    } else {
+      const double angle = M_PI / 2 + (s - length) / side;
+      eye =
+          Eigen::Vector3d(-length / 2 + 0.4 * std::cos(angle), side * std::sin(angle), path.height);
+    }
+    target = Eigen::Vector3d(std::clamp(0.7 * eye.x(), -0.8, 0.8), 0.2 * eye.y() / side, 0.75);
+  }
+  const double j = path.jitter;
+  eye += j * Eigen::Vector3d(Wobble(seed, 0, t), Wobble(seed, 1, t), Wobble(seed, 2, t));
+  target += 6.0 * j * Eigen::Vector3d(Wobble(seed, 3, t), Wobble(seed, 4, t), Wobble(seed, 5, t));
+  return LookAt(eye, target);
+}
+
+}  // namespace ocg::sim

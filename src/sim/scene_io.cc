@@ -1,0 +1,246 @@
+#include "ocg/sim/scene_io.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include "ocg/core/file_io.h"
+#include "ocg/core/settings_file.h"
+
+namespace ocg::sim {
+namespace {
+
+class Reader {
+ public:
+  explicit Reader(std::string name) : name_(std::move(name)) {}
+
+  [[noreturn]] void Fail(const YAML::Node& node, const std::string& field,
+                         const std::string& message) const {
+    throw SettingsError(FileLocation(name_, node.Mark().line + 1) + ": field '" + field +
+                        "': " + message);
+  }
+
+  template <typename T>
+  void Optional(const YAML::Node& parent, const std::string& key, const std::string& path,
+                T* value) const {
+    const YAML::Node node = parent[key];
+    if (!node) return;
+    try {
+      *value = node.as<T>();
+    } catch (const YAML::Exception&) {
+      Fail(node, path + key, "wrong type");
+    }
+  }
+
+  void Vector(const YAML::Node& parent, const std::string& key, const std::string& path,
+              Eigen::Vector3d* value, bool required = false) const {
+    const YAML::Node node = parent[key];
+    if (!node) {
+      if (required) Fail(parent, path + key, "missing");
+      return;
+    }
+    std::vector<double> items;
+    try {
+      items = node.as<std::vector<double>>();
+    } catch (const YAML::Exception&) {
+      Fail(node, path + key, "expected a list of 3 numbers");
+    }
+    if (items.size() != 3) Fail(node, path + key, "expected a list of 3 numbers");
+    *value = Eigen::Vector3d(items[0], items[1], items[2]);
+  }
+
+ private:
+  std::string name_;
+};
+
+YAML::Node VectorNode(const Eigen::Vector3d& v) {
+  YAML::Node node;
+  node.SetStyle(YAML::EmitterStyle::Flow);
+  node.push_back(v.x());
+  node.push_back(v.y());
+  node.push_back(v.z());
+  return node;
+}
+
+}  // namespace
+
+SceneFile LoadSceneFile(const std::string& path) {
+  try {
+    return ParseSceneYaml(ReadTextFile(path), path);
+  } catch (const FileError& error) {
+    throw SettingsError(std::string("scene: ") + error.what());
+  }
+}
+
+SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& error) {
+    throw SettingsError(FileLocation(name, error.mark.line + 1) + ": not valid YAML: " + error.msg);
+  }
+  const Reader read(name);
+  SceneFile file;
+  Scene& scene = file.scene;
+  read.Optional(root, "name", "", &scene.name);
+  read.Optional(root, "seed", "", &scene.seed);
+  read.Optional(root, "fps", "", &scene.fps);
+  read.Optional(root, "duration", "", &scene.duration);
+  read.Optional(root, "ambient", "", &scene.ambient);
+  read.Vector(root, "room_size", "", &scene.room_size);
+  read.Vector(root, "light_direction", "", &scene.light_direction);
+  if (const YAML::Node camera = root["camera"]) {
+    read.Optional(camera, "fx", "camera.", &scene.camera.fx);
+    read.Optional(camera, "fy", "camera.", &scene.camera.fy);
+    read.Optional(camera, "cx", "camera.", &scene.camera.cx);
+    read.Optional(camera, "cy", "camera.", &scene.camera.cy);
+    read.Optional(camera, "width", "camera.", &scene.camera.width);
+    read.Optional(camera, "height", "camera.", &scene.camera.height);
+  }
+  if (const YAML::Node path = root["path"]) {
+    read.Optional(path, "kind", "path.", &scene.path.kind);
+    read.Optional(path, "radius", "path.", &scene.path.radius);
+    read.Optional(path, "side_offset", "path.", &scene.path.side_offset);
+    read.Optional(path, "height", "path.", &scene.path.height);
+    read.Optional(path, "speed", "path.", &scene.path.speed);
+    read.Optional(path, "jitter", "path.", &scene.path.jitter);
+  }
+  if (const YAML::Node noise = root["noise"]) {
+    DetectionNoise& n = scene.noise;
+    read.Optional(noise, "perfect", "noise.", &n.perfect);
+    read.Optional(noise, "min_visible_pixels", "noise.", &n.min_visible_pixels);
+    read.Optional(noise, "box_jitter", "noise.", &n.box_jitter);
+    read.Optional(noise, "miss_base", "noise.", &n.miss_base);
+    read.Optional(noise, "miss_occlusion", "noise.", &n.miss_occlusion);
+    read.Optional(noise, "miss_truncation", "noise.", &n.miss_truncation);
+    read.Optional(noise, "miss_small", "noise.", &n.miss_small);
+    read.Optional(noise, "small_box_pixels", "noise.", &n.small_box_pixels);
+    read.Optional(noise, "burst_continue", "noise.", &n.burst_continue);
+    read.Optional(noise, "confusion", "noise.", &n.confusion);
+    read.Optional(noise, "false_positives_per_frame", "noise.", &n.false_positives_per_frame);
+    read.Optional(noise, "duplicate", "noise.", &n.duplicate);
+  }
+  const YAML::Node furniture = root["furniture"];
+  for (size_t i = 0; furniture && i < furniture.size(); ++i) {
+    const std::string path = "furniture[" + std::to_string(i) + "].";
+    Furniture item;
+    read.Optional(furniture[i], "name", path, &item.name);
+    read.Vector(furniture[i], "centre", path, &item.centre, true);
+    read.Vector(furniture[i], "size", path, &item.size, true);
+    read.Optional(furniture[i], "yaw", path, &item.yaw);
+    read.Optional(furniture[i], "texture_seed", path, &item.texture_seed);
+    scene.furniture.push_back(item);
+  }
+  const YAML::Node objects = root["objects"];
+  for (size_t i = 0; objects && i < objects.size(); ++i) {
+    const YAML::Node node = objects[i];
+    const std::string path = "objects[" + std::to_string(i) + "].";
+    SceneObject object;
+    read.Optional(node, "id", path, &object.id);
+    read.Optional(node, "class_id", path, &object.class_id);
+    std::string shape = "box";
+    read.Optional(node, "shape", path, &shape);
+    if (shape != "box" && shape != "cylinder")
+      read.Fail(node, path + "shape", "must be box or cylinder");
+    object.shape = shape == "box" ? Shape::kBox : Shape::kCylinder;
+    read.Vector(node, "size", path, &object.size, true);
+    read.Optional(node, "texture_seed", path, &object.texture_seed);
+    const YAML::Node history = node["history"];
+    if (!history || history.size() == 0)
+      read.Fail(node, path + "history", "needs at least the pose at time 0");
+    for (size_t k = 0; k < history.size(); ++k) {
+      const std::string pose_path = path + "history[" + std::to_string(k) + "].";
+      PlacedPose pose;
+      read.Optional(history[k], "time", pose_path, &pose.time);
+      read.Optional(history[k], "present", pose_path, &pose.present);
+      read.Vector(history[k], "centre", pose_path, &pose.centre, pose.present);
+      read.Optional(history[k], "yaw", pose_path, &pose.yaw);
+      object.history.push_back(pose);
+    }
+    scene.objects.push_back(object);
+  }
+  const YAML::Node moves = root["moves"];
+  for (size_t i = 0; moves && i < moves.size(); ++i) {
+    const std::string path = "moves[" + std::to_string(i) + "].";
+    PlannedMove move;
+    read.Optional(moves[i], "object_id", path, &move.object_id);
+    read.Optional(moves[i], "removal", path, &move.removal);
+    read.Optional(moves[i], "earliest", path, &move.earliest);
+    read.Optional(moves[i], "new_yaw", path, &move.new_yaw);
+    read.Vector(moves[i], "new_centre", path, &move.new_centre, !move.removal);
+    file.moves.push_back(move);
+  }
+  try {
+    scene.Check();
+  } catch (const std::invalid_argument& error) {
+    throw SettingsError(name + ": " + error.what());
+  }
+  return file;
+}
+
+std::string SceneToYaml(const Scene& scene) {
+  YAML::Node root;
+  root["name"] = scene.name;
+  root["seed"] = scene.seed;
+  root["fps"] = scene.fps;
+  root["duration"] = scene.duration;
+  root["room_size"] = VectorNode(scene.room_size);
+  root["light_direction"] = VectorNode(scene.light_direction);
+  root["ambient"] = scene.ambient;
+  const PinholeCamera& c = scene.camera;
+  root["camera"]["fx"] = c.fx;
+  root["camera"]["fy"] = c.fy;
+  root["camera"]["cx"] = c.cx;
+  root["camera"]["cy"] = c.cy;
+  root["camera"]["width"] = c.width;
+  root["camera"]["height"] = c.height;
+  root["path"]["kind"] = scene.path.kind;
+  root["path"]["radius"] = scene.path.radius;
+  root["path"]["side_offset"] = scene.path.side_offset;
+  root["path"]["height"] = scene.path.height;
+  root["path"]["speed"] = scene.path.speed;
+  root["path"]["jitter"] = scene.path.jitter;
+  const DetectionNoise& n = scene.noise;
+  root["noise"]["perfect"] = n.perfect;
+  root["noise"]["min_visible_pixels"] = n.min_visible_pixels;
+  root["noise"]["box_jitter"] = n.box_jitter;
+  root["noise"]["miss_base"] = n.miss_base;
+  root["noise"]["miss_occlusion"] = n.miss_occlusion;
+  root["noise"]["miss_truncation"] = n.miss_truncation;
+  root["noise"]["miss_small"] = n.miss_small;
+  root["noise"]["small_box_pixels"] = n.small_box_pixels;
+  root["noise"]["burst_continue"] = n.burst_continue;
+  root["noise"]["confusion"] = n.confusion;
+  root["noise"]["false_positives_per_frame"] = n.false_positives_per_frame;
+  root["noise"]["duplicate"] = n.duplicate;
+  for (const Furniture& item : scene.furniture) {
+    YAML::Node node;
+    node["name"] = item.name;
+    node["centre"] = VectorNode(item.centre);
+    node["size"] = VectorNode(item.size);
+    node["yaw"] = item.yaw;
+    node["texture_seed"] = item.texture_seed;
+    root["furniture"].push_back(node);
+  }
+  for (const SceneObject& object : scene.objects) {
+    YAML::Node node;
+    node["id"] = object.id;
+    node["class_id"] = object.class_id;
+    node["shape"] = object.shape == Shape::kBox ? "box" : "cylinder";
+    node["size"] = VectorNode(object.size);
+    node["texture_seed"] = object.texture_seed;
+    for (const PlacedPose& pose : object.history) {
+      YAML::Node entry;
+      entry["time"] = pose.time;
+      entry["present"] = pose.present;
+      entry["centre"] = VectorNode(pose.centre);
+      entry["yaw"] = pose.yaw;
+      node["history"].push_back(entry);
+    }
+    root["objects"].push_back(node);
+  }
+  YAML::Emitter emitter;
+  emitter.SetDoublePrecision(10);
+  emitter << root;
+  return "# OCG-SLAM synthetic scene (docs/synthetic.md)\n" + std::string(emitter.c_str()) + "\n";
+}
+
+}  // namespace ocg::sim
