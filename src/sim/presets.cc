@@ -147,11 +147,11 @@ struct PresetSpec {
 // Durations give the camera time to see everything (a lap), to be away while objects
 // change (moves start after 0.8 laps) and to come back and leave again (about 2.8 laps).
 const PresetSpec kPresets[] = {
-    {"smoke", "round", 50.0, 10.0, 8, 1, 0},
+    {"smoke", "round", 55.0, 10.0, 8, 1, 0},
     {"straight_1", "straight", 100.0, 30.0, 28, 7, 0},
     {"straight_2", "straight", 110.0, 30.0, 32, 9, 1},
-    {"round_1", "round", 95.0, 30.0, 38, 6, 0},
-    {"round_2", "round", 115.0, 30.0, 42, 9, 1},
+    {"round_1", "round", 100.0, 30.0, 38, 6, 0},
+    {"round_2", "round", 120.0, 30.0, 42, 9, 1},
     {"desk_static", "round", 60.0, 30.0, 30, 0, 0},
 };
 
@@ -182,6 +182,7 @@ Scene MakePreset(const std::string& name, std::uint64_t seed) {
   scene.duration = spec.duration;
   scene.path.kind = spec.path;
   scene.path.speed = name == "smoke" ? 0.4 : 0.35;
+  if (name == "smoke") scene.path.radius = 1.4;  // a shorter lap: 27.5 s
   AddRoom(scene);
   std::mt19937_64 rng(seed);
   Placer placer(scene, rng);
@@ -211,8 +212,7 @@ std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene
       PlannedMove move;
       move.object_id = object.id;
       move.removal = removal;
-      const double lap = LapLength(scene.path) / scene.path.speed;
-      move.earliest = lap * (0.8 + 0.8 * i / std::max(1, total));
+      move.earliest = LapDuration(scene.path) * (0.8 + 0.8 * i / std::max(1, total));
       if (!removal) {
         const ObjectKind kind{object.class_id, object.shape, object.size};
         const auto place = placer.FreePlace(kind, side, object.id);

@@ -28,6 +28,8 @@ double Wobble(std::uint64_t seed, int channel, double t) {
 
 // Straight path: the length of each straight pass along x, beyond the table's ends.
 constexpr double kStraightLength = 2.6;
+// Round path: an ellipse stretched along the table's long axis by this factor.
+constexpr double kRoundStretch = 1.25;
 
 }  // namespace
 
@@ -62,12 +64,9 @@ void Scene::Check() const {
   }
 }
 
-double LapLength(const CameraPath& path) {
-  if (path.kind == "round") {  // ellipse with half axes 1.25 r and r (Ramanujan)
-    const double a = 1.25 * path.radius, b = path.radius;
-    return M_PI * (3 * (a + b) - std::sqrt((3 * a + b) * (a + 3 * b)));
-  }
-  return 2.0 * (kStraightLength + M_PI * path.side_offset);
+double LapDuration(const CameraPath& path) {
+  if (path.kind == "round") return 2.0 * M_PI * kRoundStretch * path.radius / path.speed;
+  return 2.0 * (kStraightLength + M_PI * path.side_offset) / path.speed;
 }
 
 SE3 CameraPoseAt(const Scene& scene, double t) {
@@ -75,9 +74,10 @@ SE3 CameraPoseAt(const Scene& scene, double t) {
   const std::uint64_t seed = scene.seed;
   Eigen::Vector3d eye, target;
   if (path.kind == "round") {
-    const double angle = path.speed * t / path.radius - M_PI / 2;
-    eye = Eigen::Vector3d(path.radius * 1.25 * std::cos(angle), path.radius * std::sin(angle),
-                          path.height);
+    // On the ellipse the speed peaks on its long half axis: pace the angle by that one.
+    const double angle = path.speed * t / (kRoundStretch * path.radius) - M_PI / 2;
+    eye = Eigen::Vector3d(kRoundStretch * path.radius * std::cos(angle),
+                          path.radius * std::sin(angle), path.height);
     target = Eigen::Vector3d(0.35 * std::cos(angle), 0.2 * std::sin(angle), 0.75);
   } else {
     // Along one long side, round the end, back along the other side, round the other

@@ -91,8 +91,8 @@ struct Scene {
   void Check() const;
 };
 
-// Length of one lap of the path, metres.
-double LapLength(const CameraPath& path);
+// Seconds the camera takes for one lap of its path.
+double LapDuration(const CameraPath& path);
 
 // Camera pose T_cw at time t (seconds), smooth, deterministic in the scene's seed.
 SE3 CameraPoseAt(const Scene& scene, double t);

@@ -1,0 +1,231 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "ocg/core/file_io.h"
+#include "ocg/core/settings_file.h"
+#include "ocg/io/sequence.h"
+#include "ocg/ocg/change_detector.h"
+#include "ocg/ocg/replay_format.h"
+#include "ocg/sim/generator.h"
+#include "ocg/sim/scene_io.h"
+#include "test_support.h"
+
+namespace ocg::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scene ScheduledPreset(const std::string& name, std::uint64_t seed) {
+  Scene scene = MakePreset(name, seed);
+  SceneRenderer planner(scene);
+  ScheduleMoves(scene, PresetMoves(name, scene, seed), planner);
+  return scene;
+}
+
+std::map<std::string, std::string> ReadTree(const std::string& root) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file())
+      files[fs::relative(entry.path(), root).string()] = ReadTextFile(entry.path().string());
+  }
+  return files;
+}
+
+TEST(Generator, SameSeedSameFilesDifferentSeedDifferentFiles) {
+  GeneratorOptions options;
+  options.max_frames = 12;
+  options.keyframe_interval = 4;
+  const std::string dir = testing::MakeTempDir("synth");
+  Generate(ScheduledPreset("smoke", 3), dir + "/a", options);
+  Generate(ScheduledPreset("smoke", 3), dir + "/b", options);
+  Generate(ScheduledPreset("smoke", 4), dir + "/c", options);
+  const auto a = ReadTree(dir + "/a");
+  const auto b = ReadTree(dir + "/b");
+  const auto c = ReadTree(dir + "/c");
+  ASSERT_EQ(a.size(), 12u * 2 + 6);  // rgb + detections per frame, 6 other files
+  EXPECT_TRUE(a == b) << "same seed, different output";
+  EXPECT_NE(a.at("rgb/1000.000000.png"), c.at("rgb/1000.000000.png"));
+  EXPECT_NE(a.at("objects_gt.json"), c.at("objects_gt.json"));
+  EXPECT_EQ(ReadTumImageList(dir + "/a/rgb.txt", dir + "/a").size(), 12u);
+  EXPECT_TRUE(fs::exists(dir + "/a/camera.yaml"));
+  // An existing output is never overwritten by accident.
+  EXPECT_THROW(Generate(ScheduledPreset("smoke", 3), dir + "/a", options), FileError);
+}
+
+TEST(DetectionModel, UnoccludedObjectBoxEqualsItsProjectedBox) {
+  Scene scene = MakePreset("smoke", 1);
+  scene.objects.resize(1);
+  scene.noise.perfect = true;
+  SceneObject& object = scene.objects[0];
+  object.shape = Shape::kBox;
+  object.size = Eigen::Vector3d(0.3, 0.2, 0.25);
+  object.history = {PlacedPose{0.0, true, Eigen::Vector3d(0.2, -0.25, 0.875), 0.4}};
+  SceneRenderer renderer(scene);
+  DetectionModel model(scene);
+  const SE3 T_cw = LookAt({0.9, -1.4, 1.3}, {0.2, -0.25, 0.8});
+  const DetectionModel::FrameResult result = model.Detect(renderer.Ids(0.0, T_cw), 0.0, T_cw, 0);
+  ASSERT_EQ(result.detections.size(), 1u);
+  const Detection& box = result.detections[0];
+  double min_u = 1e9, min_v = 1e9, max_u = -1e9, max_v = -1e9;
+  const SE3 T_wo(Eigen::Matrix3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ())),
+                 {0.2, -0.25, 0.875});
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d local((corner & 1 ? 0.15 : -0.15), (corner & 2 ? 0.1 : -0.1),
+                                (corner & 4 ? 0.125 : -0.125));
+    const Eigen::Vector2d pixel = scene.camera.Project(T_cw * (T_wo * local));
+    min_u = std::min(min_u, pixel.x());
+    max_u = std::max(max_u, pixel.x());
+    min_v = std::min(min_v, pixel.y());
+    max_v = std::max(max_v, pixel.y());
+  }
+  EXPECT_NEAR(box.x, min_u, 1.5);
+  EXPECT_NEAR(box.y, min_v, 1.5);
+  EXPECT_NEAR(box.x + box.width - 1, max_u, 1.5);
+  EXPECT_NEAR(box.y + box.height - 1, max_v, 1.5);
+  EXPECT_EQ(box.class_id, object.class_id);
+  EXPECT_EQ(box.confidence, 1.0);
+}
+
+TEST(SceneRenderer, ThePartitionHidesTheFarHalf) {
+  Scene scene = MakePreset("smoke", 1);
+  const SE3 T_cw = CameraPoseAt(scene, 0.0);  // the camera starts on the y < 0 side
+  ASSERT_LT(T_cw.Inverse().translation().y(), -1.0);
+  const int id = scene.objects[0].id;
+  const PlacedPose far_side{0.0, true, Eigen::Vector3d(0.0, 0.2, 0.80), 0.0};
+  const PlacedPose near_side{0.0, true, Eigen::Vector3d(0.0, -0.2, 0.80), 0.0};
+  SceneRenderer with_partition(scene);
+  EXPECT_EQ(with_partition.VisiblePixels(id, far_side, 0.0, T_cw), 0);
+  EXPECT_GT(with_partition.VisiblePixels(id, near_side, 0.0, T_cw), 200);
+  Scene open = scene;
+  open.furniture.erase(std::remove_if(open.furniture.begin(), open.furniture.end(),
+                                      [](const Furniture& f) { return f.name == "partition"; }),
+                       open.furniture.end());
+  SceneRenderer without_partition(open);
+  EXPECT_GT(without_partition.VisiblePixels(id, far_side, 0.0, T_cw), 200)
+      << "hidden by something else";
+}
+
+TEST(Changes, ScheduledChangesHappenUnseenAndVisibleOnesAreRefused) {
+  Scene scene = ScheduledPreset("smoke", 1);
+  SceneRenderer renderer(scene);
+  EXPECT_NO_THROW(ValidateChanges(scene, renderer));
+  int changes = 0;
+  for (const SceneObject& object : scene.objects) {
+    for (size_t i = 1; i < object.history.size(); ++i, ++changes) {
+      const double t = object.history[i].time;
+      for (double when : {t - 0.1, t + 0.1}) {
+        const SE3 T_cw = CameraPoseAt(scene, when);
+        EXPECT_EQ(renderer.VisiblePixels(object.id, object.history[i - 1], when, T_cw), 0);
+        EXPECT_EQ(renderer.VisiblePixels(object.id, object.history[i], when, T_cw), 0);
+      }
+    }
+  }
+  EXPECT_EQ(changes, 1);
+  // An object on the near half moved at 0.5 s, right in front of the camera: refused.
+  Scene bad = MakePreset("smoke", 1);
+  for (SceneObject& object : bad.objects) {
+    if (object.history[0].centre.y() < 0) {
+      PlacedPose moved = object.history[0];
+      moved.time = 0.5;
+      moved.centre.x() += 0.1;
+      object.history.push_back(moved);
+      break;
+    }
+  }
+  SceneRenderer bad_renderer(bad);
+  EXPECT_THROW(ValidateChanges(bad, bad_renderer), std::invalid_argument);
+}
+
+TEST(Presets, FramesHaveManyWellSpreadFastCorners) {
+  for (const std::string& name : PresetNames()) {
+    const Scene scene = MakePreset(name, 1);
+    SceneRenderer renderer(scene);
+    constexpr int kSamples = 8;
+    for (int k = 0; k < kSamples; ++k) {
+      const double t = scene.duration * (k + 0.5) / kSamples;
+      cv::Mat grey;
+      cv::cvtColor(renderer.Colour(t, CameraPoseAt(scene, t), static_cast<std::uint64_t>(k)), grey,
+                   cv::COLOR_BGR2GRAY);
+      std::vector<cv::KeyPoint> corners;
+      cv::FAST(grey, corners, 20, true);
+      std::set<int> cells;  // 8 x 6 grid
+      for (const cv::KeyPoint& corner : corners) {
+        cells.insert(static_cast<int>(corner.pt.y / 80) * 8 + static_cast<int>(corner.pt.x / 80));
+      }
+      EXPECT_GE(corners.size(), 500u) << name << " at " << t << " s";
+      EXPECT_GE(cells.size(), 36u) << name << " at " << t << " s: corners crowd into few cells";
+    }
+  }
+}
+
+TEST(Presets, CameraMotionStaysHandHeld) {
+  for (const std::string& name : PresetNames()) {
+    const Scene scene = MakePreset(name, 2);
+    const double dt = 1.0 / scene.fps;
+    double fastest = 0.0, fastest_turn = 0.0;
+    for (int frame = 1; frame < scene.FrameCount(); ++frame) {
+      const SE3 a = CameraPoseAt(scene, (frame - 1) * dt).Inverse();
+      const SE3 b = CameraPoseAt(scene, frame * dt).Inverse();
+      fastest = std::max(fastest, (b.translation() - a.translation()).norm() / dt);
+      fastest_turn =
+          std::max(fastest_turn, LogSO3(a.rotation().transpose() * b.rotation()).norm() / dt);
+    }
+    EXPECT_LE(fastest, 0.45) << name;  // about 0.4 m/s
+    EXPECT_LE(fastest_turn * 180 / M_PI, 40.0) << name;
+  }
+}
+
+TEST(SceneFile, RoundTripAndErrorsNameTheField) {
+  const Scene scene = ScheduledPreset("smoke", 5);
+  const std::string text = SceneToYaml(scene);
+  const SceneFile parsed = ParseSceneYaml(text, "scene.yaml");
+  EXPECT_EQ(SceneToYaml(parsed.scene), text);
+  EXPECT_EQ(parsed.scene.objects.size(), scene.objects.size());
+  try {
+    ParseSceneYaml(
+        "objects:\n  - id: 1\n    class_id: 41\n    size: [1, 2]\n    history: [{time: 0, centre: "
+        "[0, 0, 0]}]\n",
+        "bad.yaml");
+    FAIL();
+  } catch (const SettingsError& error) {
+    EXPECT_NE(std::string(error.what()).find("objects[0].size"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(ParseSceneYaml("path: {kind: zigzag}\n", "bad.yaml"), SettingsError);
+}
+
+TEST(Oracle, SmokeSequenceTheOcgRemovesTheMovedObjectAndNothingElse) {
+  // The whole smoke sequence, keyframes only (every 10th frame), id pass and detector:
+  // the oracle stream fed to the OCG in paper and improved modes.
+  const Scene scene = ScheduledPreset("smoke", 1);
+  SceneRenderer renderer(scene);
+  for (const std::string mode : {"paper", "improved"}) {
+    DetectionModel model(scene);
+    OcgOptions options;
+    options.mode = mode;
+    ObjectChangeDetector detector(options);
+    std::vector<ObjectId> removed;
+    for (int frame = 0; frame < scene.FrameCount(); frame += 10) {
+      const double t = scene.TimeOfFrame(frame);
+      const SE3 T_cw = CameraPoseAt(scene, t);
+      const auto detections = model.Detect(renderer.Ids(t, T_cw), t, T_cw, frame);
+      const KeyframeObservation observation = ParseObservationJson(
+          OracleObservation(scene, frame / 10, t, T_cw, detections.detected_objects));
+      for (const RemovalEvent& event : detector.Process(observation).removed)
+        removed.push_back(event.object_id);
+    }
+    int moved_id = 0;
+    for (const SceneObject& object : scene.objects) {
+      if (object.Moves()) moved_id = object.id;
+    }
+    ASSERT_NE(moved_id, 0);
+    EXPECT_EQ(removed, std::vector<ObjectId>{OracleMapId(moved_id, 0)}) << mode;
+  }
+}
+
+}  // namespace
+}  // namespace ocg::sim
