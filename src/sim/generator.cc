@@ -110,13 +110,16 @@ SceneRenderer::SceneRenderer(const Scene& scene)
     const double largest = item.size.maxCoeff();
     draw.mesh = Mesh::Box(item.size.cast<float>(), static_cast<float>(1.0 / largest))
                     .Transformed(PoseOf({0.0, true, item.centre, item.yaw}));
-    draw.texture = renderer_.AddTexture(MakeTexture(item.texture_seed, largest > 2.0 ? 1024 : 512));
+    // About 300 texels per metre on big surfaces, so the camera never sees them blurred.
+    const int texture_size = largest > 3.5 ? 2048 : largest > 1.2 ? 1024 : 512;
+    draw.texture = renderer_.AddTexture(MakeTexture(item.texture_seed, texture_size, largest));
     draw.colour = Eigen::Vector3f::Ones();
     Renderer::Shade(draw, light, static_cast<float>(scene.ambient));
     furniture_.push_back(std::move(draw));
   }
   for (const SceneObject& object : scene.objects) {
-    object_textures_[object.id] = renderer_.AddTexture(MakeTexture(object.texture_seed, 256));
+    object_textures_[object.id] =
+        renderer_.AddTexture(MakeTexture(object.texture_seed, 256, object.size.maxCoeff()));
     auto& items = object_items_[object.id];
     for (const PlacedPose& pose : object.history) items.push_back(MakeObjectItem(object, pose));
   }

@@ -1,10 +1,11 @@
 #include "ocg/sim/texture.h"
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace ocg::sim {
 
-cv::Mat MakeTexture(std::uint64_t seed, int size) {
+cv::Mat MakeTexture(std::uint64_t seed, int size, double span_metres) {
   cv::RNG rng(seed * 0x9e3779b97f4a7c15ULL + 1);
   const cv::Scalar base(rng.uniform(40, 215), rng.uniform(40, 215), rng.uniform(40, 215));
   cv::Mat texture(size, size, CV_32FC3, base);
@@ -18,32 +19,42 @@ cv::Mat MakeTexture(std::uint64_t seed, int size) {
   }
   cv::Mat image;
   texture.convertTo(image, CV_8UC3);
-  const int scale = std::max(1, size / 256);
+  const double pixels_per_metre = size / span_metres;
+  const double area = span_metres * span_metres;
+  // Feature sizes in metres, turned into texels (at least 1).
+  auto texels = [&](double low, double high) {
+    return std::max(1, static_cast<int>(rng.uniform(low, high) * pixels_per_metre));
+  };
+  auto count = [&](double per_square_metre, int minimum) {
+    return std::max(minimum, static_cast<int>(per_square_metre * area));
+  };
   auto colour = [&] {
     return cv::Scalar(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256));
   };
-  const int blobs = 12 + rng.uniform(0, 10);
-  for (int i = 0; i < blobs * scale; ++i) {
+  for (int i = count(60, 14); i > 0; --i) {
     const cv::Point centre(rng.uniform(0, size), rng.uniform(0, size));
-    const cv::Size axes(rng.uniform(4, 28) * scale, rng.uniform(4, 28) * scale);
+    const cv::Size axes(texels(0.01, 0.06), texels(0.01, 0.06));
     cv::ellipse(image, centre, axes, rng.uniform(0, 180), 0, 360, colour(), cv::FILLED,
                 cv::LINE_AA);
   }
-  const int strokes = 20 + rng.uniform(0, 20);
-  for (int i = 0; i < strokes * scale; ++i) {
+  for (int i = count(120, 24); i > 0; --i) {
     const cv::Point a(rng.uniform(0, size), rng.uniform(0, size));
-    const cv::Point b = a + cv::Point(rng.uniform(-40, 40) * scale, rng.uniform(-40, 40) * scale);
-    cv::line(image, a, b, colour(), rng.uniform(1, 4) * scale, cv::LINE_AA);
+    const double length = rng.uniform(0.03, 0.15) * pixels_per_metre;
+    const double angle = rng.uniform(0.0, 2 * M_PI);
+    const cv::Point b = a + cv::Point(static_cast<int>(length * std::cos(angle)),
+                                      static_cast<int>(length * std::sin(angle)));
+    cv::line(image, a, b, colour(), texels(0.003, 0.012), cv::LINE_AA);
   }
   static const char kLetters[] = "ABCDEFGHKLMNPRSTUWXYZ0123456789#&@%";
-  const int words = 10 + rng.uniform(0, 10);
-  for (int i = 0; i < words * scale; ++i) {
+  for (int i = count(60, 14); i > 0; --i) {
     std::string word;
     for (int k = rng.uniform(2, 7); k > 0; --k)
       word += kLetters[rng.uniform(0, sizeof(kLetters) - 1)];
-    const cv::Point origin(rng.uniform(-20, size), rng.uniform(10, size + 20));
-    cv::putText(image, word, origin, rng.uniform(0, 7), rng.uniform(0.4, 1.6) * scale, colour(),
-                rng.uniform(1, 3) * scale, cv::LINE_AA);
+    const cv::Point origin(rng.uniform(-size / 8, size), rng.uniform(0, size + size / 8));
+    // Hershey fonts are about 22 units tall at scale 1: letters 2-8 cm high.
+    const double letter_height = rng.uniform(0.02, 0.08) * pixels_per_metre;
+    cv::putText(image, word, origin, rng.uniform(0, 7), letter_height / 22.0, colour(),
+                std::max(1, static_cast<int>(letter_height / 10)), cv::LINE_AA);
   }
   return image;
 }

@@ -7,7 +7,10 @@
 
 namespace ocg::sim {
 
-// A size x size BGR texture, deterministic in seed.
-cv::Mat MakeTexture(std::uint64_t seed, int size);
+// A size x size BGR texture, deterministic in seed, for a surface span_metres wide.
+// Features have physical sizes (centimetres) and a constant density per square metre,
+// so a wall and a cup look equally detailed from the same distance; small surfaces get
+// a minimum number of features.
+cv::Mat MakeTexture(std::uint64_t seed, int size, double span_metres);
 
 }  // namespace ocg::sim
