@@ -225,8 +225,7 @@ void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRen
     bool scheduled = false;
     // Every third frame is a candidate; the check itself covers the frames around it.
     const int first = static_cast<int>(std::ceil(move.earliest * scene.fps));
-    for (int frame = std::max(first, object->history.size() > 1 ? 0 : first);
-         frame < scene.FrameCount() - 1; frame += 3) {
+    for (int frame = first; frame < scene.FrameCount() - 1; frame += 3) {
       const double t = (frame + 0.5) / scene.fps;  // between two frames
       if (t <= before.time) continue;
       if (ChangeIsUnseen(renderer, object->id, before, after, t)) {
@@ -461,19 +460,11 @@ std::string CameraSettingsYaml(const Scene& scene) {
   return text;
 }
 
-GenerationStats Generate(const Scene& input, const std::string& out_dir,
-                         const GeneratorOptions& options) {
-  input.Check();
-  std::error_code error;
-  if (fs::exists(out_dir, error) && !fs::is_empty(out_dir, error) && !options.overwrite) {
-    throw FileError("output folder '" + out_dir + "' exists and is not empty (use --overwrite)");
-  }
-  const std::string staging = out_dir + ".partial." + std::to_string(::getpid());
-  fs::remove_all(staging, error);
-  EnsureDirectory(staging + "/rgb");
-  EnsureDirectory(staging + "/detections");
-  if (options.write_depth) EnsureDirectory(staging + "/depth");
+namespace {
 
+// Renders and writes every file of the sequence into folder.
+GenerationStats WriteSequence(const Scene& input, const std::string& staging,
+                              const GeneratorOptions& options) {
   const Scene& scene = input;
   SceneRenderer renderer(scene);
   ValidateChanges(scene, renderer);
@@ -555,6 +546,31 @@ GenerationStats Generate(const Scene& input, const std::string& out_dir,
   WriteFileAtomically(staging + "/scene.yaml", SceneToYaml(scene));
   WriteFileAtomically(staging + "/camera.yaml", CameraSettingsYaml(scene));
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace
+
+GenerationStats Generate(const Scene& input, const std::string& out_dir,
+                         const GeneratorOptions& options) {
+  input.Check();
+  std::error_code error;
+  if (fs::exists(out_dir, error) && !fs::is_empty(out_dir, error) && !options.overwrite) {
+    throw FileError("output folder '" + out_dir + "' exists and is not empty (use --overwrite)");
+  }
+  const std::string staging = out_dir + ".partial." + std::to_string(::getpid());
+  fs::remove_all(staging, error);
+  EnsureDirectory(staging + "/rgb");
+  EnsureDirectory(staging + "/detections");
+  if (options.write_depth) EnsureDirectory(staging + "/depth");
+
+  GenerationStats stats;
+  try {
+    stats = WriteSequence(input, staging, options);
+  } catch (...) {
+    fs::remove_all(staging, error);  // a failed run leaves nothing behind
+    throw;
+  }
   if (fs::exists(out_dir, error)) fs::remove_all(out_dir);
   fs::rename(staging, out_dir);
   return stats;

@@ -139,6 +139,12 @@ TEST(Changes, ScheduledChangesHappenUnseenAndVisibleOnesAreRefused) {
   }
   SceneRenderer bad_renderer(bad);
   EXPECT_THROW(ValidateChanges(bad, bad_renderer), std::invalid_argument);
+  // ocg_synth refuses such a scene and leaves nothing behind.
+  const std::string dir = testing::MakeTempDir("refused");
+  GeneratorOptions options;
+  options.max_frames = 2;
+  EXPECT_THROW(Generate(bad, dir + "/out", options), std::invalid_argument);
+  EXPECT_TRUE(fs::is_empty(dir)) << "a refused scene left files";
 }
 
 TEST(Presets, FramesHaveManyWellSpreadFastCorners) {
