@@ -135,6 +135,16 @@ DrawItem SceneRenderer::MakeObjectItem(const SceneObject& object, const PlacedPo
   return draw;
 }
 
+void SceneRenderer::AppendPose(int object_id, const PlacedPose& pose) {
+  for (SceneObject& object : scene_.objects) {
+    if (object.id != object_id) continue;
+    object.history.push_back(pose);
+    object_items_.at(object_id).push_back(MakeObjectItem(object, pose));
+    return;
+  }
+  throw std::invalid_argument("no object " + std::to_string(object_id));
+}
+
 std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object) const {
   std::vector<const DrawItem*> items;
   for (const DrawItem& item : furniture_) items.push_back(&item);
@@ -231,6 +241,7 @@ void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRen
       if (ChangeIsUnseen(renderer, object->id, before, after, t)) {
         after.time = t;
         object->history.push_back(after);
+        renderer.AppendPose(object->id, after);
         scheduled = true;
         break;
       }

@@ -32,8 +32,9 @@ const ObjectKind kDeskKinds[] = {
     {74, Shape::kCylinder, {0.20, 0.20, 0.05}},    // clock
 };
 constexpr double kTableTop = 0.75;
-constexpr double kTableLength = 2.0;  // along x
-constexpr double kTableWidth = 1.0;   // along y; the partition stands at y = 0
+constexpr double kMaxYaw = 0.2;       // objects stand roughly square to the table
+constexpr double kTableLength = 2.6;  // along x
+constexpr double kTableWidth = 1.3;   // along y; the partition stands at y = 0
 
 PinholeCamera TumLikeCamera() {
   PinholeCamera camera;  // TUM freiburg3 intrinsics, rendered without distortion
@@ -70,10 +71,11 @@ void AddRoom(Scene& scene) {
   AddFurniture(scene, "wall_west", {-room.x() / 2 - t / 2, 0, room.z() / 2},
                {t, room.y(), room.z()});
   AddFurniture(scene, "table_top", {0, 0, kTableTop - 0.02}, {kTableLength, kTableWidth, 0.04});
-  for (double x : {-0.92, 0.92}) {
-    for (double y : {-0.42, 0.42})
+  for (double x : {-kTableLength / 2 + 0.08, kTableLength / 2 - 0.08}) {
+    for (double y : {-kTableWidth / 2 + 0.08, kTableWidth / 2 - 0.08}) {
       AddFurniture(scene, "table_leg", {x, y, (kTableTop - 0.04) / 2},
                    {0.05, 0.05, kTableTop - 0.04});
+    }
   }
   AddFurniture(scene, "partition", {0, 0, kTableTop + 0.24}, {kTableLength, 0.03, 0.48});
   AddFurniture(scene, "cabinet_east", {room.x() / 2 - 0.3, 0.8, 0.45}, {0.5, 1.4, 0.9});
@@ -87,21 +89,26 @@ class Placer {
 
   // A free place on one half of the table (side -1: y < 0, +1: y > 0), or nullopt.
   std::optional<Eigen::Vector3d> FreePlace(const ObjectKind& kind, int side, int ignore_id = -1) {
-    const double radius = 0.5 * std::max(kind.size.x(), kind.size.y());
-    std::uniform_real_distribution<double> x(-kTableLength / 2 + radius + 0.03,
-                                             kTableLength / 2 - radius - 0.03);
-    std::uniform_real_distribution<double> y(0.04 + radius, kTableWidth / 2 - radius - 0.03);
-    for (int attempt = 0; attempt < 200; ++attempt) {
+    const Eigen::Vector2d half = Footprint(kind.size);
+    std::uniform_real_distribution<double> x(-kTableLength / 2 + half.x() + 0.03,
+                                             kTableLength / 2 - half.x() - 0.03);
+    std::uniform_real_distribution<double> y(0.04 + half.y(), kTableWidth / 2 - half.y() - 0.03);
+    for (int attempt = 0; attempt < 400; ++attempt) {
       const Eigen::Vector3d centre(x(rng_), side * y(rng_), kTableTop + kind.size.z() / 2);
-      if (IsFree(centre, radius, ignore_id)) return centre;
+      if (IsFree(centre, half, ignore_id)) return centre;
     }
     return std::nullopt;
   }
 
-  bool Add(int side) {
+  // Adds an object on one half of the table; absent_at_start: it appears later (an
+  // addition), and its first pose holds the place it will appear at.
+  bool Add(int side, bool absent_at_start = false) {
     std::uniform_int_distribution<size_t> pick(0, std::size(kDeskKinds) - 1);
     const ObjectKind& kind = kDeskKinds[pick(rng_)];
-    const auto centre = FreePlace(kind, side);
+    auto centre = FreePlace(kind, side);
+    if (!centre) centre = FreePlace(kind, -side);  // this half is full: the other one
+    // The table is full: the cabinet tops (for objects that never move).
+    if (!centre && !absent_at_start) centre = FreePlaceOnCabinet(kind);
     if (!centre) return false;
     SceneObject object;
     object.id = static_cast<int>(scene_.objects.size()) + 1;
@@ -111,20 +118,49 @@ class Placer {
     object.texture_seed = scene_.seed * 100000 + static_cast<std::uint64_t>(object.id);
     PlacedPose pose;
     pose.centre = *centre;
-    pose.yaw = std::uniform_real_distribution<double>(-0.5, 0.5)(rng_);
+    pose.yaw = std::uniform_real_distribution<double>(-kMaxYaw, kMaxYaw)(rng_);
+    pose.present = !absent_at_start;
     object.history.push_back(pose);
     scene_.objects.push_back(object);
     return true;
   }
 
  private:
-  bool IsFree(const Eigen::Vector3d& centre, double radius, int ignore_id) const {
+  // A free place on top of one of the cabinets (AddRoom's cabinet_east / cabinet_west).
+  std::optional<Eigen::Vector3d> FreePlaceOnCabinet(const ObjectKind& kind) {
+    const Eigen::Vector2d half = Footprint(kind.size);
+    for (const Furniture& item : scene_.furniture) {
+      if (item.name.rfind("cabinet", 0) != 0) continue;
+      const Eigen::Vector2d room = 0.5 * item.size.head<2>() - half - Eigen::Vector2d(0.03, 0.03);
+      if ((room.array() <= 0).any()) continue;
+      std::uniform_real_distribution<double> x(-room.x(), room.x()), y(-room.y(), room.y());
+      for (int attempt = 0; attempt < 100; ++attempt) {
+        const Eigen::Vector3d centre(item.centre.x() + x(rng_), item.centre.y() + y(rng_),
+                                     item.centre.z() + item.size.z() / 2 + kind.size.z() / 2);
+        if (IsFree(centre, half, -1)) return centre;
+      }
+    }
+    return std::nullopt;
+  }
+
+  // Half extents on the table of an object turned by at most kMaxYaw, as an axis-aligned
+  // rectangle (packs desks far better than circles).
+  static Eigen::Vector2d Footprint(const Eigen::Vector3d& size) {
+    const double slack = std::sin(kMaxYaw) * 0.5 * std::max(size.x(), size.y());
+    return {0.5 * size.x() + slack, 0.5 * size.y() + slack};
+  }
+
+  // Every pose counts, present or not: a future addition's place is reserved too.
+  bool IsFree(const Eigen::Vector3d& centre, const Eigen::Vector2d& half, int ignore_id) const {
     for (const SceneObject& other : scene_.objects) {
       if (other.id == ignore_id) continue;
-      const double other_radius = 0.5 * std::max(other.size.x(), other.size.y());
+      const Eigen::Vector2d other_half = Footprint(other.size);
       for (const PlacedPose& pose : other.history) {
-        if (pose.present && (pose.centre - centre).head<2>().norm() < radius + other_radius + 0.03)
+        const Eigen::Vector2d gap = (pose.centre - centre).head<2>().cwiseAbs();
+        if (gap.x() < half.x() + other_half.x() + 0.03 &&
+            gap.y() < half.y() + other_half.y() + 0.03) {
           return false;
+        }
       }
     }
     return true;
@@ -142,17 +178,18 @@ struct PresetSpec {
   int objects;
   int moves;
   int removals;
+  int additions;
 };
 
 // Durations give the camera time to see everything (a lap), to be away while objects
 // change (moves start after 0.8 laps) and to come back and leave again (about 2.8 laps).
 const PresetSpec kPresets[] = {
-    {"smoke", "round", 55.0, 10.0, 8, 1, 0},
-    {"straight_1", "straight", 100.0, 30.0, 28, 7, 0},
-    {"straight_2", "straight", 110.0, 30.0, 32, 9, 1},
-    {"round_1", "round", 100.0, 30.0, 38, 6, 0},
-    {"round_2", "round", 120.0, 30.0, 42, 9, 1},
-    {"desk_static", "round", 60.0, 30.0, 30, 0, 0},
+    {"smoke", "round", 55.0, 10.0, 8, 1, 0, 0},
+    {"straight_1", "straight", 110.0, 30.0, 28, 7, 0, 0},
+    {"straight_2", "straight", 120.0, 30.0, 32, 9, 1, 1},
+    {"round_1", "round", 100.0, 30.0, 38, 6, 0, 0},
+    {"round_2", "round", 120.0, 30.0, 40, 9, 1, 1},
+    {"desk_static", "round", 60.0, 30.0, 30, 0, 0, 0},
 };
 
 const PresetSpec& FindPreset(const std::string& name) {
@@ -186,7 +223,13 @@ Scene MakePreset(const std::string& name, std::uint64_t seed) {
   AddRoom(scene);
   std::mt19937_64 rng(seed);
   Placer placer(scene, rng);
-  for (int i = 0; i < spec.objects; ++i) placer.Add(i % 2 == 0 ? -1 : 1);
+  // A kind that does not fit any more is replaced by another (usually smaller) one.
+  for (int i = 0; i < spec.objects; ++i) {
+    for (int attempt = 0; attempt < 12 && !placer.Add(i % 2 == 0 ? -1 : 1); ++attempt) {
+    }
+  }
+  for (int i = 0; i < spec.additions; ++i)
+    placer.Add(i % 2 == 0 ? 1 : -1, /*absent_at_start=*/true);
   scene.Check();
   return scene;
 }
@@ -197,17 +240,20 @@ std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene
   for (const PresetSpec& candidate : kPresets) {
     if (candidate.name == name) spec = &candidate;
   }
-  if (spec == nullptr || spec->moves + spec->removals == 0) return {};
+  if (spec == nullptr || spec->moves + spec->removals + spec->additions == 0) return {};
   std::mt19937_64 rng(seed * 31 + 7);
   Scene planning = scene;  // new places must not collide with earlier moves
   Placer placer(planning, rng);
   std::vector<PlannedMove> moves;
-  const int total = spec->moves + spec->removals;
+  const int total = spec->moves + spec->removals + spec->additions;
   // Spread the changes over the middle of the sequence, alternating halves of the table.
-  for (int i = 0; i < total; ++i) {
+  for (int i = 0; i < spec->moves + spec->removals; ++i) {
     const int side = i % 2 == 0 ? 1 : -1;
     for (SceneObject& object : planning.objects) {
-      if (object.Moves() || object.history[0].centre.y() * side <= 0) continue;
+      if (object.Moves() || !object.history[0].present ||
+          object.history[0].centre.y() * side <= 0) {
+        continue;
+      }
       const bool removal = i >= spec->moves;
       PlannedMove move;
       move.object_id = object.id;
@@ -218,7 +264,7 @@ std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene
         const auto place = placer.FreePlace(kind, side, object.id);
         if (!place) continue;
         move.new_centre = *place;
-        move.new_yaw = std::uniform_real_distribution<double>(-0.5, 0.5)(rng);
+        move.new_yaw = std::uniform_real_distribution<double>(-kMaxYaw, kMaxYaw)(rng);
       }
       PlacedPose marker = object.history[0];  // reserve the new place for later choices
       marker.time = 1.0;
@@ -228,6 +274,17 @@ std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene
       moves.push_back(move);
       break;
     }
+  }
+  // Additions: objects absent at the start appear at the place their first pose holds.
+  int index = spec->moves + spec->removals;
+  for (const SceneObject& object : scene.objects) {
+    if (object.history[0].present) continue;
+    PlannedMove move;
+    move.object_id = object.id;
+    move.new_centre = object.history[0].centre;
+    move.new_yaw = object.history[0].yaw;
+    move.earliest = LapDuration(scene.path) * (0.8 + 0.8 * index++ / std::max(1, total));
+    moves.push_back(move);
   }
   return moves;
 }

@@ -27,7 +27,7 @@ double Wobble(std::uint64_t seed, int channel, double t) {
 }
 
 // Straight path: the length of each straight pass along x, beyond the table's ends.
-constexpr double kStraightLength = 2.6;
+constexpr double kStraightLength = 3.2;
 // Round path: an ellipse stretched along the table's long axis by this factor.
 constexpr double kRoundStretch = 1.25;
 
@@ -101,7 +101,7 @@ SE3 CameraPoseAt(const Scene& scene, double t) {
       eye =
           Eigen::Vector3d(-length / 2 + 0.4 * std::cos(angle), side * std::sin(angle), path.height);
     }
-    target = Eigen::Vector3d(std::clamp(0.7 * eye.x(), -0.8, 0.8), 0.2 * eye.y() / side, 0.75);
+    target = Eigen::Vector3d(std::clamp(0.7 * eye.x(), -1.1, 1.1), 0.25 * eye.y() / side, 0.75);
   }
   const double j = path.jitter;
   eye += j * Eigen::Vector3d(Wobble(seed, 0, t), Wobble(seed, 1, t), Wobble(seed, 2, t));

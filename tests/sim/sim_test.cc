@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/io/sequence.h"
@@ -52,7 +53,10 @@ TEST(Generator, SameSeedSameFilesDifferentSeedDifferentFiles) {
   EXPECT_NE(a.at("rgb/1000.000000.png"), c.at("rgb/1000.000000.png"));
   EXPECT_NE(a.at("objects_gt.json"), c.at("objects_gt.json"));
   EXPECT_EQ(ReadTumImageList(dir + "/a/rgb.txt", dir + "/a").size(), 12u);
-  EXPECT_TRUE(fs::exists(dir + "/a/camera.yaml"));
+  // camera.yaml is a settings file for the rendered camera.
+  const LoadedSettings camera = LoadSettings(dir + "/a/camera.yaml");
+  EXPECT_TRUE(camera.warnings.empty());
+  EXPECT_DOUBLE_EQ(camera.settings.camera.model.fx, 535.4);
   // An existing output is never overwritten by accident.
   EXPECT_THROW(Generate(ScheduledPreset("smoke", 3), dir + "/a", options), FileError);
 }
@@ -167,6 +171,27 @@ TEST(Presets, FramesHaveManyWellSpreadFastCorners) {
       EXPECT_GE(cells.size(), 36u) << name << " at " << t << " s: corners crowd into few cells";
     }
   }
+}
+
+TEST(Presets, ChangeCountsAndAnAdditionThatAppearsUnseen) {
+  const Scene scene = ScheduledPreset("straight_2", 1);
+  int moved = 0, removed = 0, added = 0, still = 0;
+  for (const SceneObject& object : scene.objects) {
+    if (!object.Moves()) {
+      ++still;
+      continue;
+    }
+    const bool starts = object.history.front().present, ends = object.history.back().present;
+    moved += starts && ends;
+    removed += starts && !ends;
+    added += !starts && ends;
+  }
+  EXPECT_EQ(moved, 9);
+  EXPECT_EQ(removed, 1);
+  EXPECT_EQ(added, 1);
+  EXPECT_GE(still, 21);
+  SceneRenderer renderer(scene);
+  EXPECT_NO_THROW(ValidateChanges(scene, renderer));
 }
 
 TEST(Presets, CameraMotionStaysHandHeld) {

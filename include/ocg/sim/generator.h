@@ -30,6 +30,9 @@ class SceneRenderer {
   // at time t, the object's other poses hidden).
   int VisiblePixels(int object_id, const PlacedPose& pose, double t, const SE3& T_cw);
   const Scene& scene() const { return scene_; }
+  // Appends a pose to an object's history (a change just scheduled), so later renders
+  // and visibility checks see it.
+  void AppendPose(int object_id, const PlacedPose& pose);
 
  private:
   std::vector<const DrawItem*> ItemsAt(double t, int skip_object) const;
@@ -45,7 +48,8 @@ class SceneRenderer {
 
 // Turns planned moves into history entries, each at the first frame from its earliest
 // time at which neither the old nor the new place is visible (checked by rendering, one
-// frame before and after). Throws std::runtime_error when no such time exists.
+// frame before and after, with the changes scheduled before it in place). renderer must
+// have been made from scene. Throws std::runtime_error when no such time exists.
 void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRenderer& renderer);
 
 // Refuses (std::invalid_argument naming object and time) a scene whose changes happen

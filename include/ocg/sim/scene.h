@@ -50,7 +50,7 @@ struct Furniture {
 struct CameraPath {
   std::string kind = "round";  // "round": around the table; "straight": along its sides
   double radius = 1.6;         // round: distance from the table centre, metres
-  double side_offset = 1.1;    // straight: distance from the table's long axis
+  double side_offset = 1.25;   // straight: distance from the table's long axis
   double height = 1.35;        // camera height, metres
   double speed = 0.3;          // metres per second along the path (<= 0.4)
   double jitter = 0.01;        // hand-held wobble amplitude, metres (and ~1 degree)
