@@ -51,6 +51,14 @@ void WriteFileAtomically(const std::string& path, const std::string& content) {
   }
 }
 
+void WriteFile(const std::string& path, const std::string& content) {
+  std::ofstream stream(path, std::ios::binary | std::ios::trunc);
+  if (!stream) throw FileError("cannot write '" + path + "': " + std::strerror(errno));
+  stream.write(content.data(), static_cast<std::streamsize>(content.size()));
+  stream.close();
+  if (!stream) throw FileError("error while writing '" + path + "'");
+}
+
 std::string FileLocation(const std::string& path, int line) {
   return path + ":" + std::to_string(line);
 }

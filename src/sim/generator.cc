@@ -110,8 +110,9 @@ SceneRenderer::SceneRenderer(const Scene& scene)
     const double largest = item.size.maxCoeff();
     draw.mesh = Mesh::Box(item.size.cast<float>(), static_cast<float>(1.0 / largest))
                     .Transformed(PoseOf({0.0, true, item.centre, item.yaw}));
-    // About 300 texels per metre on big surfaces, so the camera never sees them blurred.
-    const int texture_size = largest > 3.5 ? 2048 : largest > 1.2 ? 1024 : 512;
+    // 1024 texels suffice for walls: their features are centimetres (texture.h), and 2048
+    // would cost 30 % of the rendering time.
+    const int texture_size = largest > 1.2 ? 1024 : 512;
     draw.texture = renderer_.AddTexture(MakeTexture(item.texture_seed, texture_size, largest));
     draw.colour = Eigen::Vector3f::Ones();
     Renderer::Shade(draw, light, static_cast<float>(scene.ambient));
@@ -523,8 +524,8 @@ GenerationStats WriteSequence(const Scene& input, const std::string& staging,
     stage(stats.write_seconds);
     const DetectionModel::FrameResult detections = detector.Detect(ids, t, T_cw, frame);
     stage(stats.detect_seconds);
-    WriteFileAtomically(staging + "/detections/" + stamp + ".txt",
-                        FormatEaoDetections(detections.detections));
+    WriteFile(staging + "/detections/" + stamp + ".txt",
+              FormatEaoDetections(detections.detections));
     stage(stats.write_seconds);
     stats.detections += detections.detections.size();
     stats.visible += static_cast<std::size_t>(detections.visible);
@@ -545,17 +546,16 @@ GenerationStats WriteSequence(const Scene& input, const std::string& staging,
     progress.Update(static_cast<std::size_t>(frame + 1));
   }
   progress.Finish();
-  WriteFileAtomically(staging + "/rgb.txt", rgb_list);
-  if (options.write_depth) WriteFileAtomically(staging + "/depth.txt", depth_list);
+  WriteFile(staging + "/rgb.txt", rgb_list);
+  if (options.write_depth) WriteFile(staging + "/depth.txt", depth_list);
   WriteFileAtomically(
       staging + "/groundtruth.txt",
       "# ground truth trajectory (camera to world)\n# timestamp tx ty tz qx qy qz qw\n" +
           FormatTumTrajectory(groundtruth));
-  WriteFileAtomically(staging + "/objects_gt.json", ObjectsGroundTruthJson(scene));
-  if (options.keyframe_interval > 0)
-    WriteFileAtomically(staging + "/oracle_observations.jsonl", oracle);
-  WriteFileAtomically(staging + "/scene.yaml", SceneToYaml(scene));
-  WriteFileAtomically(staging + "/camera.yaml", CameraSettingsYaml(scene));
+  WriteFile(staging + "/objects_gt.json", ObjectsGroundTruthJson(scene));
+  if (options.keyframe_interval > 0) WriteFile(staging + "/oracle_observations.jsonl", oracle);
+  WriteFile(staging + "/scene.yaml", SceneToYaml(scene));
+  WriteFile(staging + "/camera.yaml", CameraSettingsYaml(scene));
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

@@ -19,6 +19,11 @@ std::string ReadTextFile(const std::string& path);
 // Creates missing parent directories. Throws FileError naming the path.
 void WriteFileAtomically(const std::string& path, const std::string& content);
 
+// Writes content to path directly (no temporary file, no fsync): for files inside a
+// folder that is itself made atomically (built under another name, then renamed).
+// Throws FileError naming the path.
+void WriteFile(const std::string& path, const std::string& content);
+
 // Creates the directory and its parents if missing. Throws FileError naming it.
 void EnsureDirectory(const std::string& path);
 
