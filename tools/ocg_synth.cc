@@ -74,17 +74,17 @@ int main(int argc, char** argv) {
       scene.noise.min_visible_pixels *= sx * sy;
       scene.noise.small_box_pixels *= sx * sy;
     }
+    ocg::sim::SceneRenderer renderer(scene);
     if (!file.moves.empty()) {
       std::cout << "scheduling " << file.moves.size() << " change(s) at unseen moments...\n";
-      ocg::sim::SceneRenderer planner(scene);
-      ocg::sim::ScheduleMoves(scene, file.moves, planner);
+      ocg::sim::ScheduleMoves(scene, file.moves, renderer);  // keeps renderer in step
     }
     ocg::sim::GeneratorOptions options;
     options.max_frames = frames;
     options.write_depth = depth;
     options.overwrite = overwrite;
     options.keyframe_interval = keyframe_interval;
-    const ocg::sim::GenerationStats stats = ocg::sim::Generate(scene, output, options);
+    const ocg::sim::GenerationStats stats = ocg::sim::Generate(renderer, output, options);
     std::printf("ocg_synth: %s, %d frames in %.1f s (%.1f frames/s)\n", scene.name.c_str(),
                 stats.frames, stats.seconds, stats.frames / std::max(stats.seconds, 1e-9));
     std::printf(

@@ -137,13 +137,10 @@ DrawItem SceneRenderer::MakeObjectItem(const SceneObject& object, const PlacedPo
 }
 
 void SceneRenderer::AppendPose(int object_id, const PlacedPose& pose) {
-  for (SceneObject& object : scene_.objects) {
-    if (object.id != object_id) continue;
-    object.history.push_back(pose);
-    object_items_.at(object_id).push_back(MakeObjectItem(object, pose));
-    return;
-  }
-  throw std::invalid_argument("no object " + std::to_string(object_id));
+  SceneObject* object = scene_.FindObject(object_id);
+  if (object == nullptr) throw std::invalid_argument("no object " + std::to_string(object_id));
+  object->history.push_back(pose);
+  object_items_.at(object_id).push_back(MakeObjectItem(*object, pose));
 }
 
 std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object) const {
@@ -189,10 +186,7 @@ cv::Mat SceneRenderer::Ids(double t, const SE3& T_cw, cv::Mat* depth) {
 
 int SceneRenderer::VisiblePixels(int object_id, const PlacedPose& pose, double t, const SE3& T_cw) {
   std::vector<const DrawItem*> items = ItemsAt(t, object_id);
-  const SceneObject* object = nullptr;
-  for (const SceneObject& candidate : scene_.objects) {
-    if (candidate.id == object_id) object = &candidate;
-  }
+  const SceneObject* object = scene_.FindObject(object_id);
   if (object == nullptr) throw std::invalid_argument("no object " + std::to_string(object_id));
   const DrawItem probe = MakeObjectItem(*object, pose);
   items.push_back(&probe);
@@ -222,10 +216,7 @@ bool ChangeIsUnseen(SceneRenderer& renderer, int object_id, const PlacedPose& be
 
 void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRenderer& renderer) {
   for (const PlannedMove& move : moves) {
-    SceneObject* object = nullptr;
-    for (SceneObject& candidate : scene.objects) {
-      if (candidate.id == move.object_id) object = &candidate;
-    }
+    SceneObject* object = scene.FindObject(move.object_id);
     if (object == nullptr)
       throw std::runtime_error("planned move of unknown object " + std::to_string(move.object_id));
     const PlacedPose before = object->history.back();
@@ -405,19 +396,17 @@ std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double 
   observation.T_cw = T_cw;
   observation.camera = scene.camera;
   for (int id : detected_objects) {
-    for (const SceneObject& object : scene.objects) {
-      if (object.id != id) continue;
-      std::size_t index = 0;
-      for (std::size_t i = 0; i < object.history.size(); ++i) {
-        if (object.history[i].time <= t) index = i;
-      }
-      const std::int64_t map_id = OracleMapId(id, index);
-      observation.observed.push_back(map_id);
-      ObjectGeometryUpdate& update = observation.updates[map_id];
-      update.centroid = object.history[index].centre;
-      update.size = object.size;
-      update.class_id = object.class_id;
+    const SceneObject& object = *scene.FindObject(id);
+    std::size_t index = 0;
+    for (std::size_t i = 0; i < object.history.size(); ++i) {
+      if (object.history[i].time <= t) index = i;
     }
+    const std::int64_t map_id = OracleMapId(id, index);
+    observation.observed.push_back(map_id);
+    ObjectGeometryUpdate& update = observation.updates[map_id];
+    update.centroid = object.history[index].centre;
+    update.size = object.size;
+    update.class_id = object.class_id;
   }
   return ObservationToJson(observation);
 }
@@ -475,10 +464,9 @@ std::string CameraSettingsYaml(const Scene& scene) {
 namespace {
 
 // Renders and writes every file of the sequence into folder.
-GenerationStats WriteSequence(const Scene& input, const std::string& staging,
+GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& staging,
                               const GeneratorOptions& options) {
-  const Scene& scene = input;
-  SceneRenderer renderer(scene);
+  const Scene& scene = renderer.scene();
   ValidateChanges(scene, renderer);
   DetectionModel detector(scene);
   const int frames = options.max_frames > 0 ? std::min(options.max_frames, scene.FrameCount())
@@ -562,9 +550,16 @@ GenerationStats WriteSequence(const Scene& input, const std::string& staging,
 
 }  // namespace
 
-GenerationStats Generate(const Scene& input, const std::string& out_dir,
+GenerationStats Generate(const Scene& scene, const std::string& out_dir,
                          const GeneratorOptions& options) {
-  input.Check();
+  scene.Check();
+  SceneRenderer renderer(scene);
+  return Generate(renderer, out_dir, options);
+}
+
+GenerationStats Generate(SceneRenderer& renderer, const std::string& out_dir,
+                         const GeneratorOptions& options) {
+  renderer.scene().Check();
   std::error_code error;
   if (fs::exists(out_dir, error) && !fs::is_empty(out_dir, error) && !options.overwrite) {
     throw FileError("output folder '" + out_dir + "' exists and is not empty (use --overwrite)");
@@ -577,7 +572,7 @@ GenerationStats Generate(const Scene& input, const std::string& out_dir,
 
   GenerationStats stats;
   try {
-    stats = WriteSequence(input, staging, options);
+    stats = WriteSequence(renderer, staging, options);
   } catch (...) {
     fs::remove_all(staging, error);  // a failed run leaves nothing behind
     throw;

@@ -192,10 +192,15 @@ const PresetSpec kPresets[] = {
     {"desk_static", "round", 60.0, 30.0, 30, 0, 0, 0},
 };
 
-const PresetSpec& FindPreset(const std::string& name) {
+const PresetSpec* LookupPreset(const std::string& name) {
   for (const PresetSpec& spec : kPresets) {
-    if (spec.name == name) return spec;
+    if (spec.name == name) return &spec;
   }
+  return nullptr;
+}
+
+const PresetSpec& FindPreset(const std::string& name) {
+  if (const PresetSpec* spec = LookupPreset(name)) return *spec;
   std::string names;
   for (const PresetSpec& spec : kPresets) names += (names.empty() ? "" : ", ") + spec.name;
   throw std::invalid_argument("unknown preset '" + name + "' (use " + names + ")");
@@ -236,10 +241,7 @@ Scene MakePreset(const std::string& name, std::uint64_t seed) {
 
 std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene,
                                      std::uint64_t seed) {
-  const PresetSpec* spec = nullptr;
-  for (const PresetSpec& candidate : kPresets) {
-    if (candidate.name == name) spec = &candidate;
-  }
+  const PresetSpec* spec = LookupPreset(name);
   if (spec == nullptr || spec->moves + spec->removals + spec->additions == 0) return {};
   std::mt19937_64 rng(seed * 31 + 7);
   Scene planning = scene;  // new places must not collide with earlier moves

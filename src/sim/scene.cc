@@ -42,6 +42,17 @@ std::optional<PlacedPose> SceneObject::PoseAt(double t) const {
   return *current;
 }
 
+const SceneObject* Scene::FindObject(int id) const {
+  for (const SceneObject& object : objects) {
+    if (object.id == id) return &object;
+  }
+  return nullptr;
+}
+
+SceneObject* Scene::FindObject(int id) {
+  return const_cast<SceneObject*>(static_cast<const Scene&>(*this).FindObject(id));
+}
+
 void Scene::Check() const {
   camera.Check();
   Require(fps > 0 && duration > 0, "fps and duration must be positive");

@@ -102,6 +102,10 @@ struct GenerationStats {
 // out_dir unless overwrite.
 GenerationStats Generate(const Scene& scene, const std::string& out_dir,
                          const GeneratorOptions& options);
+// The same with a renderer already made for the scene (the one ScheduleMoves used), so the
+// textures are not generated twice.
+GenerationStats Generate(SceneRenderer& renderer, const std::string& out_dir,
+                         const GeneratorOptions& options);
 
 // Oracle map ids: object id * kOracleIdStride + index of its pose in the history, so an
 // object seen at a new place is a new map object, as a real object map would make it.

@@ -86,6 +86,9 @@ struct Scene {
   DetectionNoise noise;
 
   int FrameCount() const { return static_cast<int>(duration * fps); }
+  // The object with this id, or nullptr.
+  const SceneObject* FindObject(int id) const;
+  SceneObject* FindObject(int id);
   double TimeOfFrame(int frame) const { return frame / fps; }
   // Throws std::invalid_argument naming the field when the scene is impossible.
   void Check() const;
