@@ -18,6 +18,8 @@ void CheckAll(const Settings& settings) {
   settings.camera.Check();
   settings.system.Check();
   settings.orb.Check();
+  settings.matcher.Check();
+  settings.vocabulary.Check();
   settings.ocg.Check();
   settings.viewer.Check();
 }
@@ -29,6 +31,8 @@ LoadedSettings ReadAll(const SettingsFile& file) {
   ReadSettings(file, &settings.camera);
   ReadSettings(file, &settings.system);
   ReadSettings(file, &settings.orb);
+  ReadSettings(file, &settings.matcher);
+  ReadSettings(file, &settings.vocabulary);
   ReadSettings(file, &settings.ocg);
   ReadSettings(file, &settings.viewer);
   try {

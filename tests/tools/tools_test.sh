@@ -32,7 +32,7 @@ fails_with() {  # fails_with "description" "expected text" command...
   fi
 }
 
-for tool in ocg_eval ocg_replay ocg_convert_detections; do
+for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab; do
   check "$tool --help" "$BIN/$tool" --help
 done
 
@@ -81,6 +81,22 @@ check "file_name carries prefix" grep -q '"rgb/1341847980.722988.png"' "$WORK/d.
 printf '56 16 256 220\n' >"$WORK/eao/1341847982.000000.txt"
 fails_with "malformed detection names file and line" "1341847982.000000.txt:1" "$BIN/ocg_convert_detections" --from "$WORK/eao" --to "$WORK/d2.json"
 check "lenient skips it" "$BIN/ocg_convert_detections" --from "$WORK/eao" --to "$WORK/d3.json" --lenient
+
+# ocg_vocab: train on a few rendered frames, describe, convert to ORB-SLAM2 text and back.
+check "render frames to train on" "$BIN/ocg_synth" --preset smoke --frames 6 --out "$WORK/frames" --keyframe-interval 0 --log-level warn
+check "ocg_vocab train" bash -c "'$BIN/ocg_vocab' train --images '$WORK/frames/rgb.txt' --images '$WORK/frames/rgb' --k 4 --L 3 --out '$WORK/v.ocgvoc' >'$WORK/train.log'"
+check "trained from 12 images" grep -q "from 12 images" "$WORK/train.log"
+check "ocg_vocab info" bash -c "'$BIN/ocg_vocab' info '$WORK/v.ocgvoc' >'$WORK/info.log'"
+check "info says k and L" grep -q "k = 4, L = 3" "$WORK/info.log"
+check "to ORB-SLAM2 text" "$BIN/ocg_vocab" convert --in "$WORK/v.ocgvoc" --out "$WORK/v.txt" --text
+check "text header" grep -qx "4 3 0 0" "$WORK/v.txt"
+check "ORBvoc text to binary" "$BIN/ocg_vocab" convert --orbvoc "$WORK/v.txt" --out "$WORK/v2.ocgvoc"
+check "binary round trip identical" cmp "$WORK/v.ocgvoc" "$WORK/v2.ocgvoc"
+printf '4 3 0 0\n0 1 7\n' >"$WORK/broken.txt"
+fails_with "broken vocabulary names file and line" "broken.txt:2: missing descriptor byte" "$BIN/ocg_vocab" convert --orbvoc "$WORK/broken.txt" --out "$WORK/never.ocgvoc"
+check "nothing written on failure" test ! -e "$WORK/never.ocgvoc"
+printf 'rgb/missing.png\n' >"$WORK/list.txt"
+fails_with "missing image named" "missing.png" "$BIN/ocg_vocab" train --images "$WORK/list.txt" --out "$WORK/never.ocgvoc"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -6,7 +6,9 @@
 #include <vector>
 
 #include "ocg/core/core_settings.h"
+#include "ocg/features/matcher.h"
 #include "ocg/features/orb_options.h"
+#include "ocg/features/vocabulary.h"
 #include "ocg/ocg/options.h"
 #include "ocg/viewer/viewer_options.h"
 
@@ -17,6 +19,8 @@ struct Settings {
   CameraSettings camera;
   SystemOptions system;
   OrbExtractorOptions orb;
+  MatcherOptions matcher;
+  VocabularyOptions vocabulary;
   OcgOptions ocg;
   ViewerOptions viewer;
 

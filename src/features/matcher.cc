@@ -1,0 +1,262 @@
+#include "ocg/features/matcher.h"
+
+#include <algorithm>
+#include <array>
+#include <climits>
+#include <cmath>
+
+#include "ocg/core/options.h"
+#include "ocg/core/settings_file.h"
+
+namespace ocg {
+namespace {
+
+struct Proposal {
+  int query;
+  int target;
+  int distance;
+};
+
+// One-to-one matches from proposals: closest pairs first (ties: smaller query index).
+std::vector<int> ResolveConflicts(std::vector<Proposal> proposals, std::size_t queries,
+                                  std::size_t targets) {
+  std::sort(proposals.begin(), proposals.end(), [](const Proposal& a, const Proposal& b) {
+    return a.distance != b.distance ? a.distance < b.distance : a.query < b.query;
+  });
+  std::vector<int> matches(queries, kNoMatch);
+  std::vector<char> taken(targets, 0);
+  for (const Proposal& p : proposals) {
+    if (matches[static_cast<std::size_t>(p.query)] != kNoMatch ||
+        taken[static_cast<std::size_t>(p.target)]) {
+      continue;
+    }
+    matches[static_cast<std::size_t>(p.query)] = p.target;
+    taken[static_cast<std::size_t>(p.target)] = 1;
+  }
+  return matches;
+}
+
+// Best and second best distance among candidates.
+struct Nearest {
+  int best = INT_MAX;
+  int second = INT_MAX;
+  int index = kNoMatch;
+  int best_level = -1;
+  int second_level = -1;
+
+  void Offer(int distance, int candidate, int level) {
+    if (distance < best) {
+      second = best;
+      second_level = best_level;
+      best = distance;
+      index = candidate;
+      best_level = level;
+    } else if (distance < second) {
+      second = distance;
+      second_level = level;
+    }
+  }
+  bool PassesRatio(double ratio) const {
+    return second == INT_MAX || static_cast<double>(best) < ratio * static_cast<double>(second);
+  }
+};
+
+// Drops matches outside the three most popular rotation bins (rotation_of(i) in degrees
+// for match i, or a negative value for matches the filter must leave alone).
+template <typename RotationOf>
+void KeepConsistentRotations(int bins, RotationOf rotation_of, std::vector<int>* matches) {
+  std::vector<std::vector<int>> histogram(static_cast<std::size_t>(bins));
+  const double per_degree = bins / 360.0;
+  for (std::size_t i = 0; i < matches->size(); ++i) {
+    if ((*matches)[i] == kNoMatch) continue;
+    double rotation = rotation_of(i);
+    if (std::isnan(rotation)) continue;
+    rotation = std::fmod(rotation, 360.0);
+    if (rotation < 0.0) rotation += 360.0;
+    int bin = static_cast<int>(std::lround(rotation * per_degree));
+    if (bin >= bins) bin = 0;
+    histogram[static_cast<std::size_t>(bin)].push_back(static_cast<int>(i));
+  }
+  std::array<int, 3> top = {-1, -1, -1};
+  auto count = [&](int bin) {
+    return bin < 0 ? 0 : static_cast<int>(histogram[static_cast<std::size_t>(bin)].size());
+  };
+  for (int bin = 0; bin < bins; ++bin) {
+    if (count(bin) > count(top[0])) {
+      top = {bin, top[0], top[1]};
+    } else if (count(bin) > count(top[1])) {
+      top = {top[0], bin, top[1]};
+    } else if (count(bin) > count(top[2])) {
+      top[2] = bin;
+    }
+  }
+  // A rigid motion rotates all keypoints alike; the runners-up bins only survive when
+  // they are not mere noise next to the winner.
+  const int winner = count(top[0]);
+  if (count(top[1]) < 0.1 * winner) top[1] = -1;
+  if (count(top[2]) < 0.1 * winner) top[2] = -1;
+  for (int bin = 0; bin < bins; ++bin) {
+    if (bin == top[0] || bin == top[1] || bin == top[2]) continue;
+    for (const int i : histogram[static_cast<std::size_t>(bin)]) {
+      (*matches)[static_cast<std::size_t>(i)] = kNoMatch;
+    }
+  }
+}
+
+}  // namespace
+
+void MatcherOptions::Check() const {
+  RequireOption(strict_distance >= 0 && strict_distance <= kDescriptorBits,
+                "Matcher.strictDistance", "must be in [0, 256]");
+  RequireOption(loose_distance >= strict_distance && loose_distance <= kDescriptorBits,
+                "Matcher.looseDistance", "must be in [Matcher.strictDistance, 256]");
+  RequireOption(orientation_bins >= 1 && orientation_bins <= 360, "Matcher.orientationBins",
+                "must be in [1, 360]");
+  RequireOption(initialization_ratio > 0.0 && initialization_ratio <= 1.0,
+                "Matcher.initializationRatio", "must be in (0, 1]");
+  RequireOption(projection_ratio > 0.0 && projection_ratio <= 1.0, "Matcher.projectionRatio",
+                "must be in (0, 1]");
+  RequireOption(bow_ratio > 0.0 && bow_ratio <= 1.0, "Matcher.bowRatio", "must be in (0, 1]");
+  RequireOption(initialization_window > 0, "Matcher.initializationWindow", "must be positive");
+}
+
+void ReadSettings(const SettingsFile& file, MatcherOptions* options) {
+  file.Read("Matcher.strictDistance", &options->strict_distance);
+  file.Read("Matcher.looseDistance", &options->loose_distance);
+  file.Read("Matcher.checkOrientation", &options->check_orientation);
+  file.Read("Matcher.orientationBins", &options->orientation_bins);
+  file.Read("Matcher.initializationRatio", &options->initialization_ratio);
+  file.Read("Matcher.projectionRatio", &options->projection_ratio);
+  file.Read("Matcher.bowRatio", &options->bow_ratio);
+  file.Read("Matcher.initializationWindow", &options->initialization_window);
+}
+
+void FilterByRotationConsistency(const std::vector<cv::KeyPoint>& keypoints_a,
+                                 const std::vector<cv::KeyPoint>& keypoints_b, int bins,
+                                 std::vector<int>* matches_a_to_b) {
+  KeepConsistentRotations(
+      bins,
+      [&](std::size_t i) {
+        return static_cast<double>(
+            keypoints_b[static_cast<std::size_t>((*matches_a_to_b)[i])].angle -
+            keypoints_a[i].angle);
+      },
+      matches_a_to_b);
+}
+
+std::vector<int> MatchBruteForce(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
+                                 double ratio, int max_distance) {
+  std::vector<Proposal> proposals;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    Nearest nearest;
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      nearest.Offer(HammingDistance(a[i], b[j]), static_cast<int>(j), 0);
+    }
+    if (nearest.best <= max_distance && nearest.PassesRatio(ratio)) {
+      proposals.push_back({static_cast<int>(i), nearest.index, nearest.best});
+    }
+  }
+  return ResolveConflicts(std::move(proposals), a.size(), b.size());
+}
+
+std::vector<int> MatchInWindow(const ExtractedFeatures& a, const ExtractedFeatures& b,
+                               const std::vector<Eigen::Vector2d>& predicted,
+                               const MatcherOptions& options) {
+  std::vector<Proposal> proposals;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a.keypoints[i].octave > 0) continue;  // level 0 only: both views start at one scale
+    const Eigen::Vector2d& p = predicted[i];
+    Nearest nearest;
+    for (const int j : b.grid.InArea(p.x(), p.y(), options.initialization_window, 0, 0)) {
+      nearest.Offer(HammingDistance(a.descriptors[i], b.descriptors[static_cast<std::size_t>(j)]),
+                    j, 0);
+    }
+    if (nearest.best <= options.strict_distance &&
+        nearest.PassesRatio(options.initialization_ratio)) {
+      proposals.push_back({static_cast<int>(i), nearest.index, nearest.best});
+    }
+  }
+  std::vector<int> matches = ResolveConflicts(std::move(proposals), a.size(), b.size());
+  if (options.check_orientation) {
+    FilterByRotationConsistency(a.keypoints, b.keypoints, options.orientation_bins, &matches);
+  }
+  return matches;
+}
+
+std::vector<int> SearchByProjection(const ExtractedFeatures& frame,
+                                    const std::vector<ProjectedPoint>& points,
+                                    const std::vector<bool>* taken, double ratio, int max_distance,
+                                    const MatcherOptions& options) {
+  std::vector<Proposal> proposals;
+  for (std::size_t q = 0; q < points.size(); ++q) {
+    const ProjectedPoint& point = points[q];
+    Nearest nearest;
+    for (const int j : frame.grid.InArea(point.pixel.x(), point.pixel.y(), point.radius,
+                                         point.min_level, point.max_level)) {
+      if (taken != nullptr && (*taken)[static_cast<std::size_t>(j)]) continue;
+      nearest.Offer(
+          HammingDistance(point.descriptor, frame.descriptors[static_cast<std::size_t>(j)]), j,
+          frame.keypoints[static_cast<std::size_t>(j)].octave);
+    }
+    if (nearest.best > max_distance) continue;
+    // Two close candidates on the same level are ambiguous; on different levels they
+    // are usually the same corner seen at two scales.
+    if (ratio > 0.0 && nearest.best_level == nearest.second_level && !nearest.PassesRatio(ratio)) {
+      continue;
+    }
+    proposals.push_back({static_cast<int>(q), nearest.index, nearest.best});
+  }
+  std::vector<int> matches = ResolveConflicts(std::move(proposals), points.size(), frame.size());
+  if (options.check_orientation) {
+    KeepConsistentRotations(
+        options.orientation_bins,
+        [&](std::size_t q) {
+          if (points[q].source_angle < 0.0f) return std::nan("");
+          return static_cast<double>(frame.keypoints[static_cast<std::size_t>(matches[q])].angle -
+                                     points[q].source_angle);
+        },
+        &matches);
+  }
+  return matches;
+}
+
+std::vector<int> SearchByBow(const BowFeatures& a, const BowFeatures& b,
+                             const MatcherOptions& options) {
+  const std::size_t size_a = a.descriptors->size();
+  const std::size_t size_b = b.descriptors->size();
+  std::vector<Proposal> proposals;
+  auto it_a = a.feature_vector->begin();
+  auto it_b = b.feature_vector->begin();
+  while (it_a != a.feature_vector->end() && it_b != b.feature_vector->end()) {
+    if (it_a->first < it_b->first) {
+      ++it_a;
+      continue;
+    }
+    if (it_b->first < it_a->first) {
+      ++it_b;
+      continue;
+    }
+    for (const int i : it_a->second) {
+      if (a.usable != nullptr && !(*a.usable)[static_cast<std::size_t>(i)]) continue;
+      Nearest nearest;
+      for (const int j : it_b->second) {
+        if (b.usable != nullptr && !(*b.usable)[static_cast<std::size_t>(j)]) continue;
+        nearest.Offer(HammingDistance((*a.descriptors)[static_cast<std::size_t>(i)],
+                                      (*b.descriptors)[static_cast<std::size_t>(j)]),
+                      j, 0);
+      }
+      if (nearest.best <= options.strict_distance && nearest.PassesRatio(options.bow_ratio)) {
+        proposals.push_back({i, nearest.index, nearest.best});
+      }
+    }
+    ++it_a;
+    ++it_b;
+  }
+  std::vector<int> matches = ResolveConflicts(std::move(proposals), size_a, size_b);
+  if (options.check_orientation && a.keypoints != nullptr && b.keypoints != nullptr) {
+    FilterByRotationConsistency(*a.keypoints, *b.keypoints, options.orientation_bins, &matches);
+  }
+  return matches;
+}
+
+}  // namespace ocg
