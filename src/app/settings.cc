@@ -20,6 +20,7 @@ void CheckAll(const Settings& settings) {
   settings.orb.Check();
   settings.matcher.Check();
   settings.vocabulary.Check();
+  settings.initializer.Check();
   settings.ocg.Check();
   settings.viewer.Check();
 }
@@ -33,6 +34,7 @@ LoadedSettings ReadAll(const SettingsFile& file) {
   ReadSettings(file, &settings.orb);
   ReadSettings(file, &settings.matcher);
   ReadSettings(file, &settings.vocabulary);
+  ReadSettings(file, &settings.initializer);
   ReadSettings(file, &settings.ocg);
   ReadSettings(file, &settings.viewer);
   try {

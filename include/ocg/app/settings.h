@@ -10,6 +10,7 @@
 #include "ocg/features/orb_options.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/ocg/options.h"
+#include "ocg/slam/initializer.h"
 #include "ocg/viewer/viewer_options.h"
 
 namespace ocg {
@@ -21,6 +22,7 @@ struct Settings {
   OrbExtractorOptions orb;
   MatcherOptions matcher;
   VocabularyOptions vocabulary;
+  InitialMapOptions initializer;
   OcgOptions ocg;
   ViewerOptions viewer;
 

@@ -1,0 +1,91 @@
+#pragma once
+// Bundle adjustment of keyframe poses and map points with Ceres (robust Huber loss,
+// fixed keyframes and points held constant), and pose-only optimization with rounds of
+// outlier rejection. Free functions on plain data: the SLAM map copies what it wants
+// optimized in, and the results out, under its own locks.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "ocg/core/camera.h"
+#include "ocg/core/lie.h"
+
+namespace ocg {
+
+struct BundleAdjustmentOptions {
+  int max_iterations = 50;
+  // Huber threshold on the (information-weighted) residual norm: sqrt(5.991), the
+  // 95 % chi-square bound of a 2-D residual with unit variance.
+  double huber_threshold = 2.447;
+  double outlier_chi2 = 5.991;  // after optimizing: observations above it are outliers
+  void Check() const;
+};
+
+struct BaKeyframe {
+  SE3 T_cw;
+  bool fixed = false;
+};
+
+struct BaPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  bool fixed = false;
+};
+
+struct BaObservation {
+  int keyframe = 0;
+  int point = 0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // undistorted
+  double inverse_sigma2 = 1.0;                      // 1 / scale^2 of the keypoint's level
+};
+
+struct BundleAdjustmentProblem {
+  PinholeCamera camera;
+  std::vector<BaKeyframe> keyframes;
+  std::vector<BaPoint> points;
+  std::vector<BaObservation> observations;
+};
+
+struct BundleAdjustmentReport {
+  bool solved = false;
+  std::string message;  // Ceres' summary line
+  int iterations = 0;
+  double initial_rms_pixels = 0.0;  // of the residuals before and after, outliers included
+  double final_rms_pixels = 0.0;
+  std::vector<bool> outlier;  // per observation, judged after the optimization
+  int outliers = 0;
+};
+
+// Optimizes the free keyframes and points of problem in place. Single-threaded, so a run
+// is reproducible. A problem without free parameters returns at once.
+BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
+                                    const BundleAdjustmentOptions& options);
+
+struct PoseObservation {
+  Eigen::Vector3d point_world = Eigen::Vector3d::Zero();
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  double inverse_sigma2 = 1.0;
+};
+
+struct PoseOptimizationOptions {
+  int rounds = 4;  // optimize, then reclassify outliers, this many times
+  int iterations_per_round = 10;
+  double outlier_chi2 = 5.991;     // 2-D residual, 95 %
+  double huber_threshold = 2.447;  // sqrt(outlier_chi2)
+  void Check() const;
+};
+
+struct PoseOptimizationResult {
+  SE3 T_cw;
+  std::vector<bool> inlier;
+  int inliers = 0;
+};
+
+// Camera pose from 3-D to 2-D correspondences, starting at T_cw_initial: each round
+// optimizes with the current inliers and then re-judges every observation (ORB-SLAM2's
+// pose optimization).
+PoseOptimizationResult OptimizePose(const PinholeCamera& camera, const SE3& T_cw_initial,
+                                    const std::vector<PoseObservation>& observations,
+                                    const PoseOptimizationOptions& options);
+
+}  // namespace ocg

@@ -1,0 +1,80 @@
+#pragma once
+// Monocular initialization from two views: a homography and a fundamental matrix
+// estimated by RANSAC on the same seeded samples, the model chosen by the ratio of their
+// scores, and the relative pose recovered with parallax and cheirality checks.
+// Free functions returning result structs; no state, callable from any thread.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ocg/core/camera.h"
+#include "ocg/core/lie.h"
+
+namespace ocg {
+
+class SettingsFile;
+
+// Initializer.* settings. Defaults are ORB-SLAM2's.
+struct TwoViewOptions {
+  int ransac_iterations = 200;  // Initializer.ransacIterations: 8-point samples tried
+  double sigma = 1.0;           // Initializer.sigma: keypoint position noise, pixels
+  // Chi-square bounds at 95 %: one degree of freedom (distance to an epipolar line) and
+  // two (transfer error of a homography); a point's score contribution is measured
+  // against the two-dof bound for both models so that their scores compare.
+  double chi2_one_dof = 3.841;  // Initializer.chi2OneDof
+  double chi2_two_dof = 5.991;  // Initializer.chi2TwoDof
+  // Initializer.homographyRatio: choose the homography when S_H / (S_H + S_F) exceeds it.
+  double homography_ratio = 0.40;
+  double min_parallax_degrees = 1.0;  // Initializer.minParallax: of the 50th smallest parallax
+  int min_triangulated = 50;          // Initializer.minTriangulated
+  double min_good_fraction = 0.9;     // Initializer.minGoodFraction: of the model's inliers
+  // Initializer.maxAmbiguity: reject when the second best pose explains this share of the
+  // points the best one does (the views cannot tell the two apart).
+  double max_ambiguity = 0.7;
+  double max_ambiguity_homography = 0.75;  // Initializer.maxAmbiguityHomography: same, for H
+  std::uint64_t seed = 42;                 // Initializer.seed: RANSAC samples
+
+  void Check() const;  // throws OptionError naming the key
+};
+
+void ReadSettings(const SettingsFile& file, TwoViewOptions* options);
+
+enum class TwoViewModel { kNone, kHomography, kFundamental };
+
+struct TwoViewResult {
+  bool success = false;
+  std::string failure;  // why not, in words, when !success
+  TwoViewModel model = TwoViewModel::kNone;
+  SE3 T_21;  // camera 2 from camera 1; |t| = 1
+  // Per correspondence: triangulated in camera 1's frame (valid where triangulated[i]).
+  std::vector<Eigen::Vector3d> points;
+  std::vector<bool> triangulated;
+  int triangulated_count = 0;
+  double score_homography = 0.0;
+  double score_fundamental = 0.0;
+  double homography_ratio = 0.0;  // S_H / (S_H + S_F)
+  int inliers = 0;                // of the chosen model
+  double parallax_degrees = 0.0;  // the 50th smallest (or the smallest) parallax
+};
+
+// pixels1[i] and pixels2[i] are the undistorted positions of match i in the two views,
+// both taken with camera (its distortion is ignored: pass undistorted pixels).
+TwoViewResult ReconstructTwoView(const std::vector<Eigen::Vector2d>& pixels1,
+                                 const std::vector<Eigen::Vector2d>& pixels2,
+                                 const PinholeCamera& camera, const TwoViewOptions& options);
+
+// Building blocks, exposed for tests.
+// Homography H with p2 ~ H p1 from at least 4 correspondences (direct linear transform).
+Eigen::Matrix3d HomographyFromPoints(const std::vector<Eigen::Vector2d>& p1,
+                                     const std::vector<Eigen::Vector2d>& p2);
+// Fundamental matrix F with p2^T F p1 = 0 from at least 8 correspondences, rank 2.
+Eigen::Matrix3d FundamentalFromPoints(const std::vector<Eigen::Vector2d>& p1,
+                                      const std::vector<Eigen::Vector2d>& p2);
+// Linear triangulation from two projection matrices (3x4), in the frame they share.
+Eigen::Vector3d TriangulateLinear(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
+                                  const Eigen::Matrix<double, 3, 4>& P1,
+                                  const Eigen::Matrix<double, 3, 4>& P2);
+
+}  // namespace ocg
