@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
   std::string log_level;
   ocg::tools::AddLogLevelOption(app, &log_level);
   app.require_subcommand(1);
+  app.fallthrough();  // --log-level may follow the subcommand too
 
   auto* train = app.add_subcommand("train", "train a vocabulary on images");
   std::vector<std::string> sources;

@@ -21,6 +21,8 @@ void CheckAll(const Settings& settings) {
   settings.matcher.Check();
   settings.vocabulary.Check();
   settings.initializer.Check();
+  settings.tracking.Check();
+  settings.local_mapping.Check();
   settings.ocg.Check();
   settings.viewer.Check();
 }
@@ -35,6 +37,8 @@ LoadedSettings ReadAll(const SettingsFile& file) {
   ReadSettings(file, &settings.matcher);
   ReadSettings(file, &settings.vocabulary);
   ReadSettings(file, &settings.initializer);
+  ReadSettings(file, &settings.tracking);
+  ReadSettings(file, &settings.local_mapping);
   ReadSettings(file, &settings.ocg);
   ReadSettings(file, &settings.viewer);
   try {

@@ -225,33 +225,27 @@ std::vector<int> SearchByBow(const BowFeatures& a, const BowFeatures& b,
   const std::size_t size_a = a.descriptors->size();
   const std::size_t size_b = b.descriptors->size();
   std::vector<Proposal> proposals;
-  auto it_a = a.feature_vector->begin();
-  auto it_b = b.feature_vector->begin();
-  while (it_a != a.feature_vector->end() && it_b != b.feature_vector->end()) {
-    if (it_a->first < it_b->first) {
-      ++it_a;
-      continue;
-    }
-    if (it_b->first < it_a->first) {
-      ++it_b;
-      continue;
-    }
-    for (const int i : it_a->second) {
-      if (a.usable != nullptr && !(*a.usable)[static_cast<std::size_t>(i)]) continue;
-      Nearest nearest;
-      for (const int j : it_b->second) {
-        if (b.usable != nullptr && !(*b.usable)[static_cast<std::size_t>(j)]) continue;
-        nearest.Offer(HammingDistance((*a.descriptors)[static_cast<std::size_t>(i)],
-                                      (*b.descriptors)[static_cast<std::size_t>(j)]),
-                      j, 0);
-      }
-      if (nearest.best <= options.strict_distance && nearest.PassesRatio(options.bow_ratio)) {
-        proposals.push_back({i, nearest.index, nearest.best});
-      }
-    }
-    ++it_a;
-    ++it_b;
-  }
+  ForEachSharedNode(
+      *a.feature_vector, *b.feature_vector,
+      [&](NodeId, const std::vector<int>& in_a, const std::vector<int>& in_b) {
+        for (const int i : in_a) {
+          if (a.usable != nullptr && !(*a.usable)[static_cast<std::size_t>(i)]) {
+            continue;
+          }
+          Nearest nearest;
+          for (const int j : in_b) {
+            if (b.usable != nullptr && !(*b.usable)[static_cast<std::size_t>(j)]) {
+              continue;
+            }
+            nearest.Offer(HammingDistance((*a.descriptors)[static_cast<std::size_t>(i)],
+                                          (*b.descriptors)[static_cast<std::size_t>(j)]),
+                          j, 0);
+          }
+          if (nearest.best <= options.strict_distance && nearest.PassesRatio(options.bow_ratio)) {
+            proposals.push_back({i, nearest.index, nearest.best});
+          }
+        }
+      });
   std::vector<int> matches = ResolveConflicts(std::move(proposals), size_a, size_b);
   if (options.check_orientation && a.keypoints != nullptr && b.keypoints != nullptr) {
     FilterByRotationConsistency(*a.keypoints, *b.keypoints, options.orientation_bins, &matches);

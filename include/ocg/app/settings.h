@@ -11,6 +11,8 @@
 #include "ocg/features/vocabulary.h"
 #include "ocg/ocg/options.h"
 #include "ocg/slam/initializer.h"
+#include "ocg/slam/local_mapping.h"
+#include "ocg/slam/tracking.h"
 #include "ocg/viewer/viewer_options.h"
 
 namespace ocg {
@@ -23,6 +25,8 @@ struct Settings {
   MatcherOptions matcher;
   VocabularyOptions vocabulary;
   InitialMapOptions initializer;
+  TrackingOptions tracking;
+  LocalMappingOptions local_mapping;
   OcgOptions ocg;
   ViewerOptions viewer;
 

@@ -31,6 +31,25 @@ struct BowVector {
 // Vocabulary node (at a chosen depth) -> indices of the features under it, ascending.
 using FeatureVector = std::map<NodeId, std::vector<int>>;
 
+// Calls visit(node, features_of_a, features_of_b) for every node both feature vectors
+// hold, in ascending node order: the candidates of BoW-accelerated matching.
+template <typename Visit>
+void ForEachSharedNode(const FeatureVector& a, const FeatureVector& b, Visit visit) {
+  auto it_a = a.begin();
+  auto it_b = b.begin();
+  while (it_a != a.end() && it_b != b.end()) {
+    if (it_a->first < it_b->first) {
+      ++it_a;
+    } else if (it_b->first < it_a->first) {
+      ++it_b;
+    } else {
+      visit(it_a->first, it_a->second, it_b->second);
+      ++it_a;
+      ++it_b;
+    }
+  }
+}
+
 // 1 - |a - b|_1 / 2 for L1-normalized vectors: 1 for equal vectors, 0 for disjoint ones.
 double ScoreL1(const BowVector& a, const BowVector& b);
 

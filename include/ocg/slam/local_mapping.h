@@ -1,0 +1,106 @@
+#pragma once
+// Local mapping: takes each new keyframe, links it into the map (observations,
+// covisibility, the place-recognition database), culls recently created points that do
+// not track, triangulates new points with covisible keyframes, fuses duplicates, runs
+// local bundle adjustment and culls redundant keyframes.
+//
+// Threading: in sequential mode the tracking thread calls ProcessKeyFrame directly. In
+// threaded mode Start() runs a worker that waits on a condition variable for keyframes
+// given to Insert() (a bounded queue: Insert blocks while it is full); Stop() finishes
+// the queue and joins. Every map access holds Map::mutex().
+
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <list>
+#include <mutex>
+#include <thread>
+
+#include "ocg/features/bow_database.h"
+#include "ocg/features/matcher.h"
+#include "ocg/optim/bundle_adjustment.h"
+#include "ocg/slam/map.h"
+
+namespace ocg {
+
+class SettingsFile;
+
+// LocalMapping.* settings (ORB-SLAM2's values).
+struct LocalMappingOptions {
+  int triangulation_neighbours = 20;  // LocalMapping.triangulationNeighbours
+  double min_baseline_ratio = 0.01;   // LocalMapping.minBaselineRatio: to median depth
+  double triangulation_ratio = 0.6;   // LocalMapping.triangulationRatio: BoW ratio test
+  double max_cos_parallax = 0.9998;   // LocalMapping.maxCosParallax
+  double scale_consistency = 1.5;     // LocalMapping.scaleConsistency: x scale factor
+  double min_found_ratio = 0.25;      // LocalMapping.minFoundRatio: for recent points
+  double fuse_radius = 3.0;           // LocalMapping.fuseRadius: pixels at level 0
+  int local_ba_iterations = 10;       // LocalMapping.baIterations
+  double redundant_ratio = 0.9;       // LocalMapping.redundantRatio: keyframe culling
+  int redundant_observers = 3;        // LocalMapping.redundantObservers
+  std::size_t queue_capacity = 8;     // LocalMapping.queueCapacity (threaded mode)
+  void Check() const;
+};
+
+void ReadSettings(const SettingsFile& file, LocalMappingOptions* options);
+
+struct LocalMappingStats {
+  int keyframes = 0;
+  int points_created = 0;
+  int points_culled = 0;
+  int points_fused = 0;
+  int keyframes_culled = 0;
+  std::vector<double> ba_seconds;  // per local bundle adjustment
+};
+
+class LocalMapping {
+ public:
+  LocalMapping(const PinholeCamera& camera, const ScalePyramid& pyramid,
+               const MatcherOptions& matcher, const LocalMappingOptions& options, Map* map,
+               BowDatabase* database);
+  ~LocalMapping();
+  LocalMapping(const LocalMapping&) = delete;
+  LocalMapping& operator=(const LocalMapping&) = delete;
+
+  // Sequential use (any single thread).
+  void ProcessKeyFrame(const KeyFramePtr& keyframe);
+
+  // Threaded use: Start once; Insert from tracking; Stop (or the destructor) drains the
+  // queue and joins. An exception in the worker is rethrown by the next Insert or Stop.
+  void Start();
+  void Insert(const KeyFramePtr& keyframe);
+  bool Idle() const;
+  void Stop();
+  // Forgets recent points (after a map reset). Call with the worker idle.
+  void Reset();
+
+  LocalMappingStats Stats() const;
+
+ private:
+  void Run();
+  void LinkKeyFrame(const KeyFramePtr& keyframe);
+  void CullRecentPoints(const KeyFramePtr& keyframe);
+  void TriangulateNewPoints(const KeyFramePtr& keyframe);
+  void FuseDuplicates(const KeyFramePtr& keyframe);
+  void LocalBundleAdjustment(const KeyFramePtr& keyframe);
+  void CullKeyFrames(const KeyFramePtr& keyframe);
+  int Fuse(const KeyFramePtr& target, const std::vector<MapPointPtr>& points);
+
+  PinholeCamera camera_;
+  ScalePyramid pyramid_;
+  MatcherOptions matcher_;
+  LocalMappingOptions options_;
+  Map* map_;
+  BowDatabase* database_;
+  std::list<MapPointPtr> recent_points_;
+  LocalMappingStats stats_;
+
+  mutable std::mutex queue_mutex_;
+  std::condition_variable queue_changed_;
+  std::deque<KeyFramePtr> queue_;
+  bool busy_ = false;
+  bool stopping_ = false;
+  std::exception_ptr failure_;
+  std::thread worker_;
+};
+
+}  // namespace ocg

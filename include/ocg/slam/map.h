@@ -1,0 +1,115 @@
+#pragma once
+// The SLAM map: keyframes, map points, the covisibility graph and the spanning tree.
+//
+// Threading: one lock, Map::mutex(), guards every KeyFrame, MapPoint and the Map itself.
+// Tracking (the caller's thread) and LocalMapping (its own thread, or the caller's in
+// sequential mode) hold it for each step that reads or changes the map; nothing reads
+// map data without it. Containers are ordered by id, so iteration order, and with it the
+// results, do not depend on addresses.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ocg/core/lie.h"
+#include "ocg/features/orb_extractor.h"
+#include "ocg/features/vocabulary.h"
+
+namespace ocg {
+
+using KeyFrameId = std::uint64_t;
+using MapPointId = std::uint64_t;
+struct KeyFrame;
+struct MapPoint;
+using KeyFramePtr = std::shared_ptr<KeyFrame>;
+using MapPointPtr = std::shared_ptr<MapPoint>;
+
+struct MapPoint {
+  MapPointId id = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world
+  // The observation descriptor with the least median distance to the others.
+  Descriptor descriptor{};
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // mean viewing direction (unit)
+  // Scale invariance: distances from a camera at which the point can be detected.
+  double min_distance = 0.0;
+  double max_distance = 0.0;
+  std::map<KeyFrameId, int> observations;  // keyframe -> feature index
+  KeyFrameId reference = 0;                // keyframe whose observation sets the scale
+  KeyFrameId first_keyframe = 0;
+  std::uint64_t first_frame = 0;
+  int visible = 1;  // frames in whose frustum it was
+  int found = 1;    // frames that matched it
+  bool bad = false;
+
+  double FoundRatio() const { return static_cast<double>(found) / visible; }
+};
+
+struct KeyFrame {
+  KeyFrameId id = 0;
+  std::uint64_t frame_id = 0;
+  double timestamp = 0.0;
+  std::string timestamp_text;
+  SE3 T_cw;
+  ExtractedFeatures features;
+  BowVector bow;
+  FeatureVector feature_vector;
+  std::vector<MapPointPtr> points;  // per feature; null when none
+  // Covisibility: keyframes sharing at least kCovisibilityThreshold points (or the best
+  // one when none does), with the number shared.
+  std::map<KeyFrameId, int> covisible;
+  std::vector<KeyFrameId> ordered_covisible;  // by weight, then id
+  KeyFrameId parent = 0;                      // spanning tree (0 for the first keyframe)
+  bool has_parent = false;
+  std::set<KeyFrameId> children;
+  bool bad = false;
+
+  Eigen::Vector3d Centre() const { return T_cw.Inverse().translation(); }
+  int TrackedPoints(int min_observations) const;
+};
+
+class Map {
+ public:
+  static constexpr int kCovisibilityThreshold = 15;
+
+  std::mutex& mutex() const { return mutex_; }
+
+  KeyFrameId NextKeyFrameId() { return next_keyframe_id_++; }
+  MapPointId NextMapPointId() { return next_point_id_++; }
+  void Add(const KeyFramePtr& keyframe) { keyframes_[keyframe->id] = keyframe; }
+  void Add(const MapPointPtr& point) { points_[point->id] = point; }
+  KeyFramePtr GetKeyFrame(KeyFrameId id) const;
+  const std::map<KeyFrameId, KeyFramePtr>& keyframes() const { return keyframes_; }
+  const std::map<MapPointId, MapPointPtr>& points() const { return points_; }
+  void Clear();
+
+  // Observations and geometry.
+  void AddObservation(const KeyFramePtr& keyframe, int feature, const MapPointPtr& point);
+  void EraseObservation(const KeyFramePtr& keyframe, const MapPointPtr& point);
+  // Marks the point bad and removes it from the map and every keyframe.
+  void ErasePoint(const MapPointPtr& point);
+  // Keeps the point with more observations; the other's observations move to it.
+  void ReplacePoint(const MapPointPtr& old_point, const MapPointPtr& new_point);
+  void UpdatePointGeometry(const MapPointPtr& point, const ScalePyramid& pyramid) const;
+  void UpdatePointDescriptor(const MapPointPtr& point) const;
+  // Recounts the points the keyframe shares with others; updates both sides' edges and
+  // gives a new keyframe its spanning-tree parent.
+  void UpdateConnections(const KeyFramePtr& keyframe);
+  std::vector<KeyFramePtr> BestCovisible(const KeyFramePtr& keyframe, std::size_t count) const;
+  // Marks the keyframe bad, removes its observations and edges, and hands its children
+  // to its parent.
+  void EraseKeyFrame(const KeyFramePtr& keyframe);
+
+ private:
+  mutable std::mutex mutex_;
+  KeyFrameId next_keyframe_id_ = 0;
+  MapPointId next_point_id_ = 0;
+  std::map<KeyFrameId, KeyFramePtr> keyframes_;
+  std::map<MapPointId, MapPointPtr> points_;
+};
+
+}  // namespace ocg

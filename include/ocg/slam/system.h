@@ -1,0 +1,86 @@
+#pragma once
+// The monocular SLAM system: owns the map, the keyframe database, tracking and local
+// mapping, and starts and stops the local mapping thread.
+//
+// Threading: TrackImage, Shutdown and the trajectory getters are for one caller thread.
+// In sequential mode (SystemConfig::sequential) local mapping runs inside TrackImage
+// after each new keyframe, so identical inputs give identical outputs; otherwise it runs
+// on its own thread, fed through a bounded queue.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ocg/features/bow_database.h"
+#include "ocg/features/vocabulary.h"
+#include "ocg/io/trajectory.h"
+#include "ocg/slam/local_mapping.h"
+#include "ocg/slam/map.h"
+#include "ocg/slam/tracking.h"
+
+namespace ocg {
+
+struct SystemConfig {
+  PinholeCamera camera;
+  double fps = 30.0;
+  bool sequential = true;
+  OrbExtractorOptions orb;
+  MatcherOptions matcher;
+  InitialMapOptions initializer;
+  TrackingOptions tracking;
+  LocalMappingOptions local_mapping;
+};
+
+struct FrameRecord {
+  double timestamp = 0.0;
+  std::string timestamp_text;
+  TrackingState state = TrackingState::kNoImages;
+  bool relocalized = false;
+  bool new_keyframe = false;
+  double tracking_seconds = 0.0;       // feature extraction and tracking
+  double local_mapping_seconds = 0.0;  // sequential mode: the keyframe's local mapping
+  // Pose relative to the reference keyframe when tracked (ORB-SLAM2's way of writing
+  // the full trajectory after the keyframes have been optimized).
+  bool tracked = false;
+  KeyFrameId reference = 0;
+  SE3 T_c_reference;
+};
+
+class System {
+ public:
+  // vocabulary must outlive the system.
+  System(const SystemConfig& config, const Vocabulary& vocabulary);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  TrackingResult TrackImage(const cv::Mat& image, double timestamp,
+                            const std::string& timestamp_text);
+  // Finishes local mapping (threaded mode) and stops its thread. Idempotent; rethrows a
+  // failure of the local mapping thread.
+  void Shutdown();
+
+  // Camera-to-world poses (TUM convention) of the keyframes still in the map.
+  std::vector<StampedPose> KeyFrameTrajectory() const;
+  // Every tracked frame, placed relative to its reference keyframe's final pose.
+  std::vector<StampedPose> CameraTrajectory() const;
+  const std::vector<FrameRecord>& Frames() const { return frames_; }
+  std::size_t KeyFrameCount() const;
+  std::size_t MapPointCount() const;
+  LocalMappingStats MappingStats() const { return local_mapping_->Stats(); }
+  int Resets() const { return resets_; }
+
+ private:
+  SystemConfig config_;
+  const Vocabulary& vocabulary_;
+  Map map_;
+  BowDatabase database_;
+  std::unique_ptr<LocalMapping> local_mapping_;
+  std::unique_ptr<Tracking> tracking_;
+  std::vector<FrameRecord> frames_;
+  double pending_mapping_seconds_ = 0.0;
+  int resets_ = 0;
+  bool shut_down_ = false;
+};
+
+}  // namespace ocg

@@ -1,0 +1,133 @@
+#pragma once
+// Tracking: one call per image, on the caller's thread. Initializes the map from two
+// views, then tracks with the constant-velocity motion model (falling back to BoW
+// matching against the reference keyframe), refines with the local map, decides on new
+// keyframes, and relocalizes through the keyframe database when lost.
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocg/features/bow_database.h"
+#include "ocg/features/matcher.h"
+#include "ocg/features/orb_extractor.h"
+#include "ocg/features/vocabulary.h"
+#include "ocg/optim/bundle_adjustment.h"
+#include "ocg/slam/initializer.h"
+#include "ocg/slam/map.h"
+
+namespace ocg {
+
+class SettingsFile;
+
+// Tracking.* settings (defaults: ORB-SLAM2's monocular values).
+struct TrackingOptions {
+  int min_initialization_features = 100;  // Tracking.minInitFeatures: per view
+  int min_initialization_matches = 100;   // Tracking.minInitMatches
+  // Tracking.initFeaturesFactor: until the map exists, extract this many times
+  // ORBextractor.nFeatures (window matching uses level 0 only, so it needs more).
+  double initialization_features_factor = 2.0;
+  double motion_search_radius = 15.0;         // Tracking.motionSearchRadius: pixels at level 0
+  int min_motion_matches = 20;                // Tracking.minMotionMatches: else widen the search
+  int min_tracked_matches = 10;               // Tracking.minTrackedMatches: after pose optimization
+  int min_bow_matches = 15;                   // Tracking.minBowMatches
+  int min_local_map_inliers = 30;             // Tracking.minLocalMapInliers
+  int min_inliers_after_relocalization = 50;  // Tracking.minRelocalizationInliers
+  double keyframe_tracked_ratio = 0.9;        // Tracking.keyframeRatio: of the reference's points
+  int max_frames_between_keyframes = 0;       // Tracking.maxFramesBetweenKeyFrames (0: fps)
+  int min_keyframes_to_keep_map = 5;          // Tracking.minKeyFrames: reset when lost below
+  int local_keyframes = 80;                   // Tracking.localKeyFrames: at most
+  void Check() const;
+};
+
+void ReadSettings(const SettingsFile& file, TrackingOptions* options);
+
+enum class TrackingState { kNoImages, kNotInitialized, kOk, kLost };
+const char* ToString(TrackingState state);
+
+// One image's features and what tracking found in it.
+struct Frame {
+  std::uint64_t id = 0;
+  double timestamp = 0.0;
+  std::string timestamp_text;
+  ExtractedFeatures features;
+  BowVector bow;
+  FeatureVector feature_vector;
+  bool has_bow = false;
+  std::vector<MapPointPtr> points;  // per feature
+  std::vector<bool> outlier;
+  std::optional<SE3> T_cw;
+  KeyFramePtr reference;
+};
+
+struct TrackingResult {
+  TrackingState state = TrackingState::kNoImages;
+  std::optional<SE3> T_cw;
+  bool new_keyframe = false;
+  bool relocalized = false;
+  bool reset = false;  // the map was cleared (lost too early)
+  int inliers = 0;
+};
+
+struct TrackingDependencies {
+  const Vocabulary* vocabulary = nullptr;
+  BowDatabase* database = nullptr;
+  Map* map = nullptr;
+};
+
+class Tracking {
+ public:
+  // keyframe_sink receives each new keyframe (local mapping's queue, or a synchronous
+  // call in sequential mode); it is called without the map lock held.
+  Tracking(const PinholeCamera& camera, double fps, const OrbExtractorOptions& orb,
+           const MatcherOptions& matcher, const InitialMapOptions& initializer,
+           const TrackingOptions& options, TrackingDependencies dependencies,
+           std::function<void(const KeyFramePtr&)> keyframe_sink,
+           std::function<bool()> local_mapping_idle);
+
+  TrackingResult Track(const cv::Mat& image, double timestamp, const std::string& timestamp_text);
+  TrackingState state() const { return state_; }
+  // Forgets the map and starts over (clears the map and the database too).
+  void Reset();
+  const ScalePyramid& pyramid() const { return extractor_.pyramid(); }
+
+ private:
+  bool Initialize(Frame& frame);
+  bool TrackWithMotionModel(Frame& frame);
+  bool TrackReferenceKeyFrame(Frame& frame);
+  bool Relocalize(Frame& frame);
+  int TrackLocalMap(Frame& frame);
+  int OptimizeFramePose(Frame& frame);
+  bool NeedKeyFrame(const Frame& frame, int inliers) const;
+  KeyFramePtr CreateKeyFrame(Frame& frame);
+  void ComputeBow(Frame& frame) const;
+  void UpdateLastFramePoints();
+
+  PinholeCamera camera_;
+  double fps_;
+  OrbExtractor extractor_;
+  OrbExtractor initialization_extractor_;
+  MatcherOptions matcher_;
+  InitialMapOptions initializer_;
+  TrackingOptions options_;
+  TrackingDependencies dependencies_;
+  std::function<void(const KeyFramePtr&)> keyframe_sink_;
+  std::function<bool()> local_mapping_idle_;
+  PoseOptimizationOptions pose_options_;
+
+  TrackingState state_ = TrackingState::kNoImages;
+  std::uint64_t next_frame_id_ = 0;
+  std::unique_ptr<Frame> initial_frame_;
+  std::vector<Eigen::Vector2d>
+      initial_predicted_;  // where the first view's features were last seen
+  std::unique_ptr<Frame> last_frame_;
+  std::optional<SE3> velocity_;  // T_current_last
+  KeyFramePtr reference_;
+  KeyFramePtr last_keyframe_;
+  std::uint64_t last_keyframe_frame_id_ = 0;
+  std::uint64_t last_relocalization_frame_id_ = 0;
+};
+
+}  // namespace ocg

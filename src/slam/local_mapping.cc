@@ -1,0 +1,515 @@
+#include "ocg/slam/local_mapping.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <set>
+
+#include "ocg/core/options.h"
+#include "ocg/core/settings_file.h"
+#include "ocg/slam/two_view.h"
+
+namespace ocg {
+namespace {
+
+constexpr double kChi2OneDof = 3.841;
+constexpr double kChi2TwoDof = 5.991;
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Eigen::Matrix3d Intrinsics(const PinholeCamera& c) {
+  Eigen::Matrix3d K;
+  K << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1;
+  return K;
+}
+
+// F with x2^T F x1 = 0 between two keyframes' pixels.
+Eigen::Matrix3d FundamentalBetween(const KeyFrame& a, const KeyFrame& b, const Eigen::Matrix3d& K) {
+  const SE3 T_ba = b.T_cw * a.T_cw.Inverse();
+  const Eigen::Matrix3d K_inverse = K.inverse();
+  return K_inverse.transpose() * Skew(T_ba.translation()) * T_ba.rotation() * K_inverse;
+}
+
+double MedianDepth(const KeyFrame& keyframe) {
+  std::vector<double> depths;
+  for (const MapPointPtr& point : keyframe.points) {
+    if (point && !point->bad) depths.push_back((keyframe.T_cw * point->position).z());
+  }
+  if (depths.empty()) return 0.0;
+  std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2),
+                   depths.end());
+  return depths[depths.size() / 2];
+}
+
+Eigen::Matrix<double, 3, 4> Projection(const Eigen::Matrix3d& K, const SE3& T_cw) {
+  Eigen::Matrix<double, 3, 4> P;
+  P.leftCols<3>() = K * T_cw.rotation();
+  P.col(3) = K * T_cw.translation();
+  return P;
+}
+
+}  // namespace
+
+void LocalMappingOptions::Check() const {
+  RequireOption(triangulation_neighbours >= 1, "LocalMapping.triangulationNeighbours",
+                "must be positive");
+  RequireOption(min_baseline_ratio >= 0.0, "LocalMapping.minBaselineRatio", "must not be negative");
+  RequireOption(triangulation_ratio > 0.0 && triangulation_ratio <= 1.0,
+                "LocalMapping.triangulationRatio", "must be in (0, 1]");
+  RequireOption(max_cos_parallax > 0.0 && max_cos_parallax < 1.0, "LocalMapping.maxCosParallax",
+                "must be in (0, 1)");
+  RequireOption(scale_consistency >= 1.0, "LocalMapping.scaleConsistency", "must be at least 1");
+  RequireOption(min_found_ratio >= 0.0 && min_found_ratio <= 1.0, "LocalMapping.minFoundRatio",
+                "must be in [0, 1]");
+  RequireOption(fuse_radius > 0.0, "LocalMapping.fuseRadius", "must be positive");
+  RequireOption(local_ba_iterations >= 1, "LocalMapping.baIterations", "must be positive");
+  RequireOption(redundant_ratio > 0.0 && redundant_ratio <= 1.0, "LocalMapping.redundantRatio",
+                "must be in (0, 1]");
+  RequireOption(redundant_observers >= 1, "LocalMapping.redundantObservers", "must be positive");
+  RequireOption(queue_capacity >= 1, "LocalMapping.queueCapacity", "must be positive");
+}
+
+void ReadSettings(const SettingsFile& file, LocalMappingOptions* options) {
+  file.Read("LocalMapping.triangulationNeighbours", &options->triangulation_neighbours);
+  file.Read("LocalMapping.minBaselineRatio", &options->min_baseline_ratio);
+  file.Read("LocalMapping.triangulationRatio", &options->triangulation_ratio);
+  file.Read("LocalMapping.maxCosParallax", &options->max_cos_parallax);
+  file.Read("LocalMapping.scaleConsistency", &options->scale_consistency);
+  file.Read("LocalMapping.minFoundRatio", &options->min_found_ratio);
+  file.Read("LocalMapping.fuseRadius", &options->fuse_radius);
+  file.Read("LocalMapping.baIterations", &options->local_ba_iterations);
+  file.Read("LocalMapping.redundantRatio", &options->redundant_ratio);
+  file.Read("LocalMapping.redundantObservers", &options->redundant_observers);
+  int capacity = static_cast<int>(options->queue_capacity);
+  if (file.Read("LocalMapping.queueCapacity", &capacity)) {
+    options->queue_capacity = static_cast<std::size_t>(std::max(capacity, 0));
+  }
+}
+
+LocalMapping::LocalMapping(const PinholeCamera& camera, const ScalePyramid& pyramid,
+                           const MatcherOptions& matcher, const LocalMappingOptions& options,
+                           Map* map, BowDatabase* database)
+    : camera_(camera),
+      pyramid_(pyramid),
+      matcher_(matcher),
+      options_(options),
+      map_(map),
+      database_(database) {
+  options_.Check();
+}
+
+LocalMapping::~LocalMapping() {
+  try {
+    Stop();
+  } catch (...) {
+    // A worker failure was already reported, or the owner is unwinding from one.
+  }
+}
+
+void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  LinkKeyFrame(keyframe);
+  CullRecentPoints(keyframe);
+  TriangulateNewPoints(keyframe);
+  FuseDuplicates(keyframe);
+  if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe);
+  CullKeyFrames(keyframe);
+  ++stats_.keyframes;
+}
+
+void LocalMapping::LinkKeyFrame(const KeyFramePtr& keyframe) {
+  map_->Add(keyframe);
+  for (std::size_t i = 0; i < keyframe->points.size(); ++i) {
+    const MapPointPtr point = keyframe->points[i];
+    if (!point) continue;
+    if (point->bad) {
+      keyframe->points[i].reset();
+      continue;
+    }
+    if (point->observations.count(keyframe->id) == 0) {
+      map_->AddObservation(keyframe, static_cast<int>(i), point);
+      map_->UpdatePointGeometry(point, pyramid_);
+      map_->UpdatePointDescriptor(point);
+    } else {
+      recent_points_.push_back(point);  // created with this keyframe (initialization)
+    }
+  }
+  map_->UpdateConnections(keyframe);
+  database_->Add(static_cast<int>(keyframe->id), keyframe->bow);
+}
+
+void LocalMapping::CullRecentPoints(const KeyFramePtr& keyframe) {
+  for (auto it = recent_points_.begin(); it != recent_points_.end();) {
+    const MapPointPtr& point = *it;
+    const KeyFrameId age = keyframe->id - point->first_keyframe;
+    if (point->bad) {
+      it = recent_points_.erase(it);
+    } else if (point->FoundRatio() < options_.min_found_ratio ||
+               (age >= 2 && point->observations.size() <= 2)) {
+      map_->ErasePoint(point);
+      ++stats_.points_culled;
+      it = recent_points_.erase(it);
+    } else if (age >= 3) {
+      it = recent_points_.erase(it);  // old enough: it stays
+    } else {
+      ++it;
+    }
+  }
+}
+
+void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe) {
+  const Eigen::Matrix3d K = Intrinsics(camera_);
+  const Eigen::Vector3d centre1 = keyframe->Centre();
+  const Eigen::Matrix<double, 3, 4> P1 = Projection(K, keyframe->T_cw);
+  const double ratio_factor = options_.scale_consistency * pyramid_.scale_factor;
+  for (const KeyFramePtr& neighbour :
+       map_->BestCovisible(keyframe, static_cast<std::size_t>(options_.triangulation_neighbours))) {
+    const double baseline = (neighbour->Centre() - centre1).norm();
+    const double median_depth = MedianDepth(*neighbour);
+    if (median_depth <= 0.0 || baseline / median_depth < options_.min_baseline_ratio) continue;
+    const Eigen::Matrix3d F12 = FundamentalBetween(*neighbour, *keyframe, K);  // x1^T F x2 = 0
+    const Eigen::Matrix<double, 3, 4> P2 = Projection(K, neighbour->T_cw);
+    const Eigen::Vector3d centre2 = neighbour->Centre();
+    // Candidate pairs: features without points under the same vocabulary node, close in
+    // descriptor space and near each other's epipolar line.
+    std::vector<std::pair<int, int>> pairs;
+    std::vector<char> taken(neighbour->features.size(), 0);
+    ForEachSharedNode(
+        keyframe->feature_vector, neighbour->feature_vector,
+        [&](NodeId, const std::vector<int>& in_keyframe, const std::vector<int>& in_neighbour) {
+          for (const int i1 : in_keyframe) {
+            if (keyframe->points[static_cast<std::size_t>(i1)]) continue;
+            const Eigen::Vector2d& x1 =
+                keyframe->features.undistorted[static_cast<std::size_t>(i1)];
+            const Eigen::Vector3d line = F12.transpose() * x1.homogeneous();  // in the neighbour
+            int best = INT_MAX, second = INT_MAX, best_index = -1;
+            for (const int i2 : in_neighbour) {
+              if (neighbour->points[static_cast<std::size_t>(i2)] ||
+                  taken[static_cast<std::size_t>(i2)]) {
+                continue;
+              }
+              const int distance =
+                  HammingDistance(keyframe->features.descriptors[static_cast<std::size_t>(i1)],
+                                  neighbour->features.descriptors[static_cast<std::size_t>(i2)]);
+              if (distance > matcher_.strict_distance || distance >= second) continue;
+              const Eigen::Vector2d& x2 =
+                  neighbour->features.undistorted[static_cast<std::size_t>(i2)];
+              const double d = line.dot(x2.homogeneous());
+              const int level2 = neighbour->features.keypoints[static_cast<std::size_t>(i2)].octave;
+              if (d * d / line.head<2>().squaredNorm() >
+                  kChi2OneDof * pyramid_.sigma2[static_cast<std::size_t>(level2)]) {
+                continue;
+              }
+              if (distance < best) {
+                second = best;
+                best = distance;
+                best_index = i2;
+              } else {
+                second = distance;
+              }
+            }
+            if (best_index >= 0 &&
+                (second == INT_MAX || best < options_.triangulation_ratio * second)) {
+              pairs.emplace_back(i1, best_index);
+              taken[static_cast<std::size_t>(best_index)] = 1;
+            }
+          }
+        });
+    for (const auto& [i1, i2] : pairs) {
+      const Eigen::Vector2d& x1 = keyframe->features.undistorted[static_cast<std::size_t>(i1)];
+      const Eigen::Vector2d& x2 = neighbour->features.undistorted[static_cast<std::size_t>(i2)];
+      const Eigen::Vector3d X = TriangulateLinear(x1, x2, P1, P2);
+      if (!X.allFinite()) continue;
+      const Eigen::Vector3d ray1 = X - centre1;
+      const Eigen::Vector3d ray2 = X - centre2;
+      if (ray1.dot(ray2) / (ray1.norm() * ray2.norm()) > options_.max_cos_parallax) continue;
+      const Eigen::Vector3d X1 = keyframe->T_cw * X;
+      const Eigen::Vector3d X2 = neighbour->T_cw * X;
+      if (X1.z() <= 0.0 || X2.z() <= 0.0) continue;
+      const int level1 = keyframe->features.keypoints[static_cast<std::size_t>(i1)].octave;
+      const int level2 = neighbour->features.keypoints[static_cast<std::size_t>(i2)].octave;
+      if ((camera_.ProjectUndistorted(X1) - x1).squaredNorm() >
+              kChi2TwoDof * pyramid_.sigma2[static_cast<std::size_t>(level1)] ||
+          (camera_.ProjectUndistorted(X2) - x2).squaredNorm() >
+              kChi2TwoDof * pyramid_.sigma2[static_cast<std::size_t>(level2)]) {
+        continue;
+      }
+      // The distances' ratio must agree with the pyramid levels' ratio.
+      const double distance_ratio = ray2.norm() / ray1.norm();
+      const double level_ratio = pyramid_.scale[static_cast<std::size_t>(level1)] /
+                                 pyramid_.scale[static_cast<std::size_t>(level2)];
+      if (distance_ratio * ratio_factor < level_ratio ||
+          distance_ratio > level_ratio * ratio_factor) {
+        continue;
+      }
+      auto point = std::make_shared<MapPoint>();
+      point->id = map_->NextMapPointId();
+      point->position = X;
+      point->reference = keyframe->id;
+      point->first_keyframe = keyframe->id;
+      point->first_frame = keyframe->frame_id;
+      map_->Add(point);
+      map_->AddObservation(keyframe, i1, point);
+      map_->AddObservation(neighbour, i2, point);
+      map_->UpdatePointDescriptor(point);
+      map_->UpdatePointGeometry(point, pyramid_);
+      recent_points_.push_back(point);
+      ++stats_.points_created;
+    }
+  }
+}
+
+int LocalMapping::Fuse(const KeyFramePtr& target, const std::vector<MapPointPtr>& points) {
+  std::vector<ProjectedPoint> projected;
+  std::vector<MapPointPtr> sources;
+  const Eigen::Vector3d centre = target->Centre();
+  for (const MapPointPtr& point : points) {
+    if (!point || point->bad || point->observations.count(target->id) != 0) continue;
+    const Eigen::Vector3d Xc = target->T_cw * point->position;
+    if (Xc.z() <= 0.0) continue;
+    const Eigen::Vector2d pixel = camera_.ProjectUndistorted(Xc);
+    if (!target->features.grid.bounds().Contains(pixel)) continue;
+    const double distance = (point->position - centre).norm();
+    if (distance < 0.8 * point->min_distance || distance > 1.2 * point->max_distance) continue;
+    if ((point->position - centre).dot(point->normal) < 0.5 * distance) continue;
+    const int level = pyramid_.PredictLevel(distance, point->max_distance);
+    ProjectedPoint p;
+    p.pixel = pixel;
+    p.radius = options_.fuse_radius * pyramid_.scale[static_cast<std::size_t>(level)];
+    p.min_level = std::max(0, level - 1);
+    p.max_level = level + 1;
+    p.descriptor = point->descriptor;
+    projected.push_back(p);
+    sources.push_back(point);
+  }
+  MatcherOptions options = matcher_;
+  options.check_orientation = false;
+  const std::vector<int> matches = SearchByProjection(target->features, projected, nullptr, 0.0,
+                                                      matcher_.strict_distance, options);
+  int fused = 0;
+  for (std::size_t q = 0; q < matches.size(); ++q) {
+    if (matches[q] == kNoMatch) continue;
+    const MapPointPtr& source = sources[q];
+    if (source->bad) continue;
+    const MapPointPtr existing = target->points[static_cast<std::size_t>(matches[q])];
+    if (existing && !existing->bad) {
+      if (existing == source) continue;
+      if (existing->observations.size() > source->observations.size()) {
+        map_->ReplacePoint(source, existing);
+      } else {
+        map_->ReplacePoint(existing, source);
+      }
+    } else {
+      map_->AddObservation(target, matches[q], source);
+    }
+    ++fused;
+  }
+  return fused;
+}
+
+void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
+  std::vector<KeyFramePtr> targets =
+      map_->BestCovisible(keyframe, static_cast<std::size_t>(options_.triangulation_neighbours));
+  std::set<KeyFrameId> seen;
+  for (const KeyFramePtr& k : targets) seen.insert(k->id);
+  const std::size_t first_ring = targets.size();
+  for (std::size_t i = 0; i < first_ring; ++i) {
+    for (const KeyFramePtr& second : map_->BestCovisible(targets[i], 5)) {
+      if (second->id != keyframe->id && seen.insert(second->id).second) targets.push_back(second);
+    }
+  }
+  for (const KeyFramePtr& target : targets) stats_.points_fused += Fuse(target, keyframe->points);
+  std::vector<MapPointPtr> candidates;
+  std::set<MapPointId> added;
+  for (const KeyFramePtr& target : targets) {
+    for (const MapPointPtr& point : target->points) {
+      if (point && !point->bad && added.insert(point->id).second) candidates.push_back(point);
+    }
+  }
+  stats_.points_fused += Fuse(keyframe, candidates);
+  for (const MapPointPtr& point : keyframe->points) {
+    if (point && !point->bad) {
+      map_->UpdatePointDescriptor(point);
+      map_->UpdatePointGeometry(point, pyramid_);
+    }
+  }
+  map_->UpdateConnections(keyframe);
+}
+
+void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<KeyFramePtr> local = {keyframe};
+  for (const KeyFramePtr& k : map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
+    local.push_back(k);
+  }
+  std::map<KeyFrameId, int> keyframe_index;
+  BundleAdjustmentProblem problem;
+  problem.camera = camera_;
+  const KeyFrameId first_id = map_->keyframes().begin()->first;
+  for (const KeyFramePtr& k : local) {
+    keyframe_index[k->id] = static_cast<int>(problem.keyframes.size());
+    problem.keyframes.push_back({k->T_cw, k->id == first_id});
+  }
+  std::vector<MapPointPtr> points;
+  std::map<MapPointId, int> point_index;
+  for (const KeyFramePtr& k : local) {
+    for (const MapPointPtr& point : k->points) {
+      if (!point || point->bad || point_index.count(point->id) != 0) continue;
+      point_index[point->id] = static_cast<int>(points.size());
+      points.push_back(point);
+      problem.points.push_back({point->position, false});
+    }
+  }
+  // Keyframes outside the local set that see local points hold the gauge, fixed.
+  std::vector<std::pair<KeyFramePtr, int>> observers;
+  std::vector<std::pair<MapPointPtr, KeyFramePtr>> observation_owner;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    for (const auto& [keyframe_id, feature] : points[p]->observations) {
+      const KeyFramePtr k = map_->GetKeyFrame(keyframe_id);
+      if (!k || k->bad) continue;
+      auto found = keyframe_index.find(keyframe_id);
+      if (found == keyframe_index.end()) {
+        found =
+            keyframe_index.emplace(keyframe_id, static_cast<int>(problem.keyframes.size())).first;
+        problem.keyframes.push_back({k->T_cw, true});
+        local.push_back(k);
+      }
+      const cv::KeyPoint& kp = k->features.keypoints[static_cast<std::size_t>(feature)];
+      problem.observations.push_back(
+          {found->second, static_cast<int>(p),
+           k->features.undistorted[static_cast<std::size_t>(feature)],
+           pyramid_.inverse_sigma2[static_cast<std::size_t>(kp.octave)]});
+      observation_owner.emplace_back(points[p], k);
+    }
+  }
+  BundleAdjustmentOptions options;
+  options.max_iterations = options_.local_ba_iterations;
+  const BundleAdjustmentReport report = BundleAdjust(&problem, options);
+  if (!report.solved) return;
+  for (std::size_t i = 0; i < local.size(); ++i) {
+    if (!problem.keyframes[i].fixed) local[i]->T_cw = problem.keyframes[i].T_cw;
+  }
+  for (std::size_t p = 0; p < points.size(); ++p) points[p]->position = problem.points[p].position;
+  for (std::size_t i = 0; i < report.outlier.size(); ++i) {
+    if (!report.outlier[i]) continue;
+    const auto& [point, owner] = observation_owner[i];
+    if (!point->bad) map_->EraseObservation(owner, point);
+  }
+  for (const MapPointPtr& point : points) {
+    if (!point->bad) map_->UpdatePointGeometry(point, pyramid_);
+  }
+  stats_.ba_seconds.push_back(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe) {
+  const KeyFrameId first_id = map_->keyframes().begin()->first;
+  for (const KeyFramePtr& candidate :
+       map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
+    if (candidate->id == first_id || candidate->bad) continue;
+    int valid = 0;
+    int redundant = 0;
+    for (std::size_t i = 0; i < candidate->points.size(); ++i) {
+      const MapPointPtr& point = candidate->points[i];
+      if (!point || point->bad) continue;
+      ++valid;
+      if (static_cast<int>(point->observations.size()) <= options_.redundant_observers) continue;
+      const int level = candidate->features.keypoints[i].octave;
+      int observers = 0;
+      for (const auto& [other_id, feature] : point->observations) {
+        if (other_id == candidate->id) continue;
+        const KeyFramePtr other = map_->GetKeyFrame(other_id);
+        if (!other || other->bad) continue;
+        // Seen at the same or a finer scale.
+        if (other->features.keypoints[static_cast<std::size_t>(feature)].octave <= level + 1) {
+          ++observers;
+        }
+        if (observers >= options_.redundant_observers) break;
+      }
+      if (observers >= options_.redundant_observers) ++redundant;
+    }
+    if (valid > 0 && redundant > options_.redundant_ratio * valid) {
+      map_->EraseKeyFrame(candidate);
+      database_->Erase(static_cast<int>(candidate->id));
+      ++stats_.keyframes_culled;
+    }
+  }
+}
+
+void LocalMapping::Start() {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  if (worker_.joinable()) return;
+  stopping_ = false;
+  worker_ = std::thread([this] { Run(); });
+}
+
+void LocalMapping::Insert(const KeyFramePtr& keyframe) {
+  std::unique_lock<std::mutex> lock(queue_mutex_);
+  queue_changed_.wait(
+      lock, [this] { return queue_.size() < options_.queue_capacity || failure_ != nullptr; });
+  if (failure_) std::rethrow_exception(failure_);
+  queue_.push_back(keyframe);
+  queue_changed_.notify_all();
+}
+
+bool LocalMapping::Idle() const {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  return queue_.empty() && !busy_;
+}
+
+void LocalMapping::Run() {
+  for (;;) {
+    KeyFramePtr keyframe;
+    {
+      std::unique_lock<std::mutex> lock(queue_mutex_);
+      queue_changed_.wait(lock, [this] { return !queue_.empty() || stopping_; });
+      if (queue_.empty()) return;  // stopping and drained
+      keyframe = queue_.front();
+      queue_.pop_front();
+      busy_ = true;
+    }
+    try {
+      ProcessKeyFrame(keyframe);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      failure_ = std::current_exception();
+      busy_ = false;
+      queue_.clear();
+      queue_changed_.notify_all();
+      return;
+    }
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    busy_ = false;
+    queue_changed_.notify_all();
+  }
+}
+
+void LocalMapping::Stop() {
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    stopping_ = true;
+    queue_changed_.notify_all();
+  }
+  if (worker_.joinable()) worker_.join();
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  if (failure_) {
+    std::exception_ptr failure = failure_;
+    failure_ = nullptr;
+    std::rethrow_exception(failure);
+  }
+}
+
+void LocalMapping::Reset() { recent_points_.clear(); }
+
+LocalMappingStats LocalMapping::Stats() const {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  return stats_;
+}
+
+}  // namespace ocg

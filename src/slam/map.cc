@@ -1,0 +1,202 @@
+#include "ocg/slam/map.h"
+
+#include <algorithm>
+
+namespace ocg {
+
+int KeyFrame::TrackedPoints(int min_observations) const {
+  int count = 0;
+  for (const MapPointPtr& point : points) {
+    if (point && !point->bad && static_cast<int>(point->observations.size()) >= min_observations) {
+      ++count;
+    }
+  }
+  return count;
+}
+
+KeyFramePtr Map::GetKeyFrame(KeyFrameId id) const {
+  const auto it = keyframes_.find(id);
+  return it == keyframes_.end() ? nullptr : it->second;
+}
+
+void Map::Clear() {
+  keyframes_.clear();
+  points_.clear();
+  next_keyframe_id_ = 0;
+  next_point_id_ = 0;
+}
+
+void Map::AddObservation(const KeyFramePtr& keyframe, int feature, const MapPointPtr& point) {
+  point->observations[keyframe->id] = feature;
+  keyframe->points[static_cast<std::size_t>(feature)] = point;
+}
+
+void Map::EraseObservation(const KeyFramePtr& keyframe, const MapPointPtr& point) {
+  const auto it = point->observations.find(keyframe->id);
+  if (it == point->observations.end()) return;
+  MapPointPtr& slot = keyframe->points[static_cast<std::size_t>(it->second)];
+  if (slot == point) slot.reset();
+  point->observations.erase(it);
+  if (point->observations.size() <= 2) {
+    ErasePoint(point);  // a monocular point needs at least two views to stay
+  } else if (point->reference == keyframe->id) {
+    point->reference = point->observations.begin()->first;
+  }
+}
+
+void Map::ErasePoint(const MapPointPtr& point) {
+  if (point->bad) return;
+  point->bad = true;
+  for (const auto& [keyframe_id, feature] : point->observations) {
+    if (const KeyFramePtr keyframe = GetKeyFrame(keyframe_id)) {
+      MapPointPtr& slot = keyframe->points[static_cast<std::size_t>(feature)];
+      if (slot == point) slot.reset();
+    }
+  }
+  point->observations.clear();
+  points_.erase(point->id);
+}
+
+void Map::ReplacePoint(const MapPointPtr& old_point, const MapPointPtr& new_point) {
+  if (old_point == new_point || old_point->bad) return;
+  const std::map<KeyFrameId, int> observations = old_point->observations;
+  old_point->observations.clear();
+  old_point->bad = true;
+  for (const auto& [keyframe_id, feature] : observations) {
+    const KeyFramePtr keyframe = GetKeyFrame(keyframe_id);
+    if (!keyframe) continue;
+    if (new_point->observations.count(keyframe_id) == 0) {
+      AddObservation(keyframe, feature, new_point);
+    } else {
+      keyframe->points[static_cast<std::size_t>(feature)].reset();
+    }
+  }
+  new_point->found += old_point->found;
+  new_point->visible += old_point->visible;
+  points_.erase(old_point->id);
+}
+
+void Map::UpdatePointGeometry(const MapPointPtr& point, const ScalePyramid& pyramid) const {
+  if (point->observations.empty()) return;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (const auto& [keyframe_id, feature] : point->observations) {
+    if (const KeyFramePtr keyframe = GetKeyFrame(keyframe_id)) {
+      normal += (point->position - keyframe->Centre()).normalized();
+    }
+  }
+  if (normal.norm() > 0.0) point->normal = normal.normalized();
+  const KeyFramePtr reference = GetKeyFrame(point->reference);
+  if (!reference) return;
+  const auto it = point->observations.find(reference->id);
+  if (it == point->observations.end()) return;
+  const double distance = (point->position - reference->Centre()).norm();
+  const int level = reference->features.keypoints[static_cast<std::size_t>(it->second)].octave;
+  point->max_distance = distance * pyramid.scale[static_cast<std::size_t>(level)];
+  point->min_distance = point->max_distance / pyramid.scale.back();
+}
+
+void Map::UpdatePointDescriptor(const MapPointPtr& point) const {
+  std::vector<Descriptor> descriptors;
+  for (const auto& [keyframe_id, feature] : point->observations) {
+    if (const KeyFramePtr keyframe = GetKeyFrame(keyframe_id)) {
+      descriptors.push_back(keyframe->features.descriptors[static_cast<std::size_t>(feature)]);
+    }
+  }
+  if (descriptors.empty()) return;
+  std::size_t best = 0;
+  int best_median = kDescriptorBits + 1;
+  std::vector<int> distances(descriptors.size());
+  for (std::size_t i = 0; i < descriptors.size(); ++i) {
+    for (std::size_t j = 0; j < descriptors.size(); ++j) {
+      distances[j] = HammingDistance(descriptors[i], descriptors[j]);
+    }
+    std::nth_element(distances.begin(), distances.begin() + static_cast<long>(distances.size() / 2),
+                     distances.end());
+    if (distances[distances.size() / 2] < best_median) {
+      best_median = distances[distances.size() / 2];
+      best = i;
+    }
+  }
+  point->descriptor = descriptors[best];
+}
+
+void Map::UpdateConnections(const KeyFramePtr& keyframe) {
+  std::map<KeyFrameId, int> shared;
+  for (const MapPointPtr& point : keyframe->points) {
+    if (!point || point->bad) continue;
+    for (const auto& [other, feature] : point->observations) {
+      if (other != keyframe->id) ++shared[other];
+    }
+  }
+  if (shared.empty()) return;
+  std::map<KeyFrameId, int> edges;
+  KeyFrameId best = shared.begin()->first;
+  for (const auto& [other, count] : shared) {
+    if (count > shared[best]) best = other;
+    if (count >= kCovisibilityThreshold) edges[other] = count;
+  }
+  if (edges.empty()) edges[best] = shared[best];
+  auto order = [this](const KeyFramePtr& k) {
+    std::vector<std::pair<int, KeyFrameId>> ranked;
+    for (const auto& [other, count] : k->covisible) ranked.emplace_back(-count, other);
+    std::sort(ranked.begin(), ranked.end());
+    k->ordered_covisible.clear();
+    for (const auto& [negative, other] : ranked) k->ordered_covisible.push_back(other);
+  };
+  for (const auto& [other, count] : edges) {
+    if (const KeyFramePtr k = GetKeyFrame(other)) {
+      k->covisible[keyframe->id] = count;
+      order(k);
+    }
+  }
+  keyframe->covisible = edges;
+  order(keyframe);
+  if (!keyframe->has_parent && keyframe->id != keyframes_.begin()->first) {
+    keyframe->parent = keyframe->ordered_covisible.front();
+    keyframe->has_parent = true;
+    if (const KeyFramePtr parent = GetKeyFrame(keyframe->parent)) {
+      parent->children.insert(keyframe->id);
+    }
+  }
+}
+
+std::vector<KeyFramePtr> Map::BestCovisible(const KeyFramePtr& keyframe, std::size_t count) const {
+  std::vector<KeyFramePtr> best;
+  for (const KeyFrameId id : keyframe->ordered_covisible) {
+    if (best.size() >= count) break;
+    const KeyFramePtr other = GetKeyFrame(id);
+    if (other && !other->bad) best.push_back(other);
+  }
+  return best;
+}
+
+void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
+  if (keyframe->bad || keyframe->id == keyframes_.begin()->first) return;
+  for (const auto& [other, count] : keyframe->covisible) {
+    if (const KeyFramePtr k = GetKeyFrame(other)) {
+      k->covisible.erase(keyframe->id);
+      k->ordered_covisible.erase(
+          std::remove(k->ordered_covisible.begin(), k->ordered_covisible.end(), keyframe->id),
+          k->ordered_covisible.end());
+    }
+  }
+  for (MapPointPtr point : keyframe->points) {
+    if (point && !point->bad) EraseObservation(keyframe, point);
+  }
+  // Children go to the parent (ORB-SLAM2 picks the most covisible candidate; the parent
+  // keeps the tree connected and is enough for trajectory output).
+  if (const KeyFramePtr parent = GetKeyFrame(keyframe->parent)) {
+    parent->children.erase(keyframe->id);
+    for (const KeyFrameId child_id : keyframe->children) {
+      if (const KeyFramePtr child = GetKeyFrame(child_id)) {
+        child->parent = parent->id;
+        parent->children.insert(child_id);
+      }
+    }
+  }
+  keyframe->bad = true;
+  keyframe->covisible.clear();
+  keyframe->ordered_covisible.clear();
+}
+
+}  // namespace ocg

@@ -1,0 +1,138 @@
+#include "ocg/slam/system.h"
+
+#include <chrono>
+
+namespace ocg {
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+StampedPose MakePose(double timestamp, const std::string& text, const SE3& T_cw) {
+  StampedPose pose;
+  pose.timestamp = timestamp;
+  pose.timestamp_text = text;
+  pose.T_wc = T_cw.Inverse();
+  return pose;
+}
+
+}  // namespace
+
+System::System(const SystemConfig& config, const Vocabulary& vocabulary)
+    : config_(config), vocabulary_(vocabulary), database_(vocabulary.WordCount()) {
+  config_.camera.Check();
+  auto sink = [this](const KeyFramePtr& keyframe) {
+    if (config_.sequential) {
+      const auto start = std::chrono::steady_clock::now();
+      local_mapping_->ProcessKeyFrame(keyframe);
+      pending_mapping_seconds_ += Seconds(start);
+    } else {
+      local_mapping_->Insert(keyframe);
+    }
+  };
+  auto idle = [this] { return config_.sequential || local_mapping_->Idle(); };
+  tracking_ = std::make_unique<Tracking>(
+      config_.camera, config_.fps, config_.orb, config_.matcher, config_.initializer,
+      config_.tracking, TrackingDependencies{&vocabulary_, &database_, &map_}, sink, idle);
+  local_mapping_ =
+      std::make_unique<LocalMapping>(config_.camera, tracking_->pyramid(), config_.matcher,
+                                     config_.local_mapping, &map_, &database_);
+  if (!config_.sequential) local_mapping_->Start();
+}
+
+System::~System() {
+  try {
+    Shutdown();
+  } catch (...) {
+    // Reported by an explicit Shutdown(); a destructor must not throw.
+  }
+}
+
+TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
+                                  const std::string& timestamp_text) {
+  const auto start = std::chrono::steady_clock::now();
+  pending_mapping_seconds_ = 0.0;
+  const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text);
+  if (result.reset) {
+    ++resets_;
+    if (!config_.sequential) {
+      local_mapping_->Stop();  // drains and joins, then a fresh worker
+      local_mapping_->Reset();
+      local_mapping_->Start();
+    } else {
+      local_mapping_->Reset();
+    }
+    for (FrameRecord& record : frames_) record.tracked = false;  // that map is gone
+  }
+  FrameRecord record;
+  record.timestamp = timestamp;
+  record.timestamp_text = timestamp_text;
+  record.state = result.state;
+  record.relocalized = result.relocalized;
+  record.new_keyframe = result.new_keyframe;
+  record.local_mapping_seconds = pending_mapping_seconds_;
+  record.tracking_seconds = Seconds(start) - pending_mapping_seconds_;
+  if (result.T_cw) {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    // The reference is the newest keyframe (or the one tracking last chose).
+    KeyFramePtr reference;
+    for (auto it = map_.keyframes().rbegin(); it != map_.keyframes().rend(); ++it) {
+      if (!it->second->bad) {
+        reference = it->second;
+        break;
+      }
+    }
+    if (reference) {
+      record.tracked = true;
+      record.reference = reference->id;
+      record.T_c_reference = *result.T_cw * reference->T_cw.Inverse();
+    }
+  }
+  frames_.push_back(record);
+  return result;
+}
+
+void System::Shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  local_mapping_->Stop();
+}
+
+std::vector<StampedPose> System::KeyFrameTrajectory() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<StampedPose> poses;
+  for (const auto& [id, keyframe] : map_.keyframes()) {
+    if (!keyframe->bad)
+      poses.push_back(MakePose(keyframe->timestamp, keyframe->timestamp_text, keyframe->T_cw));
+  }
+  return poses;
+}
+
+std::vector<StampedPose> System::CameraTrajectory() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<StampedPose> poses;
+  for (const FrameRecord& record : frames_) {
+    if (!record.tracked) continue;
+    const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
+    if (!reference) continue;
+    // A culled reference keeps the pose it had when it was culled.
+    poses.push_back(
+        MakePose(record.timestamp, record.timestamp_text, record.T_c_reference * reference->T_cw));
+  }
+  return poses;
+}
+
+std::size_t System::KeyFrameCount() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::size_t count = 0;
+  for (const auto& [id, keyframe] : map_.keyframes()) count += keyframe->bad ? 0 : 1;
+  return count;
+}
+
+std::size_t System::MapPointCount() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  return map_.points().size();
+}
+
+}  // namespace ocg

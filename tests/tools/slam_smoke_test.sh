@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# End to end: ocg_slam on the first 250 frames of the smoke sequence, in sequential mode.
+# Checks: initialization within 40 frames, no frame lost afterwards, ATE RMSE (Sim(3)
+# alignment) under 2 cm, and two runs give byte-identical trajectories.
+#   slam_smoke_test.sh <folder with the tool binaries>
+set -euo pipefail
+BIN=$1
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+fail() { echo "FAILED: $*"; exit 1; }
+
+"$BIN/ocg_synth" --preset smoke --frames 250 --out "$WORK/smoke" --keyframe-interval 0 --log-level warn >/dev/null
+for run in a b; do
+  "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/smoke" --out "$WORK/$run" --log-level warn >"$WORK/$run.log"
+done
+cat "$WORK/a.log"
+cmp -s "$WORK/a/CameraTrajectory.txt" "$WORK/b/CameraTrajectory.txt" || fail "two runs differ (CameraTrajectory.txt)"
+cmp -s "$WORK/a/KeyFrameTrajectory.txt" "$WORK/b/KeyFrameTrajectory.txt" || fail "two runs differ (KeyFrameTrajectory.txt)"
+first=$(grep -o '"first_tracked_frame": [-0-9]*' "$WORK/a/run.json" | awk '{print $2}')
+lost=$(grep -o '"frames_lost": [0-9]*' "$WORK/a/run.json" | awk '{print $2}')
+[ "$first" -ge 0 ] && [ "$first" -le 40 ] || fail "initialized at frame $first (want within 40)"
+[ "$lost" -eq 0 ] || fail "$lost frames lost"
+"$BIN/ocg_eval" ate --gt "$WORK/smoke/groundtruth.txt" --est "$WORK/a/CameraTrajectory.txt" --align sim3 >"$WORK/ate.txt"
+cat "$WORK/ate.txt"
+pairs=$(awk '$1 == "pairs" {print $2}' "$WORK/ate.txt")
+rmse=$(awk '$1 == "rmse" {print $2}' "$WORK/ate.txt")
+[ "$pairs" -ge $((250 - first)) ] || fail "only $pairs tracked frames evaluated"
+awk -v r="$rmse" 'BEGIN { exit !(r < 0.02) }' || fail "ATE RMSE $rmse m (want < 0.02)"
+echo "passed: initialized at frame $first, $pairs frames, ATE RMSE $rmse m, runs identical"
+
+# Relocalization: after frame 150 come five blank frames (tracking is lost), then the
+# images jump back to frame 60: tracking must relocalize against the keyframes of that
+# place and track on.
+mkdir -p "$WORK/jump"
+ln -s "$WORK/smoke/rgb" "$WORK/jump/rgb"
+python3 - "$WORK/jump/blank.png" <<'PY'
+import struct, sys, zlib
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+rows = b"".join(b"\x00" + b"\x80" * 640 for _ in range(480))
+png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 640, 480, 8, 0, 0, 0, 0))
+       + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+open(sys.argv[1], "wb").write(png)
+PY
+{
+  grep -v '^#' "$WORK/smoke/rgb.txt" | sed -n '1,150p'
+  for i in 1 2 3 4 5; do echo "1015.0$i blank.png"; done
+  grep -v '^#' "$WORK/smoke/rgb.txt" | sed -n '61,250p' | awk '{printf "%.6f %s\n", $1 + 20, $2}'
+} >"$WORK/jump/rgb.txt"
+"$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/jump" --out "$WORK/j" --log-level warn >"$WORK/j.log"
+cat "$WORK/j.log"
+relocalized=$(grep -o '"relocalizations": [0-9]*' "$WORK/j/run.json" | awk '{print $2}')
+lost=$(grep -o '"frames_lost": [0-9]*' "$WORK/j/run.json" | awk '{print $2}')
+[ "$relocalized" -ge 1 ] || fail "no relocalization after the jump"
+[ "$lost" -le 8 ] || fail "$lost frames lost after the jump (want at most 8: 5 blank + 3)"
+echo "passed: relocalized $relocalized time(s), $lost frame(s) lost"

@@ -1,0 +1,191 @@
+// ocg_slam: monocular SLAM on a TUM or EuRoC sequence; writes the keyframe and camera
+// trajectories (TUM format) and run.json (docs/slam.md).
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <thread>
+
+#include "cli_common.h"
+#include "ocg/app/settings.h"
+#include "ocg/core/file_io.h"
+#include "ocg/io/sequence.h"
+#include "ocg/io/trajectory.h"
+#include "ocg/slam/system.h"
+
+namespace {
+
+double Percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t index =
+      std::min(values.size() - 1, static_cast<std::size_t>(fraction * (values.size() - 1) + 0.5));
+  return values[index];
+}
+
+nlohmann::json Timing(const std::vector<double>& seconds) {
+  return {{"count", seconds.size()},
+          {"median_ms", 1000.0 * Percentile(seconds, 0.5)},
+          {"p95_ms", 1000.0 * Percentile(seconds, 0.95)},
+          {"max_ms",
+           seconds.empty() ? 0.0 : 1000.0 * *std::max_element(seconds.begin(), seconds.end())}};
+}
+
+// EuRoC names images by nanoseconds; trajectories are written in seconds (TUM format),
+// with every digit kept: "1403715273262142976" -> "1403715273.262142976".
+std::string TimestampInSeconds(const std::string& text, const std::string& format) {
+  if (format != "euroc" || text.size() <= 9 ||
+      text.find_first_not_of("0123456789") != std::string::npos) {
+    return text;
+  }
+  return text.substr(0, text.size() - 9) + "." + text.substr(text.size() - 9);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ocg_slam: monocular SLAM (docs/slam.md)", "ocg_slam"};
+  std::string log_level;
+  ocg::tools::AddLogLevelOption(app, &log_level);
+  app.require_subcommand(1);
+  app.fallthrough();  // --log-level may follow the subcommand too
+  auto* run = app.add_subcommand("run", "run on an image sequence");
+  std::string settings_path, sequence_path, format = "tum", detections, output, vocabulary_path;
+  int max_frames = 0;
+  bool realtime = false;
+  run->add_option("--settings", settings_path, "settings file (ours or ORB-SLAM2's)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  run->add_option("--sequence", sequence_path, "sequence folder")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  run->add_option("--format", format, "tum or euroc")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"tum", "euroc"}));
+  run->add_option("--detections", detections, "detection folder (for the object layer)");
+  run->add_option("--out", output, "output folder")->required();
+  run->add_option("--max-frames", max_frames, "stop after N frames (0: all)")
+      ->check(CLI::NonNegativeNumber);
+  run->add_option("--vocabulary", vocabulary_path, "vocabulary file (overrides Vocabulary.path)");
+  run->add_flag("--realtime", realtime,
+                "feed images at the pace of their timestamps (never drops frames)");
+
+  return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
+    const ocg::LoadedSettings loaded = ocg::LoadSettings(settings_path);
+    const ocg::Settings& settings = loaded.settings;
+    if (!detections.empty()) {
+      std::cerr << "ocg_slam: note: --detections is read by the object layer, which is not part "
+                   "of this build yet; running SLAM only\n";
+    }
+    ocg::VocabularyOptions vocabulary_options = settings.vocabulary;
+    if (!vocabulary_path.empty()) vocabulary_options.path = vocabulary_path;
+    const std::string vocabulary_file = vocabulary_options.Resolve();
+    const auto load_start = std::chrono::steady_clock::now();
+    const ocg::Vocabulary vocabulary = ocg::Vocabulary::Load(vocabulary_file);
+    const double load_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    const ocg::ImageSequence sequence = format == "tum" ? ocg::ReadTumSequence(sequence_path)
+                                                        : ocg::ReadEurocSequence(sequence_path);
+    std::size_t frames = sequence.images.size();
+    if (max_frames > 0) frames = std::min(frames, static_cast<std::size_t>(max_frames));
+    if (frames == 0) throw std::invalid_argument("no images in '" + sequence_path + "'");
+    ocg::SystemConfig config;
+    config.camera = settings.camera.model;
+    config.fps = settings.camera.fps;
+    config.sequential = settings.system.sequential;
+    config.orb = settings.orb;
+    config.matcher = settings.matcher;
+    config.initializer = settings.initializer;
+    config.initializer.two_view.seed ^= settings.system.seed;
+    config.tracking = settings.tracking;
+    config.local_mapping = settings.local_mapping;
+    ocg::EnsureDirectory(output);
+    std::cout << "ocg_slam: " << frames << " frames of " << sequence_path << ", vocabulary "
+              << vocabulary_file << " (" << vocabulary.WordCount() << " words, loaded in "
+              << load_seconds << " s), " << (config.sequential ? "sequential" : "threaded")
+              << " mode\n";
+    ocg::System system(config, vocabulary);
+    ocg::ProgressLine progress("frames", frames);
+    const auto wall_start = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < frames; ++i) {
+      const ocg::TimedImage& image = sequence.images[i];
+      if (realtime) {
+        const double due = image.timestamp - sequence.images[0].timestamp;
+        std::this_thread::sleep_until(wall_start +
+                                      std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                          std::chrono::duration<double>(due)));
+      }
+      const cv::Mat gray = cv::imread(image.path, cv::IMREAD_GRAYSCALE);
+      if (gray.empty()) throw ocg::FileError("cannot read image '" + image.path + "'");
+      system.TrackImage(gray, image.timestamp, TimestampInSeconds(image.timestamp_text, format));
+      progress.Update(i + 1);
+    }
+    progress.Finish();
+    system.Shutdown();
+    const double wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+    ocg::WriteTumTrajectory(output + "/KeyFrameTrajectory.txt", system.KeyFrameTrajectory());
+    ocg::WriteTumTrajectory(output + "/CameraTrajectory.txt", system.CameraTrajectory());
+    int tracked = 0, lost = 0, relocalized = 0, uninitialized = 0;
+    std::vector<double> tracking_seconds, mapping_seconds;
+    int first_tracked = -1;
+    for (std::size_t i = 0; i < system.Frames().size(); ++i) {
+      const ocg::FrameRecord& record = system.Frames()[i];
+      if (record.state == ocg::TrackingState::kOk) {
+        ++tracked;
+        if (first_tracked < 0) first_tracked = static_cast<int>(i);
+      }
+      if (record.state == ocg::TrackingState::kLost) ++lost;
+      if (record.state == ocg::TrackingState::kNotInitialized) ++uninitialized;
+      if (record.relocalized) ++relocalized;
+      tracking_seconds.push_back(record.tracking_seconds);
+      if (record.local_mapping_seconds > 0.0)
+        mapping_seconds.push_back(record.local_mapping_seconds);
+    }
+    const ocg::LocalMappingStats mapping = system.MappingStats();
+    const nlohmann::json report = {{"sequence", sequence_path},
+                                   {"settings", settings_path},
+                                   {"vocabulary", vocabulary_file},
+                                   {"mode", config.sequential ? "sequential" : "threaded"},
+                                   {"frames", frames},
+                                   {"frames_tracked", tracked},
+                                   {"frames_lost", lost},
+                                   {"frames_before_initialization", uninitialized},
+                                   {"first_tracked_frame", first_tracked},
+                                   {"relocalizations", relocalized},
+                                   {"map_resets", system.Resets()},
+                                   {"keyframes", system.KeyFrameCount()},
+                                   {"map_points", system.MapPointCount()},
+                                   {"points_created", mapping.points_created},
+                                   {"points_culled", mapping.points_culled},
+                                   {"keyframes_culled", mapping.keyframes_culled},
+                                   {"wall_seconds", wall_seconds},
+                                   {"timing",
+                                    {{"tracking_per_frame", Timing(tracking_seconds)},
+                                     {"local_mapping_per_keyframe", Timing(mapping_seconds)},
+                                     {"local_ba_per_keyframe", Timing(mapping.ba_seconds)}}},
+                                   {"camera",
+                                    {{"fx", config.camera.fx},
+                                     {"fy", config.camera.fy},
+                                     {"cx", config.camera.cx},
+                                     {"cy", config.camera.cy},
+                                     {"width", config.camera.width},
+                                     {"height", config.camera.height}}},
+                                   {"orb",
+                                    {{"features", config.orb.features},
+                                     {"scale_factor", config.orb.scale_factor},
+                                     {"levels", config.orb.levels}}},
+                                   {"seed", settings.system.seed}};
+    ocg::WriteFileAtomically(output + "/run.json", report.dump(2) + "\n");
+    std::cout << "tracked " << tracked << " of " << frames << " frames (first at " << first_tracked
+              << "), lost " << lost << ", relocalized " << relocalized << ", resets "
+              << system.Resets() << "; " << system.KeyFrameCount() << " keyframes, "
+              << system.MapPointCount() << " points; tracking median "
+              << 1000.0 * Percentile(tracking_seconds, 0.5) << " ms/frame\n"
+              << "wrote " << output << "/KeyFrameTrajectory.txt, CameraTrajectory.txt, run.json\n";
+  });
+}
