@@ -56,13 +56,10 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text);
   if (result.reset) {
     ++resets_;
-    if (!config_.sequential) {
-      local_mapping_->Stop();  // drains and joins, then a fresh worker
-      local_mapping_->Reset();
-      local_mapping_->Start();
-    } else {
-      local_mapping_->Reset();
-    }
+    if (!config_.sequential) local_mapping_->Stop();  // drains the queue and joins
+    tracking_->Reset();
+    local_mapping_->Reset();
+    if (!config_.sequential) local_mapping_->Start();
     for (FrameRecord& record : frames_) record.tracked = false;  // that map is gone
   }
   FrameRecord record;

@@ -178,7 +178,11 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
       state_ = TrackingState::kOk;
       if (last_frame_ && last_frame_->T_cw) velocity_ = *frame.T_cw * last_frame_->T_cw->Inverse();
       if (NeedKeyFrame(frame, inliers)) {
-        const KeyFramePtr keyframe = CreateKeyFrame(frame);
+        KeyFramePtr keyframe;
+        {
+          std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+          keyframe = CreateKeyFrame(frame);
+        }
         result.new_keyframe = true;
         keyframe_sink_(keyframe);
       }
@@ -191,9 +195,10 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
         keyframes = dependencies_.map->keyframes().size();
       }
       if (keyframes <= static_cast<std::size_t>(options_.min_keyframes_to_keep_map)) {
-        spdlog::warn("frame {}: lost with only {} keyframes: resetting the map", frame.id,
+        // The owner stops local mapping first, then calls Reset(): clearing the map under
+        // a worker that still holds queued keyframes would let them into the new map.
+        spdlog::warn("frame {}: lost with only {} keyframes: the map will be reset", frame.id,
                      keyframes);
-        Reset();
         result.reset = true;
       }
     }

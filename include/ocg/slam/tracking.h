@@ -67,7 +67,8 @@ struct TrackingResult {
   std::optional<SE3> T_cw;
   bool new_keyframe = false;
   bool relocalized = false;
-  bool reset = false;  // the map was cleared (lost too early)
+  // Lost with too small a map: the owner must stop local mapping and call Reset().
+  bool reset = false;
   int inliers = 0;
 };
 
@@ -89,7 +90,8 @@ class Tracking {
 
   TrackingResult Track(const cv::Mat& image, double timestamp, const std::string& timestamp_text);
   TrackingState state() const { return state_; }
-  // Forgets the map and starts over (clears the map and the database too).
+  // Forgets the map and starts over (clears the map and the database too). Call with
+  // local mapping stopped or idle.
   void Reset();
   const ScalePyramid& pyramid() const { return extractor_.pyramid(); }
 
