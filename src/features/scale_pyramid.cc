@@ -22,6 +22,8 @@ ScalePyramid MakeScalePyramid(int levels, double scale_factor) {
 }
 
 int ScalePyramid::PredictLevel(double distance, double max_distance) const {
+  if (!(distance > 0.0)) return levels() - 1;  // at the camera: as coarse as it gets
+  if (!(max_distance > 0.0)) return 0;
   const double ratio = max_distance / distance;
   const int level = static_cast<int>(std::ceil(std::log(ratio) / std::log(scale_factor)));
   return std::clamp(level, 0, levels() - 1);

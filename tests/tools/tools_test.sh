@@ -32,7 +32,7 @@ fails_with() {  # fails_with "description" "expected text" command...
   fi
 }
 
-for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab; do
+for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab ocg_slam; do
   check "$tool --help" "$BIN/$tool" --help
 done
 
@@ -97,6 +97,13 @@ fails_with "broken vocabulary names file and line" "broken.txt:2: missing descri
 check "nothing written on failure" test ! -e "$WORK/never.ocgvoc"
 printf 'rgb/missing.png\n' >"$WORK/list.txt"
 fails_with "missing image named" "missing.png" "$BIN/ocg_vocab" train --images "$WORK/list.txt" --out "$WORK/never.ocgvoc"
+
+# ocg_slam: errors name what is wrong.
+mkdir -p "$WORK/empty_sequence"
+fails_with "ocg_slam names the missing rgb.txt" "empty_sequence/rgb.txt' is missing" "$BIN/ocg_slam" run --settings "$SRC/config/TUM1.yaml" --sequence "$WORK/empty_sequence" --out "$WORK/slam"
+fails_with "ocg_slam names a missing vocabulary" "cannot open vocabulary" "$BIN/ocg_slam" run --settings "$SRC/config/TUM1.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --vocabulary "$WORK/none.ocgvoc"
+check "ocg_slam on six frames" "$BIN/ocg_slam" run --settings "$WORK/frames/camera.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --log-level warn
+check "run.json written" grep -q '"frames": 6' "$WORK/slam/run.json"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
