@@ -151,11 +151,15 @@ void Map::UpdateConnections(const KeyFramePtr& keyframe) {
   }
   keyframe->covisible = edges;
   order(keyframe);
+  // The spanning tree grows from older to newer keyframes, so it can never close a cycle:
+  // the parent is the best covisible keyframe older than this one.
   if (!keyframe->has_parent && keyframe->id != keyframes_.begin()->first) {
-    keyframe->parent = keyframe->ordered_covisible.front();
-    keyframe->has_parent = true;
-    if (const KeyFramePtr parent = GetKeyFrame(keyframe->parent)) {
-      parent->children.insert(keyframe->id);
+    for (const KeyFrameId candidate : keyframe->ordered_covisible) {
+      if (candidate >= keyframe->id) continue;
+      keyframe->parent = candidate;
+      keyframe->has_parent = true;
+      if (const KeyFramePtr parent = GetKeyFrame(candidate)) parent->children.insert(keyframe->id);
+      break;
     }
   }
 }

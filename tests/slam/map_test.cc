@@ -1,0 +1,140 @@
+#include "ocg/slam/map.h"
+
+#include <gtest/gtest.h>
+
+namespace ocg {
+namespace {
+
+// Keyframes at x = 0, 1, 2, ... with `features` empty feature slots each.
+KeyFramePtr AddKeyFrame(Map& map, int features) {
+  auto keyframe = std::make_shared<KeyFrame>();
+  keyframe->id = map.NextKeyFrameId();
+  keyframe->T_cw =
+      SE3(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-static_cast<double>(keyframe->id), 0, 0));
+  keyframe->features.keypoints.assign(static_cast<std::size_t>(features), cv::KeyPoint(10, 10, 31));
+  keyframe->features.descriptors.assign(static_cast<std::size_t>(features), Descriptor{});
+  keyframe->points.assign(static_cast<std::size_t>(features), nullptr);
+  map.Add(keyframe);
+  return keyframe;
+}
+
+MapPointPtr AddPoint(Map& map, const std::vector<std::pair<KeyFramePtr, int>>& seen_by) {
+  auto point = std::make_shared<MapPoint>();
+  point->id = map.NextMapPointId();
+  point->position = {0.5, 0.0, 3.0};
+  point->reference = seen_by.front().first->id;
+  map.Add(point);
+  for (const auto& [keyframe, feature] : seen_by) map.AddObservation(keyframe, feature, point);
+  return point;
+}
+
+TEST(Map, CovisibilityNeedsFifteenSharedPointsOrTakesTheBest) {
+  Map map;
+  const KeyFramePtr a = AddKeyFrame(map, 40);
+  const KeyFramePtr b = AddKeyFrame(map, 40);
+  const KeyFramePtr c = AddKeyFrame(map, 40);
+  for (int i = 0; i < 20; ++i) AddPoint(map, {{a, i}, {b, i}});      // a-b: 20
+  for (int i = 20; i < 30; ++i) AddPoint(map, {{a, i}, {c, i}});     // a-c: 10
+  for (int i = 0; i < 5; ++i) AddPoint(map, {{b, 20 + i}, {c, i}});  // b-c: 5
+  map.UpdateConnections(b);
+  map.UpdateConnections(c);
+  map.UpdateConnections(a);
+  EXPECT_EQ(a->covisible.at(b->id), 20);
+  EXPECT_EQ(a->covisible.count(c->id), 0u);  // 10 < 15
+  // c shares fewer than 15 with everyone: it keeps an edge to its best (a, 10).
+  ASSERT_EQ(c->covisible.size(), 1u);
+  EXPECT_EQ(c->covisible.at(a->id), 10);
+  EXPECT_EQ(a->ordered_covisible.front(), b->id);
+  // Spanning tree: a later keyframe's parent is its best covisible keyframe.
+  EXPECT_TRUE(b->has_parent);
+  EXPECT_EQ(b->parent, a->id);
+  EXPECT_TRUE(a->children.count(b->id));
+  EXPECT_FALSE(a->has_parent);  // the first keyframe is the root
+}
+
+TEST(Map, APointLeftWithTwoViewsOrFewerIsErased) {
+  // ORB-SLAM2's rule for monocular points: two views are the least a point is made from,
+  // and one that has lost views down to two is not trusted any more.
+  Map map;
+  const KeyFramePtr a = AddKeyFrame(map, 4);
+  const KeyFramePtr b = AddKeyFrame(map, 4);
+  const KeyFramePtr c = AddKeyFrame(map, 4);
+  const KeyFramePtr d = AddKeyFrame(map, 4);
+  const MapPointPtr point = AddPoint(map, {{a, 0}, {b, 1}, {c, 2}, {d, 3}});
+  map.EraseObservation(a, point);
+  EXPECT_FALSE(point->bad);
+  EXPECT_EQ(point->observations.size(), 3u);
+  EXPECT_EQ(a->points[0], nullptr);
+  EXPECT_NE(point->reference, a->id);  // the reference moved to a keyframe that sees it
+  map.EraseObservation(b, point);
+  EXPECT_TRUE(point->bad);
+  EXPECT_EQ(map.points().count(point->id), 0u);
+  EXPECT_EQ(c->points[2], nullptr);
+  EXPECT_EQ(d->points[3], nullptr);
+}
+
+TEST(Map, ReplacingAPointMovesItsObservations) {
+  Map map;
+  const KeyFramePtr a = AddKeyFrame(map, 4);
+  const KeyFramePtr b = AddKeyFrame(map, 4);
+  const KeyFramePtr c = AddKeyFrame(map, 4);
+  const MapPointPtr keep = AddPoint(map, {{a, 0}, {b, 0}});
+  const MapPointPtr duplicate = AddPoint(map, {{b, 1}, {c, 1}});
+  map.ReplacePoint(duplicate, keep);
+  EXPECT_TRUE(duplicate->bad);
+  EXPECT_EQ(map.points().count(duplicate->id), 0u);
+  EXPECT_EQ(keep->observations.size(), 3u);  // a, b (already), c
+  EXPECT_EQ(c->points[1], keep);
+  EXPECT_EQ(b->points[0], keep);
+  EXPECT_EQ(b->points[1], nullptr);  // b saw both: the second slot is freed
+}
+
+TEST(Map, ErasingAKeyFrameHandsItsChildrenToItsParent) {
+  Map map;
+  const KeyFramePtr a = AddKeyFrame(map, 60);
+  const KeyFramePtr b = AddKeyFrame(map, 60);
+  const KeyFramePtr c = AddKeyFrame(map, 60);
+  for (int i = 0; i < 20; ++i) AddPoint(map, {{a, i}, {b, i}, {c, i}});
+  for (int i = 20; i < 40; ++i) AddPoint(map, {{b, i}, {c, i}});
+  map.UpdateConnections(a);
+  map.UpdateConnections(b);
+  map.UpdateConnections(c);
+  ASSERT_EQ(b->parent, a->id);  // b shares more with c, but c is newer
+  ASSERT_EQ(c->parent, b->id);  // c shares 40 with b, 20 with a
+  map.EraseKeyFrame(b);
+  EXPECT_TRUE(b->bad);
+  EXPECT_EQ(c->parent, a->id);
+  EXPECT_TRUE(a->children.count(c->id));
+  EXPECT_EQ(a->covisible.count(b->id), 0u);
+  // Points left with two views or fewer are gone (all of them here).
+  for (int i = 0; i < 40; ++i) EXPECT_EQ(c->points[static_cast<std::size_t>(i)], nullptr);
+  EXPECT_TRUE(map.points().empty());
+  // The first keyframe is never erased.
+  map.EraseKeyFrame(a);
+  EXPECT_FALSE(a->bad);
+}
+
+TEST(Map, DistinctiveDescriptorHasTheLeastMedianDistance) {
+  Map map;
+  std::vector<KeyFramePtr> keyframes;
+  for (int k = 0; k < 4; ++k) keyframes.push_back(AddKeyFrame(map, 1));
+  // Three similar descriptors and one far away: the distinctive one is the middle one.
+  keyframes[0]->features.descriptors[0] = {0b0001, 0, 0, 0};
+  keyframes[1]->features.descriptors[0] = {0b0011, 0, 0, 0};
+  keyframes[2]->features.descriptors[0] = {0b0111, 0, 0, 0};
+  keyframes[3]->features.descriptors[0] = {~0ull, ~0ull, 0, 0};
+  const MapPointPtr point =
+      AddPoint(map, {{keyframes[0], 0}, {keyframes[1], 0}, {keyframes[2], 0}, {keyframes[3], 0}});
+  map.UpdatePointDescriptor(point);
+  EXPECT_EQ(point->descriptor, keyframes[1]->features.descriptors[0]);
+  // Geometry: the normal points from the cameras to the point; scale distances follow
+  // the reference observation's level.
+  map.UpdatePointGeometry(point, MakeScalePyramid(8, 1.2));
+  EXPECT_GT(point->normal.z(), 0.5);
+  const double distance = (point->position - keyframes[0]->Centre()).norm();
+  EXPECT_NEAR(point->max_distance, distance, 1e-9);  // level 0
+  EXPECT_NEAR(point->min_distance, distance / std::pow(1.2, 7), 1e-9);
+}
+
+}  // namespace
+}  // namespace ocg
