@@ -268,16 +268,13 @@ void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe) {
 int LocalMapping::Fuse(const KeyFramePtr& target, const std::vector<MapPointPtr>& points) {
   std::vector<ProjectedPoint> projected;
   std::vector<MapPointPtr> sources;
-  const Eigen::Vector3d centre = target->Centre();
   for (const MapPointPtr& point : points) {
     if (!point || point->bad || point->observations.count(target->id) != 0) continue;
-    const Eigen::Vector3d Xc = target->T_cw * point->position;
-    if (Xc.z() <= 0.0) continue;
-    const Eigen::Vector2d pixel = camera_.ProjectUndistorted(Xc);
-    if (!target->features.grid.bounds().Contains(pixel)) continue;
-    const double distance = (point->position - centre).norm();
-    if (distance < 0.8 * point->min_distance || distance > 1.2 * point->max_distance) continue;
-    if ((point->position - centre).dot(point->normal) < 0.5 * distance) continue;
+    const auto projection =
+        ProjectPoint(camera_, target->features.grid.bounds(), target->T_cw, *point, true);
+    if (!projection) continue;
+    const double distance = projection->distance;
+    const Eigen::Vector2d& pixel = projection->pixel;
     const int level = pyramid_.PredictLevel(distance, point->max_distance);
     ProjectedPoint p;
     p.pixel = pixel;

@@ -14,6 +14,26 @@ int KeyFrame::TrackedPoints(int min_observations) const {
   return count;
 }
 
+std::optional<PointProjection> ProjectPoint(const PinholeCamera& camera, const ImageBounds& bounds,
+                                            const SE3& T_cw, const MapPoint& point,
+                                            bool check_scale) {
+  const Eigen::Vector3d Xc = T_cw * point.position;
+  if (Xc.z() <= 0.0) return std::nullopt;
+  PointProjection p;
+  p.pixel = camera.ProjectUndistorted(Xc);
+  if (!bounds.Contains(p.pixel)) return std::nullopt;
+  const Eigen::Vector3d ray = point.position - T_cw.Inverse().translation();
+  p.distance = ray.norm();
+  if (check_scale) {
+    if (p.distance < 0.8 * point.min_distance || p.distance > 1.2 * point.max_distance) {
+      return std::nullopt;
+    }
+    p.view_cos = ray.dot(point.normal) / p.distance;
+    if (p.view_cos < 0.5) return std::nullopt;
+  }
+  return p;
+}
+
 KeyFramePtr Map::GetKeyFrame(KeyFrameId id) const {
   const auto it = keyframes_.find(id);
   return it == keyframes_.end() ? nullptr : it->second;

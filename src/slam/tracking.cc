@@ -16,33 +16,6 @@ namespace {
 constexpr int kRelocalizationCandidates = 10;
 constexpr double kRelocalizationRatio = 0.75;
 
-// Where a map point falls in a camera, if it can be seen there at all.
-struct Projection {
-  Eigen::Vector2d pixel;
-  double distance = 0.0;
-  double view_cos = 0.0;
-};
-
-std::optional<Projection> Project(const PinholeCamera& camera, const ImageBounds& bounds,
-                                  const SE3& T_cw, const MapPoint& point, bool check_scale) {
-  const Eigen::Vector3d Xc = T_cw * point.position;
-  if (Xc.z() <= 0.0) return std::nullopt;
-  Projection p;
-  p.pixel = camera.ProjectUndistorted(Xc);
-  if (!bounds.Contains(p.pixel)) return std::nullopt;
-  const Eigen::Vector3d centre = T_cw.Inverse().translation();
-  const Eigen::Vector3d ray = point.position - centre;
-  p.distance = ray.norm();
-  if (check_scale) {
-    if (p.distance < 0.8 * point.min_distance || p.distance > 1.2 * point.max_distance) {
-      return std::nullopt;
-    }
-    p.view_cos = ray.dot(point.normal) / p.distance;
-    if (p.view_cos < 0.5) return std::nullopt;
-  }
-  return p;
-}
-
 int CountMatches(const std::vector<int>& matches) {
   return static_cast<int>(
       std::count_if(matches.begin(), matches.end(), [](int m) { return m != kNoMatch; }));
@@ -339,7 +312,7 @@ bool Tracking::TrackWithMotionModel(Frame& frame) {
     const MapPointPtr& point = last_frame_->points[i];
     if (!point || point->bad) continue;
     const auto projection =
-        Project(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, false);
+        ProjectPoint(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, false);
     if (!projection) continue;
     const cv::KeyPoint& kp = last_frame_->features.keypoints[i];
     ProjectedPoint p;
@@ -445,7 +418,7 @@ int Tracking::TrackLocalMap(Frame& frame) {
         continue;
       }
       const auto projection =
-          Project(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, true);
+          ProjectPoint(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, true);
       if (!projection) continue;
       ++point->visible;
       const int level = pyramid().PredictLevel(projection->distance, point->max_distance);
@@ -583,7 +556,7 @@ bool Tracking::Relocalize(Frame& frame) {
         if (std::find(frame.points.begin(), frame.points.end(), point) != frame.points.end())
           continue;
         const auto projection =
-            Project(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, true);
+            ProjectPoint(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, true);
         if (!projection) continue;
         const int level = pyramid().PredictLevel(projection->distance, point->max_distance);
         ProjectedPoint p;

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -71,6 +72,18 @@ struct KeyFrame {
   Eigen::Vector3d Centre() const { return T_cw.Inverse().translation(); }
   int TrackedPoints(int min_observations) const;
 };
+
+// Where a map point falls in a camera, if it can be seen there: in front, inside the
+// (undistorted) image bounds and, with check_scale, within the point's scale-invariance
+// distances (x0.8 .. x1.2) and at most 60 degrees from its mean viewing direction.
+struct PointProjection {
+  Eigen::Vector2d pixel;
+  double distance = 0.0;  // from the camera centre
+  double view_cos = 0.0;  // cosine to the mean viewing direction (check_scale only)
+};
+std::optional<PointProjection> ProjectPoint(const PinholeCamera& camera, const ImageBounds& bounds,
+                                            const SE3& T_cw, const MapPoint& point,
+                                            bool check_scale);
 
 class Map {
  public:
