@@ -7,17 +7,21 @@ namespace ocg {
 
 BowDatabase::BowDatabase(std::size_t word_count) : postings_(word_count) {}
 
+void BowDatabase::RemovePostingsLocked(int id) {
+  const auto existing = entries_.find(id);
+  if (existing == entries_.end()) return;
+  for (const auto& [word, weight] : existing->second.entries) {
+    auto& list = postings_[word];
+    list.erase(
+        std::remove_if(list.begin(), list.end(), [id](const Posting& p) { return p.id == id; }),
+        list.end());
+  }
+  entries_.erase(existing);
+}
+
 void BowDatabase::Add(int id, const BowVector& bow) {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto existing = entries_.find(id);
-  if (existing != entries_.end()) {
-    for (const auto& [word, weight] : existing->second.entries) {
-      auto& list = postings_[word];
-      list.erase(
-          std::remove_if(list.begin(), list.end(), [id](const Posting& p) { return p.id == id; }),
-          list.end());
-    }
-  }
+  RemovePostingsLocked(id);
   for (const auto& [word, weight] : bow.entries) {
     if (word >= postings_.size()) postings_.resize(word + 1);
     postings_[word].push_back({id, weight});
@@ -27,15 +31,7 @@ void BowDatabase::Add(int id, const BowVector& bow) {
 
 void BowDatabase::Erase(int id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto existing = entries_.find(id);
-  if (existing == entries_.end()) return;
-  for (const auto& [word, weight] : existing->second.entries) {
-    auto& list = postings_[word];
-    list.erase(
-        std::remove_if(list.begin(), list.end(), [id](const Posting& p) { return p.id == id; }),
-        list.end());
-  }
-  entries_.erase(existing);
+  RemovePostingsLocked(id);
 }
 
 void BowDatabase::Clear() {

@@ -16,6 +16,21 @@ namespace {
 constexpr int kRelocalizationCandidates = 10;
 constexpr double kRelocalizationRatio = 0.75;
 
+// Features of the frame that already have a map point: search must not match them again.
+std::vector<bool> MatchedFeatures(const Frame& frame) {
+  std::vector<bool> matched(frame.points.size());
+  for (std::size_t i = 0; i < matched.size(); ++i) matched[i] = frame.points[i] != nullptr;
+  return matched;
+}
+
+// Gives each matched feature the map point of the query that found it.
+void AssignMatches(const std::vector<int>& matches, const std::vector<MapPointPtr>& sources,
+                   Frame* frame) {
+  for (std::size_t q = 0; q < matches.size(); ++q) {
+    if (matches[q] != kNoMatch) frame->points[static_cast<std::size_t>(matches[q])] = sources[q];
+  }
+}
+
 int CountMatches(const std::vector<int>& matches) {
   return static_cast<int>(
       std::count_if(matches.begin(), matches.end(), [](int m) { return m != kNoMatch; }));
@@ -333,9 +348,7 @@ bool Tracking::TrackWithMotionModel(Frame& frame) {
     const std::vector<int> matches =
         SearchByProjection(frame.features, points, nullptr, 0.0, matcher_.loose_distance, matcher_);
     std::fill(frame.points.begin(), frame.points.end(), nullptr);
-    for (std::size_t q = 0; q < matches.size(); ++q) {
-      if (matches[q] != kNoMatch) frame.points[static_cast<std::size_t>(matches[q])] = sources[q];
-    }
+    AssignMatches(matches, sources, &frame);
     if (CountMatches(matches) >= options_.min_motion_matches) break;
   }
   const int matched = static_cast<int>(std::count_if(
@@ -433,16 +446,13 @@ int Tracking::TrackLocalMap(Frame& frame) {
       sources.push_back(point);
     }
   }
-  std::vector<bool> taken(frame.points.size());
-  for (std::size_t i = 0; i < taken.size(); ++i) taken[i] = frame.points[i] != nullptr;
+  const std::vector<bool> taken = MatchedFeatures(frame);
   MatcherOptions options = matcher_;
   options.check_orientation = false;
   const std::vector<int> matches =
       SearchByProjection(frame.features, projected, &taken, matcher_.projection_ratio,
                          matcher_.loose_distance, options);
-  for (std::size_t q = 0; q < matches.size(); ++q) {
-    if (matches[q] != kNoMatch) frame.points[static_cast<std::size_t>(matches[q])] = sources[q];
-  }
+  AssignMatches(matches, sources, &frame);
   const int inliers = OptimizeFramePose(frame);
   for (const MapPointPtr& point : frame.points) {
     if (point) ++point->found;
@@ -568,13 +578,10 @@ bool Tracking::Relocalize(Frame& frame) {
         projected.push_back(p);
         sources.push_back(point);
       }
-      std::vector<bool> taken(frame.points.size());
-      for (std::size_t i = 0; i < taken.size(); ++i) taken[i] = frame.points[i] != nullptr;
+      const std::vector<bool> taken = MatchedFeatures(frame);
       const std::vector<int> extra = SearchByProjection(frame.features, projected, &taken, 0.9,
                                                         matcher_.loose_distance, matcher_);
-      for (std::size_t q = 0; q < extra.size(); ++q) {
-        if (extra[q] != kNoMatch) frame.points[static_cast<std::size_t>(extra[q])] = sources[q];
-      }
+      AssignMatches(extra, sources, &frame);
       good = OptimizeFramePose(frame);
     }
     if (good >= options_.min_inliers_after_relocalization) {
@@ -599,7 +606,6 @@ void Tracking::Reset() {
   last_frame_.reset();
   velocity_.reset();
   reference_.reset();
-  last_keyframe_.reset();
 }
 
 }  // namespace ocg

@@ -39,6 +39,9 @@ class BowDatabase {
                                     const std::vector<int>& exclude = {}) const;
 
  private:
+  // Removes id's entry and postings; the caller holds mutex_.
+  void RemovePostingsLocked(int id);
+
   struct Posting {
     int id;
     double weight;

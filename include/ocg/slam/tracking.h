@@ -127,7 +127,6 @@ class Tracking {
   std::unique_ptr<Frame> last_frame_;
   std::optional<SE3> velocity_;  // T_current_last
   KeyFramePtr reference_;
-  KeyFramePtr last_keyframe_;
   std::uint64_t last_keyframe_frame_id_ = 0;
   std::uint64_t last_relocalization_frame_id_ = 0;
 };
