@@ -27,6 +27,13 @@ std::optional<Eigen::Vector3d> VectorFromJson(const nlohmann::json& json) {
   return Eigen::Vector3d(values[0], values[1], values[2]);
 }
 
+nlohmann::json OptionsJson(const OcgOptions& options) {
+  nlohmann::json json = nlohmann::json::object();
+  VisitOcgOptionFields(options,
+                       [&json](const char* name, const auto& member) { json[name] = member; });
+  return json;
+}
+
 }  // namespace
 
 ObjectChangeDetector::ObjectChangeDetector(OcgOptions options)
@@ -115,6 +122,10 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   for (const ObservedWeight& entry : observed_weight_) candidates_.push_back(entry.id);
   if (modes_.isolated_fallback) {
     candidates_.insert(candidates_.end(), isolated_.begin(), isolated_.end());
+  }
+  if (modes_.strategy == ChangeStrategy::kVisibility) {
+    // The naive baseline looks at every object: O(map size) by design.
+    for (const auto& entry : records_) candidates_.push_back(entry.first);
   }
   std::sort(candidates_.begin(), candidates_.end());
   candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
@@ -228,19 +239,7 @@ std::string ObjectChangeDetector::ToJson() const {
       {"format", "ocg-graph"},
       {"version", 1},
       {"keyframe", any_keyframe_ ? nlohmann::json(last_keyframe_) : nlohmann::json(nullptr)},
-      {"options",
-       {{"mode", options_.mode},
-        {"tau_observable", options_.tau_observable},
-        {"tau_doubt", options_.tau_doubt},
-        {"increment_full", options_.increment_full},
-        {"increment_high", options_.increment_high},
-        {"increment_low", options_.increment_low},
-        {"rate_high", options_.rate_high},
-        {"isolated_rate", options_.isolated_rate},
-        {"image_margin", options_.image_margin},
-        {"distance_slack", options_.distance_slack},
-        {"min_box_fraction", options_.min_box_fraction},
-        {"guard_min_neighbours", options_.guard_min_neighbours}}},
+      {"options", OptionsJson(options_)},
       {"nodes", nodes},
       {"edges", edges}};
   return root.dump(1) + "\n";
@@ -254,18 +253,10 @@ ObjectChangeDetector ObjectChangeDetector::FromJson(const std::string& text) {
     }
     const nlohmann::json& json_options = root.at("options");
     OcgOptions options;
-    options.mode = json_options.at("mode").get<std::string>();
-    options.tau_observable = json_options.at("tau_observable").get<double>();
-    options.tau_doubt = json_options.at("tau_doubt").get<double>();
-    options.increment_full = json_options.at("increment_full").get<double>();
-    options.increment_high = json_options.at("increment_high").get<double>();
-    options.increment_low = json_options.at("increment_low").get<double>();
-    options.rate_high = json_options.at("rate_high").get<double>();
-    options.isolated_rate = json_options.at("isolated_rate").get<double>();
-    options.image_margin = json_options.at("image_margin").get<double>();
-    options.distance_slack = json_options.at("distance_slack").get<double>();
-    options.min_box_fraction = json_options.at("min_box_fraction").get<double>();
-    options.guard_min_neighbours = json_options.at("guard_min_neighbours").get<int>();
+    VisitOcgOptionFields(options, [&json_options](const char* name, auto& member) {
+      // Files written before a field existed keep its default.
+      if (json_options.contains(name)) json_options.at(name).get_to(member);
+    });
     ObjectChangeDetector detector(options);
     if (!root.at("keyframe").is_null()) {
       detector.last_keyframe_ = root.at("keyframe").get<std::int64_t>();

@@ -23,6 +23,27 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
     judgement.next = NextState(current, true, judgement.rate, 0.0, options);
     return judgement;
   }
+  if (modes.strategy == ChangeStrategy::kOff) {
+    judgement.next = current;
+    if (current.state == ObjectState::kObserved)
+      judgement.next.state = ObjectState::kRecentlyObserved;
+    return judgement;
+  }
+  if (modes.strategy == ChangeStrategy::kVisibility) {
+    // The doubt counts the keyframes since the last detection in which the object should
+    // have been seen; state 4 while it counts.
+    judgement.judged_by_geometry = true;
+    judgement.next = current;
+    if (GeometricallyVisible(geometry, T_cw, camera, options)) {
+      judgement.next.doubt += 1.0;
+      judgement.next.state = judgement.next.doubt >= options.visibility_keyframes
+                                 ? ObjectState::kOutlier
+                                 : ObjectState::kSuspicious;
+    } else if (current.state == ObjectState::kObserved) {
+      judgement.next.state = ObjectState::kRecentlyObserved;
+    }
+    return judgement;
+  }
   if (evidence.degree == 0 && modes.isolated_fallback) {
     judgement.judged_by_geometry = true;
     judgement.rate =

@@ -20,19 +20,28 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {"paper", "fallback", "in_image", "guard",
-                                               "improved"};
+  static const std::set<std::string> kKnown = {"paper",    "fallback", "in_image",  "guard",
+                                               "improved", "off",      "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
+  OcgModes modes;
+  for (const auto& [name, strategy] : {std::pair{"off", ChangeStrategy::kOff},
+                                       std::pair{"visibility", ChangeStrategy::kVisibility}}) {
+    if (parts.count(name) == 0) continue;
+    RequireOption(parts.size() == 1, "OCG.mode",
+                  std::string("the baseline '") + name + "' cannot be combined with other modes");
+    modes.strategy = strategy;
+    return modes;
+  }
   for (const std::string& part : parts) {
     RequireOption(kKnown.count(part) > 0, "OCG.mode",
                   "unknown mode '" + part +
-                      "' (use paper, or fallback, in_image, guard joined with '+', or improved)");
+                      "' (use paper, or fallback, in_image, guard joined with '+', or improved; "
+                      "baselines: off, visibility)");
   }
   RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
                 "'paper' cannot be combined with improvements");
   const bool all = parts.count("improved") > 0;
-  OcgModes modes;
   modes.isolated_fallback = all || parts.count("fallback") > 0;
   modes.box_in_image = all || parts.count("in_image") > 0;
   modes.dropout_guard = all || parts.count("guard") > 0;
@@ -59,21 +68,13 @@ void OcgOptions::Check() const {
   RequireOption(min_box_fraction > 0 && min_box_fraction <= 1, "OCG.min_box_fraction",
                 "must be in (0, 1]");
   RequireOption(guard_min_neighbours >= 1, "OCG.guard_min_neighbours", "must be at least 1");
+  RequireOption(visibility_keyframes >= 1, "OCG.visibility_keyframes", "must be at least 1");
 }
 
 void ReadSettings(const SettingsFile& file, OcgOptions* options) {
-  file.Read("OCG.mode", &options->mode);
-  file.Read("OCG.tau_observable", &options->tau_observable);
-  file.Read("OCG.tau_doubt", &options->tau_doubt);
-  file.Read("OCG.increment_full", &options->increment_full);
-  file.Read("OCG.increment_high", &options->increment_high);
-  file.Read("OCG.increment_low", &options->increment_low);
-  file.Read("OCG.rate_high", &options->rate_high);
-  file.Read("OCG.isolated_rate", &options->isolated_rate);
-  file.Read("OCG.image_margin", &options->image_margin);
-  file.Read("OCG.distance_slack", &options->distance_slack);
-  file.Read("OCG.min_box_fraction", &options->min_box_fraction);
-  file.Read("OCG.guard_min_neighbours", &options->guard_min_neighbours);
+  VisitOcgOptionFields(*options, [&file](const char* name, auto& member) {
+    file.Read(std::string("OCG.") + name, &member);
+  });
 }
 
 }  // namespace ocg

@@ -188,6 +188,50 @@ TEST_F(FallbackStory, TooFarToBeDetectedIsNotVisible) {
   EXPECT_EQ(StateOf(1), S::kUnknown);
 }
 
+class OffStory : public Story {
+ protected:
+  OffStory() : Story("off") {}
+};
+
+TEST_F(OffStory, MovedObjectIsNeverRemoved) {
+  for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});
+  AtShelf({5, 6});
+  for (int i = 0; i < 5; ++i) AtTable({2, 3, 4});  // paper mode removes 1 on leaving
+  EXPECT_TRUE(AtShelf({5, 6}).removed.empty());
+  EXPECT_EQ(StateOf(1), S::kRecentlyObserved);
+  EXPECT_EQ(DoubtOf(1), 0.0);
+  EXPECT_EQ(detector_.graph().EdgeWeight(1, 2), 3u);  // the graph is still kept
+}
+
+class VisibilityStory : public Story {
+ protected:
+  VisibilityStory() : Story("visibility") {}
+};
+
+TEST_F(VisibilityStory, RemovedAfterEnoughVisibleKeyframesWithoutDetection) {
+  AtTable({1});  // no neighbours needed
+  AtShelf({5, 6});
+  EXPECT_EQ(StateOf(1), S::kRecentlyObserved);  // not visible from the shelf: no count
+  EXPECT_EQ(DoubtOf(1), 0.0);
+  for (int i = 1; i < 5; ++i) {
+    EXPECT_TRUE(AtTable({}).removed.empty());
+    EXPECT_EQ(StateOf(1), S::kSuspicious);
+    EXPECT_EQ(DoubtOf(1), i);
+  }
+  const KeyframeResult fifth = AtTable({});
+  ASSERT_EQ(fifth.removed.size(), 1u);
+  EXPECT_EQ(fifth.removed[0].object_id, 1);
+}
+
+TEST_F(VisibilityStory, DetectionResetsTheCount) {
+  AtTable({1});
+  for (int i = 0; i < 4; ++i) AtTable({});
+  AtTable({1});
+  EXPECT_EQ(StateOf(1), S::kObserved);
+  EXPECT_EQ(DoubtOf(1), 0.0);
+  for (int i = 0; i < 4; ++i) EXPECT_TRUE(AtTable({}).removed.empty());
+}
+
 class InImageStory : public Story {
  protected:
   InImageStory() : Story("in_image") {}

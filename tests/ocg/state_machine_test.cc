@@ -93,6 +93,16 @@ TEST(Options, ModesParseAndReject) {
   EXPECT_THROW(options.Check(), std::invalid_argument);
   options.mode = "fallbak";
   EXPECT_THROW(options.Check(), std::invalid_argument);
+  EXPECT_EQ(paper.strategy, ChangeStrategy::kGraph);
+  options.mode = "off";
+  EXPECT_EQ(options.modes().strategy, ChangeStrategy::kOff);
+  options.mode = "visibility";
+  EXPECT_EQ(options.modes().strategy, ChangeStrategy::kVisibility);
+  options.mode = "visibility+guard";
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options.mode = "visibility";
+  options.visibility_keyframes = 0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
 }
 
 }  // namespace

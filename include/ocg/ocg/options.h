@@ -7,8 +7,17 @@ namespace ocg {
 
 class SettingsFile;
 
-// The improvements named by OCG.mode, parsed once (the hot loop must not parse strings).
+// How objects are judged: the OCG (paper and improved modes) or one of the baselines.
+enum class ChangeStrategy {
+  kGraph,       // "paper" and the improved modes: SPEC 3
+  kOff,         // "off": no change detection (EAO-SLAM keeps every object)
+  kVisibility,  // "visibility": the naive test, no graph (see OcgOptions::visibility_keyframes)
+};
+
+// The strategy and improvements named by OCG.mode, parsed once (the hot loop must not
+// parse strings).
 struct OcgModes {
+  ChangeStrategy strategy = ChangeStrategy::kGraph;
   bool isolated_fallback = false;  // "fallback"
   bool box_in_image = false;       // "in_image"
   bool dropout_guard = false;      // "guard"
@@ -24,6 +33,9 @@ struct OcgOptions {
   //               increment is scaled by the fraction inside,
   //   "guard"     increments need enough neighbours actually detected,
   //   "improved"  all three. See docs/ocg.md for the case each one fixes.
+  // Baselines for comparison: "off" (nothing is ever removed) and "visibility" (an object
+  // is removed after visibility_keyframes keyframes in which it should have been seen and
+  // was not, no graph involved).
   std::string mode = "paper";
 
   // OCG.tau_observable: ActiveEdgeRate threshold for entering/leaving the observable region.
@@ -49,6 +61,9 @@ struct OcgOptions {
   // "guard": neighbours that must be detected in the keyframe for an increment (capped at
   // the object's degree).
   int guard_min_neighbours = 2;
+  // "visibility": keyframes since the last detection in which the object was geometrically
+  // visible (as for "fallback") and not detected, after which it is removed.
+  int visibility_keyframes = 5;
 
   // The parsed mode. Throws OptionError when mode is invalid.
   OcgModes modes() const { return ParseOcgMode(mode); }
@@ -58,5 +73,25 @@ struct OcgOptions {
 };
 
 void ReadSettings(const SettingsFile& file, OcgOptions* options);
+
+// Calls visit(name, member) for every field, in one fixed order; the one list of fields
+// behind the settings reader and ocg.json (name without the "OCG." prefix). Options may
+// be const.
+template <typename Options, typename Visitor>
+void VisitOcgOptionFields(Options& options, Visitor&& visit) {
+  visit("mode", options.mode);
+  visit("tau_observable", options.tau_observable);
+  visit("tau_doubt", options.tau_doubt);
+  visit("increment_full", options.increment_full);
+  visit("increment_high", options.increment_high);
+  visit("increment_low", options.increment_low);
+  visit("rate_high", options.rate_high);
+  visit("isolated_rate", options.isolated_rate);
+  visit("image_margin", options.image_margin);
+  visit("distance_slack", options.distance_slack);
+  visit("min_box_fraction", options.min_box_fraction);
+  visit("guard_min_neighbours", options.guard_min_neighbours);
+  visit("visibility_keyframes", options.visibility_keyframes);
+}
 
 }  // namespace ocg
