@@ -1,10 +1,14 @@
-// ocg_eval: trajectory metrics (ATE, RPE) the way TUM's scripts and evo compute them.
+// ocg_eval: trajectory metrics (ATE, RPE) the way TUM's scripts and evo compute them, and
+// the object-map metrics of the paper's Table I (SPEC 4).
 
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include "cli_common.h"
+
+#include "ocg/eval/object_metrics.h"
 #include "ocg/eval/trajectory_error.h"
 #include "ocg/io/trajectory.h"
 
@@ -48,6 +52,70 @@ void AddTrajectoryPairOptions(CLI::App* command, TrajectoryPair* pair,
   command->add_flag("--json", pair->json, "print JSON instead of text");
 }
 
+struct ObjectsInput {
+  std::string gt, run, groundtruth;
+  ocg::ObjectMatchOptions match;
+  bool json = false;
+};
+
+void EvaluateObjects(const ObjectsInput& input) {
+  const ocg::ObjectGroundTruth truth = ocg::ReadObjectGroundTruth(input.gt, input.match);
+  std::vector<ocg::RunObject> objects = ocg::ReadRunObjects(input.run);
+  nlohmann::json alignment = nullptr;
+  if (!input.groundtruth.empty()) {
+    // Monocular runs live in their own frame and scale: align the run's trajectory first.
+    std::string trajectory = input.run + "/KeyFrameTrajectory.txt";
+    if (!std::filesystem::exists(trajectory)) trajectory = input.run + "/CameraTrajectory.txt";
+    const ocg::AteResult ate = ocg::ComputeAte(ocg::ReadTumTrajectory(input.groundtruth),
+                                               ocg::ReadTumTrajectory(trajectory), {});
+    ocg::TransformObjects(ate.reference_from_estimate, &objects);
+    alignment = {{"trajectory", trajectory},
+                 {"pairs", ate.pairs.size()},
+                 {"scale", ate.reference_from_estimate.scale()},
+                 {"ate_rmse", ate.translation.rmse}};
+  }
+  const ocg::ObjectMetrics m = ocg::ComputeObjectMetrics(truth, objects);
+  if (input.json) {
+    std::cout << nlohmann::json({{"corr_s", m.corr_s},
+                                 {"unident_s", m.unident_s},
+                                 {"redun_s", m.redun_s},
+                                 {"redun_duplicates", m.redun_duplicates},
+                                 {"redun_spurious", m.redun_spurious},
+                                 {"corr_m", m.corr_m},
+                                 {"delet_s", m.delet_s},
+                                 {"unident_m", m.unident_m},
+                                 {"acc", m.acc},
+                                 {"prec", m.prec},
+                                 {"recall", m.recall},
+                                 {"gt_static", m.gt_static},
+                                 {"gt_outdated", m.gt_outdated},
+                                 {"live_objects", m.live_objects},
+                                 {"removed_objects", m.removed_objects},
+                                 {"deleted_static_ids", m.deleted_static_ids},
+                                 {"unidentified_static_ids", m.unidentified_static_ids},
+                                 {"unidentified_moved_ids", m.unidentified_moved_ids},
+                                 {"duplicate_ids", m.duplicate_ids},
+                                 {"spurious_ids", m.spurious_ids},
+                                 {"alignment", alignment}})
+                     .dump(1)
+              << "\n";
+    return;
+  }
+  std::printf(
+      "| Corr.S | Unident.S | Redun.S (dup+spur) | Corr.M | Delet.S | Unident.M | Acc | "
+      "Prec | Recall |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| %d | %d | %d (%d+%d) | %d | %d | %d | %.3f | %.3f | %.3f |\n", m.corr_s,
+              m.unident_s, m.redun_s, m.redun_duplicates, m.redun_spurious, m.corr_m, m.delet_s,
+              m.unident_m, m.acc, m.prec, m.recall);
+  std::printf("| GT: %d static | | | %d moved | | | | | |\n", m.gt_static, m.gt_outdated);
+  std::printf("%d live objects, %d removed by change detection", m.live_objects, m.removed_objects);
+  if (!alignment.is_null()) {
+    std::printf("; run aligned to ground truth (Sim(3), scale %.4f, ATE %.4f m)",
+                alignment["scale"].get<double>(), alignment["ate_rmse"].get<double>());
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -71,7 +139,37 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"frames", "seconds"}));
 
+  ObjectsInput objects_input;
+  CLI::App* objects = app.add_subcommand(
+      "objects", "object-map metrics of the paper's Table I (SPEC 4) for a run folder");
+  objects->add_option("--gt", objects_input.gt, "ground-truth objects (objects_gt.json)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  objects->add_option("--run", objects_input.run, "run folder (objects.json, changes.json)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  objects
+      ->add_option("--groundtruth", objects_input.groundtruth,
+                   "ground-truth trajectory: align the run's trajectory to it (Sim(3)) first; "
+                   "leave out for runs on ground-truth poses")
+      ->check(CLI::ExistingFile);
+  objects
+      ->add_option("--distance-factor", objects_input.match.distance_factor,
+                   "match within this share of the larger ground-truth extent")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  objects
+      ->add_option("--min-distance", objects_input.match.min_distance,
+                   "but never closer than this, metres")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  objects->add_flag("--json", objects_input.json, "print JSON instead of a table row");
+
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
+    if (objects->parsed()) {
+      EvaluateObjects(objects_input);
+      return;
+    }
     if (ate->parsed()) {
       ocg::AteOptions options;
       options.alignment = ocg::ParseAlignmentMode(ate_input.align);

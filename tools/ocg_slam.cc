@@ -1,5 +1,6 @@
 // ocg_slam: monocular SLAM on a TUM or EuRoC sequence; writes the keyframe and camera
-// trajectories (TUM format) and run.json (docs/slam.md).
+// trajectories (TUM format) and run.json (docs/slam.md). `ocg_slam objects` builds the
+// object map from a given trajectory and detections alone (docs/objects.md).
 
 #include <algorithm>
 #include <chrono>
@@ -12,8 +13,10 @@
 #include "cli_common.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/io/detections.h"
 #include "ocg/io/sequence.h"
 #include "ocg/io/trajectory.h"
+#include "ocg/objects/object_mapper.h"
 #include "ocg/slam/system.h"
 
 namespace {
@@ -42,6 +45,114 @@ std::string TimestampInSeconds(const std::string& text, const std::string& forma
     return text;
   }
   return text.substr(0, text.size() - 9) + "." + text.substr(text.size() - 9);
+}
+
+struct ObjectsCommand {
+  std::string trajectory, detections, settings, frames, output, mode;
+  bool lenient = false;
+};
+
+// The frames to process: the image list's timestamps, or the detection files' names.
+std::vector<std::pair<std::string, double>> FrameTimestamps(const ObjectsCommand& command) {
+  std::vector<std::pair<std::string, double>> frames;
+  if (!command.frames.empty()) {
+    for (const ocg::TimedImage& image : ocg::ReadTumImageList(command.frames, ".")) {
+      frames.emplace_back(image.timestamp_text, image.timestamp);
+    }
+    return frames;
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(command.detections)) {
+    if (entry.path().extension() != ".txt") continue;
+    const std::string stem = entry.path().stem().string();
+    char* end = nullptr;
+    const double timestamp = std::strtod(stem.c_str(), &end);
+    if (end == stem.c_str() || *end != '\0') {
+      throw std::invalid_argument("detection file '" + entry.path().string() +
+                                  "' is not named <timestamp>.txt (give the frames with --frames)");
+    }
+    frames.emplace_back(stem, timestamp);
+  }
+  std::sort(frames.begin(), frames.end(),
+            [](const auto& a, const auto& b) { return a.second < b.second; });
+  return frames;
+}
+
+void RunObjects(const ObjectsCommand& command) {
+  const ocg::LoadedSettings loaded = ocg::LoadSettings(command.settings);
+  ocg::Settings settings = loaded.settings;
+  if (!command.mode.empty()) {
+    settings.ocg.mode = command.mode;
+    settings.ocg.Check();
+  }
+  const std::vector<ocg::StampedPose> trajectory = ocg::ReadTumTrajectory(command.trajectory);
+  if (trajectory.empty()) throw std::invalid_argument("'" + command.trajectory + "' holds no pose");
+  const auto frames = FrameTimestamps(command);
+  if (frames.empty()) throw std::invalid_argument("no frames to process");
+  ocg::DetectionReadOptions read_options;
+  read_options.lenient = command.lenient;
+  ocg::EnsureDirectory(command.output);
+  std::cout << "ocg_slam objects: " << frames.size() << " frames, " << trajectory.size()
+            << " poses, OCG mode " << settings.ocg.mode << ", a keyframe every "
+            << settings.objects.keyframe_interval << " frames\n";
+
+  ocg::ObjectMapper mapper(settings.objects, settings.ocg, settings.camera.model, true);
+  mapper.RecordObservations();
+  ocg::ProgressLine progress("frames", frames.size());
+  const auto start = std::chrono::steady_clock::now();
+  std::int64_t used = 0, without_pose = 0, keyframes = 0;
+  std::vector<double> frame_seconds;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const auto& [text, timestamp] = frames[i];
+    const std::optional<ocg::SE3> T_cw = ocg::PoseAtTime(trajectory, timestamp);
+    if (!T_cw) {
+      ++without_pose;
+      continue;
+    }
+    const auto frame_start = std::chrono::steady_clock::now();
+    mapper.AddFrame(used, timestamp, *T_cw,
+                    ocg::ReadEaoDetectionsForImage(command.detections, text, read_options));
+    if (used % settings.objects.keyframe_interval == 0)
+      mapper.AddKeyframe(keyframes++, timestamp, *T_cw);
+    frame_seconds.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count());
+    ++used;
+    progress.Update(i + 1);
+  }
+  progress.Finish();
+  mapper.Finish();
+  if (used == 0) {
+    throw std::invalid_argument("no frame has a pose in '" + command.trajectory +
+                                "' (timestamps must match within 20 ms or lie between two poses "
+                                "at most 0.1 s apart)");
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const ocg::ObjectLayerStats stats = mapper.Stats();
+  ocg::WriteFileAtomically(command.output + "/objects.json", mapper.ObjectsJson());
+  ocg::WriteFileAtomically(command.output + "/changes.json", mapper.ChangesJson());
+  ocg::WriteFileAtomically(command.output + "/ocg.json", mapper.GraphJson());
+  ocg::WriteFileAtomically(command.output + "/ocg_observations.jsonl", mapper.ObservationsJsonl());
+  const nlohmann::json report = {{"command", "objects"},
+                                 {"trajectory", command.trajectory},
+                                 {"detections", command.detections},
+                                 {"settings", command.settings},
+                                 {"ocg_mode", settings.ocg.mode},
+                                 {"frames", frames.size()},
+                                 {"frames_used", used},
+                                 {"frames_without_pose", without_pose},
+                                 {"keyframes", keyframes},
+                                 {"detections_used", stats.detections_used},
+                                 {"detections_matched", stats.detections_matched},
+                                 {"objects_created", stats.objects_created},
+                                 {"objects_live", mapper.LiveObjectCount()},
+                                 {"wall_seconds", seconds},
+                                 {"timing", {{"objects_per_frame", Timing(frame_seconds)}}}};
+  ocg::WriteFileAtomically(command.output + "/run.json", report.dump(2) + "\n");
+  std::cout << used << " frames (" << without_pose << " without a pose skipped), " << keyframes
+            << " keyframes; " << stats.objects_created << " objects created, "
+            << mapper.LiveObjectCount() << " live at the end; " << seconds << " s\n"
+            << "wrote " << command.output
+            << "/objects.json, changes.json, ocg.json, ocg_observations.jsonl, run.json\n";
 }
 
 }  // namespace
@@ -73,7 +184,41 @@ int main(int argc, char** argv) {
   run->add_flag("--realtime", realtime,
                 "feed images at the pace of their timestamps (never drops frames)");
 
+  auto* objects = app.add_subcommand(
+      "objects",
+      "pose-given mode: build and maintain the object map from a trajectory and detections, no "
+      "images (writes objects.json, changes.json, ocg.json, run.json)");
+  ObjectsCommand objects_command;
+  objects
+      ->add_option("--trajectory", objects_command.trajectory,
+                   "camera poses, TUM format (camera to world)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  objects
+      ->add_option("--detections", objects_command.detections,
+                   "folder of <timestamp>.txt detection files (EAO format)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  objects
+      ->add_option("--settings", objects_command.settings,
+                   "settings file (camera, Objects.*, OCG.*)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  objects
+      ->add_option("--frames", objects_command.frames,
+                   "image list (rgb.txt) giving the frames; default: the detection files")
+      ->check(CLI::ExistingFile);
+  objects->add_option("--out", objects_command.output, "output folder")->required();
+  objects->add_option("--mode", objects_command.mode,
+                      "OCG.mode override (off, visibility, paper, ...)");
+  objects->add_flag("--lenient", objects_command.lenient,
+                    "skip malformed detection lines with a warning instead of failing");
+
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
+    if (objects->parsed()) {
+      RunObjects(objects_command);
+      return;
+    }
     const ocg::LoadedSettings loaded = ocg::LoadSettings(settings_path);
     const ocg::Settings& settings = loaded.settings;
     if (!detections.empty()) {

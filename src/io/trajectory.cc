@@ -1,5 +1,6 @@
 #include "ocg/io/trajectory.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -55,6 +56,33 @@ std::string FormatTumTrajectory(const std::vector<StampedPose>& poses) {
 
 void WriteTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
   WriteFileAtomically(path, FormatTumTrajectory(poses));
+}
+
+std::optional<SE3> PoseAtTime(const std::vector<StampedPose>& poses, double timestamp,
+                              double max_gap, double tolerance) {
+  const auto after =
+      std::lower_bound(poses.begin(), poses.end(), timestamp,
+                       [](const StampedPose& pose, double time) { return pose.timestamp < time; });
+  const StampedPose* next = after != poses.end() ? &*after : nullptr;
+  const StampedPose* previous = after != poses.begin() ? &*std::prev(after) : nullptr;
+  if (next != nullptr && previous != nullptr && next->timestamp - previous->timestamp <= max_gap) {
+    const double span = next->timestamp - previous->timestamp;
+    const double share = span > 0 ? (timestamp - previous->timestamp) / span : 0.0;
+    const Eigen::Quaterniond rotation =
+        previous->T_wc.quaternion().slerp(share, next->T_wc.quaternion());
+    const Eigen::Vector3d translation =
+        (1.0 - share) * previous->T_wc.translation() + share * next->T_wc.translation();
+    return SE3(rotation, translation).Inverse();
+  }
+  const StampedPose* nearest = previous;
+  if (next != nullptr &&
+      (nearest == nullptr || next->timestamp - timestamp < timestamp - nearest->timestamp)) {
+    nearest = next;
+  }
+  if (nearest != nullptr && std::abs(nearest->timestamp - timestamp) <= tolerance) {
+    return nearest->T_wc.Inverse();
+  }
+  return std::nullopt;
 }
 
 }  // namespace ocg

@@ -72,6 +72,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   std::sort(observed.begin(), observed.end());
   observed.erase(std::unique(observed.begin(), observed.end()), observed.end());
 
+  for (ObjectId id : observation.forgotten) Forget(id);
   // 1. Graph update, with new objects entering in state 1.
   for (ObjectId id : observed) {
     auto [it, created] = records_.try_emplace(id);

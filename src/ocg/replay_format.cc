@@ -102,6 +102,9 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
         observation.updates[ParseObjectKey(key, "classes")].class_id = value.get<int>();
       }
     }
+    if (root.contains("forgotten")) {
+      observation.forgotten = root.at("forgotten").get<std::vector<ObjectId>>();
+    }
     return observation;
   } catch (const json::exception& error) {
     throw ReplayFormatError(std::string("wrong type: ") + error.what());
@@ -139,6 +142,7 @@ std::string ObservationToJson(const KeyframeObservation& observation) {
   root["centroids"] = centroids;
   if (!sizes.empty()) root["sizes"] = sizes;
   if (!classes.empty()) root["classes"] = classes;
+  if (!observation.forgotten.empty()) root["forgotten"] = observation.forgotten;
   return root.dump();
 }
 

@@ -87,14 +87,19 @@ class Placer {
  public:
   Placer(Scene& scene, std::mt19937_64& rng) : scene_(scene), rng_(rng) {}
 
-  // A free place on one half of the table (side -1: y < 0, +1: y > 0), or nullopt.
-  std::optional<Eigen::Vector3d> FreePlace(const ObjectKind& kind, int side, int ignore_id = -1) {
+  // A free place on one half of the table (side -1: y < 0, +1: y > 0), or nullopt. A move
+  // (away_from set) must take the object at least its largest extent, and 0.25 m, from
+  // where it was: a shift within its own footprint is not a move anyone could measure.
+  std::optional<Eigen::Vector3d> FreePlace(const ObjectKind& kind, int side, int ignore_id = -1,
+                                           const Eigen::Vector3d* away_from = nullptr) {
+    const double min_move = std::max(0.25, kind.size.maxCoeff());
     const Eigen::Vector2d half = Footprint(kind.size);
     std::uniform_real_distribution<double> x(-kTableLength / 2 + half.x() + 0.03,
                                              kTableLength / 2 - half.x() - 0.03);
     std::uniform_real_distribution<double> y(0.04 + half.y(), kTableWidth / 2 - half.y() - 0.03);
     for (int attempt = 0; attempt < 400; ++attempt) {
       const Eigen::Vector3d centre(x(rng_), side * y(rng_), kTableTop + kind.size.z() / 2);
+      if (away_from != nullptr && (centre - *away_from).head<2>().norm() < min_move) continue;
       if (IsFree(centre, half, ignore_id)) return centre;
     }
     return std::nullopt;
@@ -263,7 +268,8 @@ std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene
       move.earliest = LapDuration(scene.path) * (0.8 + 0.8 * i / std::max(1, total));
       if (!removal) {
         const ObjectKind kind{object.class_id, object.shape, object.size};
-        const auto place = placer.FreePlace(kind, side, object.id);
+        auto place = placer.FreePlace(kind, side, object.id, &object.history[0].centre);
+        if (!place) place = placer.FreePlace(kind, -side, object.id, &object.history[0].centre);
         if (!place) continue;
         move.new_centre = *place;
         move.new_yaw = std::uniform_real_distribution<double>(-kMaxYaw, kMaxYaw)(rng);

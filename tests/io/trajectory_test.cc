@@ -55,3 +55,30 @@ TEST(TumTrajectory, MalformedLinesNameFileAndLine) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+TEST(PoseAtTime, InterpolatesBetweenPosesAndFallsBackToTheNearest) {
+  std::vector<StampedPose> poses(3);
+  poses[0].timestamp = 1.0;
+  poses[0].T_wc = SE3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 0));
+  poses[1].timestamp = 1.05;
+  poses[1].T_wc = SE3(Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())),
+                      Eigen::Vector3d(1, 0, 0));
+  poses[2].timestamp = 2.0;  // 0.95 s after the previous one: too far to interpolate
+  poses[2].T_wc = SE3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(5, 0, 0));
+  const std::optional<SE3> middle = PoseAtTime(poses, 1.025);
+  ASSERT_TRUE(middle.has_value());
+  const SE3 T_wc = middle->Inverse();
+  EXPECT_TRUE(T_wc.translation().isApprox(Eigen::Vector3d(0.5, 0, 0)));
+  EXPECT_NEAR(Eigen::AngleAxisd(T_wc.quaternion()).angle(), 0.1, 1e-9);
+  EXPECT_TRUE(PoseAtTime(poses, 1.99)->Inverse().translation().isApprox(Eigen::Vector3d(5, 0, 0)));
+  EXPECT_FALSE(PoseAtTime(poses, 1.5).has_value());  // in the gap
+  EXPECT_FALSE(PoseAtTime(poses, 0.9).has_value());  // before the first
+  EXPECT_TRUE(PoseAtTime(poses, 0.99).has_value());  // within 20 ms of the first
+  EXPECT_FALSE(PoseAtTime({}, 1.0).has_value());
+}
+
+}  // namespace
+}  // namespace ocg

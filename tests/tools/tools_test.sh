@@ -105,5 +105,28 @@ fails_with "ocg_slam names a missing vocabulary" "cannot open vocabulary" "$BIN/
 check "ocg_slam on six frames" "$BIN/ocg_slam" run --settings "$WORK/frames/camera.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --log-level warn
 check "run.json written" grep -q '"frames": 6' "$WORK/slam/run.json"
 
+# Pose-given object mapping and the object metrics, on a small generated sequence.
+check "render a small sequence" "$BIN/ocg_synth" --preset smoke --frames 300 --size 320x240 --out "$WORK/objseq" --keyframe-interval 0 --log-level warn
+objects_run() {  # objects_run OUT SETTINGS [extra args...]
+  local out=$1 settings=$2
+  shift 2
+  "$BIN/ocg_slam" objects --trajectory "$WORK/objseq/groundtruth.txt" --detections "$WORK/objseq/detections" --frames "$WORK/objseq/rgb.txt" --settings "$settings" --out "$out" --log-level warn "$@"
+}
+check "ocg_slam objects (pose-given)" objects_run "$WORK/objects" "$WORK/objseq/camera.yaml"
+for file in objects.json changes.json ocg.json ocg_observations.jsonl run.json; do
+  check "objects run wrote $file" test -s "$WORK/objects/$file"
+done
+check "objects run is deterministic" objects_run "$WORK/objects2" "$WORK/objseq/camera.yaml"
+check "identical object maps" diff "$WORK/objects/objects.json" "$WORK/objects2/objects.json"
+check "ocg_eval objects" bash -c "'$BIN/ocg_eval' objects --gt '$WORK/objseq/objects_gt.json' --run '$WORK/objects' --json >'$WORK/metrics.json'"
+check "most static objects mapped (Corr.S >= 6 of 8)" python3 -c "import json,sys; sys.exit(json.load(open('$WORK/metrics.json'))['corr_s'] < 6)"
+check "the OCG input replays" "$BIN/ocg_replay" --input "$WORK/objects/ocg_observations.jsonl" --out "$WORK/objects_replay"
+check "mode off removes nothing" objects_run "$WORK/objects_off" "$WORK/objseq/camera.yaml" --mode off
+check "no removal in mode off" bash -c "! grep -q '\"removed\"' '$WORK/objects_off/changes.json'"
+printf 'Objects:\n  min_confidence: 2\n' >"$WORK/bad_objects.yaml"
+fails_with "bad Objects key named" "Objects.min_confidence" objects_run "$WORK/never_objects" "$WORK/bad_objects.yaml"
+check "nothing written on failure" test ! -e "$WORK/never_objects/objects.json"
+fails_with "unknown OCG mode named" "OCG.mode" objects_run "$WORK/never_objects" "$WORK/objseq/camera.yaml" --mode sometimes
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

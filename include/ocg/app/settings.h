@@ -9,6 +9,7 @@
 #include "ocg/features/matcher.h"
 #include "ocg/features/orb_options.h"
 #include "ocg/features/vocabulary.h"
+#include "ocg/objects/objects_options.h"
 #include "ocg/ocg/options.h"
 #include "ocg/slam/initializer.h"
 #include "ocg/slam/local_mapping.h"
@@ -27,6 +28,7 @@ struct Settings {
   InitialMapOptions initializer;
   TrackingOptions tracking;
   LocalMappingOptions local_mapping;
+  ObjectsOptions objects;
   OcgOptions ocg;
   ViewerOptions viewer;
 

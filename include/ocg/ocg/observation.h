@@ -29,6 +29,9 @@ struct KeyframeObservation {
   PinholeCamera camera;
   std::vector<ObjectId> observed;  // map objects matched to a detection in this keyframe
   std::map<ObjectId, ObjectGeometryUpdate> updates;
+  // Objects the map dropped for its own reasons since the last keyframe (duplicates merged
+  // into another): forgotten before this keyframe's update, without a change-log entry.
+  std::vector<ObjectId> forgotten;
 };
 
 }  // namespace ocg

@@ -1,0 +1,69 @@
+#pragma once
+// Object-map metrics of the paper's Table I, computed (SPEC 4): ground-truth places
+// (static, and the outdated places moved objects left) against the run's objects (live at
+// the end, or removed on the way).
+
+#include <string>
+#include <vector>
+
+#include "ocg/core/lie.h"
+
+namespace ocg {
+
+struct GroundTruthPlace {
+  int object_id = 0;  // of the ground-truth object
+  int class_id = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0.0;  // matching distance: distance_factor x largest extent
+};
+
+struct ObjectGroundTruth {
+  std::vector<GroundTruthPlace> static_places;    // where objects are at the end
+  std::vector<GroundTruthPlace> outdated_places;  // where moved objects were before
+};
+
+struct ObjectMatchOptions {
+  // Matching distance = max(distance_factor x the larger GT extent, min_distance).
+  double distance_factor = 0.5;
+  double min_distance = 0.0;
+};
+
+// The generator's objects_gt.json: per object class_id, size and its history of
+// placements; the last present placement is a static place, every earlier one an
+// outdated place. Throws ParseError naming the file and what is wrong.
+ObjectGroundTruth ReadObjectGroundTruth(const std::string& path,
+                                        const ObjectMatchOptions& options = {});
+
+struct RunObject {
+  long long id = 0;
+  int class_id = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  bool live = false;  // in the final map (else removed by change detection)
+};
+
+// A run folder's objects.json (live) and changes.json ("removed" entries; merged
+// duplicates are part of the object they joined). Throws FileError / ParseError.
+std::vector<RunObject> ReadRunObjects(const std::string& run_dir);
+
+struct ObjectMetrics {
+  int corr_s = 0, unident_s = 0, redun_s = 0, corr_m = 0, delet_s = 0, unident_m = 0;
+  int redun_duplicates = 0, redun_spurious = 0;  // the two parts of redun_s
+  int gt_static = 0, gt_outdated = 0;
+  int live_objects = 0, removed_objects = 0;
+  double acc = 0.0, prec = 0.0, recall = 0.0;
+  // Per place / object, for reading a result: the ids behind each count.
+  std::vector<int> deleted_static_ids, unidentified_static_ids, unidentified_moved_ids;
+  std::vector<long long> duplicate_ids, spurious_ids;
+};
+
+// Acc, Prec and Recall of SPEC 4 from the six counts (0 when a denominator is 0).
+void ComputeRatios(ObjectMetrics* metrics);
+
+// The counts of SPEC 4. Objects must already be in the ground truth's frame.
+ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
+                                   const std::vector<RunObject>& objects);
+
+// Moves objects into the ground truth's frame: world_from_run applied to every centre.
+void TransformObjects(const Sim3& world_from_run, std::vector<RunObject>* objects);
+
+}  // namespace ocg

@@ -1,0 +1,60 @@
+#pragma once
+// Image boxes, the detections the object layer accepts, and cuboids.
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "ocg/core/camera.h"
+#include "ocg/core/lie.h"
+#include "ocg/io/detections.h"
+#include "ocg/objects/objects_options.h"
+
+namespace ocg {
+
+// Axis-aligned image rectangle, pixels, min corner inclusive.
+struct Box2 {
+  double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
+
+  double Width() const { return x1 - x0; }
+  double Height() const { return y1 - y0; }
+  double Area() const { return Width() > 0 && Height() > 0 ? Width() * Height() : 0.0; }
+  Eigen::Vector2d Centre() const { return {0.5 * (x0 + x1), 0.5 * (y0 + y1)}; }
+};
+
+double IntersectionOverUnion(const Box2& a, const Box2& b);
+
+// A detection the object layer uses.
+struct ObjectDetection {
+  int class_id = 0;
+  Box2 box;
+  double confidence = 0.0;
+  bool truncated = false;  // touches the image border (ObjectsOptions::border_margin)
+};
+
+// Keeps the detections of mapped classes at or above the minimum confidence, clips boxes
+// to the image, flags the ones at its border and suppresses same-class duplicates
+// (Objects.nms_iou). Order is kept.
+std::vector<ObjectDetection> FilterDetections(const std::vector<Detection>& detections,
+                                              const ObjectsOptions& options,
+                                              const PinholeCamera& camera);
+
+// A gravity-aligned box: size along its own axes, yaw about the up direction.
+struct Cuboid {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // world
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();    // full extents: x, y horizontal, z up
+  double yaw = 0.0;                                  // radians, about up
+};
+
+// Rotation from a gravity frame (z = up) to the world; x is the world axis least aligned
+// with up, projected on the horizontal plane, so that for up = world z it is the identity.
+Eigen::Matrix3d GravityFrame(const Eigen::Vector3d& up);
+
+std::array<Eigen::Vector3d, 8> CuboidCorners(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg);
+
+// The bounding rectangle of the cuboid's projected corners, clipped to the image; none
+// when a corner is behind the camera or the rectangle misses the image.
+std::optional<Box2> ProjectCuboid(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,
+                                  const SE3& T_cw, const PinholeCamera& camera);
+
+}  // namespace ocg

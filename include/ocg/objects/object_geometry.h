@@ -1,0 +1,50 @@
+#pragma once
+// Where an object is and how big, from its boxes in views of known pose: the centre from
+// the rays through the box centres (robust multi-view triangulation), extents and yaw
+// from the box sizes and the depth.
+
+#include <vector>
+
+#include "ocg/core/camera.h"
+#include "ocg/core/lie.h"
+#include "ocg/objects/box.h"
+
+namespace ocg {
+
+struct Ray {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit
+};
+
+struct RayIntersection {
+  bool valid = false;  // enough inliers, spread and in front of every inlier camera
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  std::vector<bool> inliers;
+  int inlier_count = 0;
+  double rms_distance = 0.0;  // of the inliers, metres
+  double parallax_deg = 0.0;  // largest angle between two inlier rays (approximately)
+};
+
+// The point nearest to all rays in the least-squares sense, reweighted (Cauchy) so that
+// rays that miss the others stop pulling; inliers pass within 3 robust sigmas (at least
+// min_sigma). Needs at least 2 rays and min_inlier_share of them inliers.
+RayIntersection IntersectRays(const std::vector<Ray>& rays, double min_sigma = 0.01,
+                              double min_inlier_share = 0.5);
+
+// The ray through a pixel from a camera.
+Ray PixelRay(const Eigen::Vector2d& pixel, const SE3& T_cw, const PinholeCamera& camera);
+
+struct BoxView {
+  SE3 T_cw;
+  Box2 box;
+};
+
+// Extents and yaw of a gravity-aligned cuboid centred at centre from untruncated boxes:
+// each box gives the width and height it spans at the centre's depth; the footprint
+// (a, b, yaw) is fitted to the widths seen from every azimuth, the height to the heights
+// once the footprint's share (seen from above) is taken out. With views from too narrow a
+// range of azimuths the footprint is taken square, yaw 0. Needs at least one view.
+Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>& views,
+                      const PinholeCamera& camera, const Eigen::Matrix3d& R_wg);
+
+}  // namespace ocg

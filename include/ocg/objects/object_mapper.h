@@ -1,0 +1,62 @@
+#pragma once
+// ObjectMapper: the object layer as one unit — detections in, object map kept up to date
+// by the OCG out. Used by the pose-given mode (`ocg_slam objects`) and by the SLAM run.
+//
+// Threading: AddFrame() and AddKeyframe() from one producer thread. In threaded mode the
+// OCG runs on its own thread and its removals reach the map from there; every access to
+// the map goes through map_mutex_. Readers (ObjectsJson() ...) may be called from any
+// thread; they see whole frames.
+
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "ocg/objects/object_map.h"
+#include "ocg/ocg/manager.h"
+#include "ocg/ocg/options.h"
+
+namespace ocg {
+
+struct ObjectLayerStats {
+  std::int64_t frames = 0;
+  std::int64_t keyframes = 0;
+  std::int64_t detections_used = 0;
+  std::int64_t detections_matched = 0;
+  std::int64_t objects_created = 0;
+};
+
+class ObjectMapper {
+ public:
+  ObjectMapper(ObjectsOptions objects, OcgOptions ocg, PinholeCamera camera, bool sequential);
+  ~ObjectMapper();
+  ObjectMapper(const ObjectMapper&) = delete;
+  ObjectMapper& operator=(const ObjectMapper&) = delete;
+
+  // Detections straight from the files: filtered here.
+  FrameAssociation AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
+                            const std::vector<Detection>& detections);
+  // Hands the OCG this keyframe (at the last added frame's pose).
+  void AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw);
+  // Keeps every keyframe's OCG input as a JSON line (SPEC 3.1), so the OCG can be replayed
+  // alone (`ocg_replay`) in other modes. Call before the first keyframe.
+  void RecordObservations() { record_observations_ = true; }
+  std::string ObservationsJsonl() const;
+  // Lets the OCG finish every keyframe. Idempotent.
+  void Finish();
+
+  std::string ObjectsJson() const;
+  std::string ChangesJson() const;
+  std::string GraphJson() const;
+  ObjectLayerStats Stats() const;
+  std::size_t LiveObjectCount() const;
+
+ private:
+  mutable std::mutex map_mutex_;  // guards map_ and stats_
+  ObjectMap map_;
+  ObjectLayerStats stats_;
+  bool record_observations_ = false;
+  std::string observations_jsonl_;
+  OcgManager manager_;
+};
+
+}  // namespace ocg

@@ -1,0 +1,82 @@
+#pragma once
+// Options of the object layer (settings section Objects.*).
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace ocg {
+
+class SettingsFile;
+
+struct ObjectsOptions {
+  // Objects.classes: COCO-80 ids to map. Empty: every class except person (0), which
+  // walks about and is never a landmark.
+  std::vector<int> classes;
+  // Objects.min_confidence: detections below it are ignored.
+  double min_confidence = 0.4;
+  // Objects.border_margin: a box within this many pixels of the image edge is truncated:
+  // it still associates, but its centre and extent do not say where the object is or how
+  // big it is, so it feeds neither the triangulation nor the size.
+  double border_margin = 4.0;
+  // Objects.nms_iou: of two boxes of one class overlapping by more than this IoU, the less
+  // confident is dropped (the detector's duplicates).
+  double nms_iou = 0.5;
+
+  // Association (Hungarian, one-to-one per frame): the score of a detection for an object
+  // of the same class is the mean of the available cues, each an IoU in [0, 1]: the box
+  // predicted from the object's recent observations (available while the last one is at
+  // most predicted_box_frames old) and the projection of its cuboid.
+  double min_association_score = 0.15;  // Objects.min_association_score
+  int predicted_box_frames = 5;         // Objects.predicted_box_frames
+  // Objects.max_ray_distance: a detection is only associated to a map object when the ray
+  // through its box centre passes within this share of the object's largest extent of the
+  // object's centre.
+  double max_ray_distance = 0.5;
+  // Objects.min_reacquire_iou: when the predicted box is not available (the object was not
+  // detected for a while), the detection must overlap the projected cuboid by this IoU.
+  double min_reacquire_iou = 0.4;
+
+  // Candidates: an unassociated detection starts one; it becomes a map object after
+  // candidate_min_observations usable (untruncated) observations whose rays spread by at
+  // least candidate_min_parallax_deg and meet at one point; it is dropped after
+  // candidate_max_missed_frames frames without a detection.
+  int candidate_min_observations = 8;       // Objects.candidate_min_observations
+  double candidate_min_parallax_deg = 4.0;  // Objects.candidate_min_parallax_deg
+  int candidate_max_missed_frames = 15;     // Objects.candidate_max_missed_frames
+
+  // Objects.min_inlier_share: of a candidate's rays, the share that must meet at its centre
+  // for promotion (a candidate fed by two objects of one class meets nowhere).
+  double min_inlier_share = 0.75;
+  // Objects.min_sightings, Objects.probation_keyframes: hygiene drops a map object with
+  // fewer sightings than min_sightings once it has been in the map for probation_keyframes
+  // keyframes (a burst of false detections that happened to triangulate).
+  int min_sightings = 20;
+  int probation_keyframes = 30;
+
+  // Objects.max_rays: the rays used to triangulate an object's centre (evenly thinned
+  // beyond this, so an object's cost stays bounded however long it is watched).
+  int max_rays = 60;
+
+  // Objects.merge_distance: two objects of the same class, never seen in the same frame,
+  // whose centres are closer than this share of the larger one's largest extent are one
+  // object seen twice: merged.
+  double merge_distance = 0.5;
+
+  // Objects.up: the world's up direction (gravity-aligned cuboids, yaw about it). In
+  // pose-given mode the given trajectory's world frame decides it.
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+
+  // Objects.keyframe_interval: pose-given mode has no SLAM keyframes; every N-th frame is
+  // one (about 3 per second at 30 Hz).
+  int keyframe_interval = 10;
+
+  // Whether detections of this class are mapped.
+  bool MapsClass(int class_id) const;
+  // Throws OptionError naming the key.
+  void Check() const;
+};
+
+void ReadSettings(const SettingsFile& file, ObjectsOptions* options);
+
+}  // namespace ocg

@@ -1,0 +1,197 @@
+#include "ocg/eval/object_metrics.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "ocg/core/file_io.h"
+#include "ocg/io/text_lines.h"
+
+namespace ocg {
+namespace {
+
+nlohmann::json ParseJsonFile(const std::string& path) {
+  const std::string text = ReadTextFile(path);
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& error) {
+    throw ParseError(path + ": not valid JSON: " + error.what());
+  }
+}
+
+Eigen::Vector3d Vector3(const nlohmann::json& json, const std::string& what) {
+  const auto values = json.get<std::vector<double>>();
+  if (values.size() != 3) throw std::invalid_argument(what + " needs 3 numbers");
+  return {values[0], values[1], values[2]};
+}
+
+bool Near(const GroundTruthPlace& place, const RunObject& object) {
+  return place.class_id == object.class_id && (place.centre - object.centre).norm() < place.radius;
+}
+
+}  // namespace
+
+ObjectGroundTruth ReadObjectGroundTruth(const std::string& path,
+                                        const ObjectMatchOptions& options) {
+  const nlohmann::json root = ParseJsonFile(path);
+  ObjectGroundTruth truth;
+  try {
+    for (const nlohmann::json& object : root.at("objects")) {
+      GroundTruthPlace place;
+      place.object_id = object.at("id").get<int>();
+      place.class_id = object.at("class_id").get<int>();
+      const Eigen::Vector3d size = Vector3(object.at("size"), "size");
+      place.radius = std::max(options.distance_factor * size.maxCoeff(), options.min_distance);
+      std::vector<Eigen::Vector3d> present;
+      bool present_at_end = false;
+      for (const nlohmann::json& placement : object.at("history")) {
+        present_at_end = placement.at("present").get<bool>();
+        if (present_at_end) present.push_back(Vector3(placement.at("centre"), "centre"));
+      }
+      for (std::size_t i = 0; i < present.size(); ++i) {
+        place.centre = present[i];
+        if (present_at_end && i + 1 == present.size()) {
+          truth.static_places.push_back(place);
+        } else {
+          truth.outdated_places.push_back(place);
+        }
+      }
+    }
+  } catch (const std::exception& error) {
+    throw ParseError(path + ": " + error.what() +
+                     " (expected {\"objects\": [{\"id\", \"class_id\", \"size\", \"history\": "
+                     "[{\"present\", \"centre\"}]}]})");
+  }
+  return truth;
+}
+
+std::vector<RunObject> ReadRunObjects(const std::string& run_dir) {
+  std::vector<RunObject> objects;
+  const std::string objects_path = run_dir + "/objects.json";
+  const nlohmann::json live = ParseJsonFile(objects_path);
+  try {
+    for (const nlohmann::json& entry : live.at("objects")) {
+      objects.push_back({entry.at("id").get<long long>(), entry.at("class_id").get<int>(),
+                         Vector3(entry.at("cuboid").at("centre"), "centre"), true});
+    }
+  } catch (const std::exception& error) {
+    throw ParseError(objects_path + ": " + error.what());
+  }
+  const std::string changes_path = run_dir + "/changes.json";
+  if (!std::filesystem::exists(changes_path)) return objects;
+  const nlohmann::json changes = ParseJsonFile(changes_path);
+  try {
+    for (const nlohmann::json& change : changes.at("changes")) {
+      if (change.at("type").get<std::string>() != "removed" || change.at("centroid").is_null()) {
+        continue;
+      }
+      objects.push_back({change.at("object_id").get<long long>(), change.at("class_id").get<int>(),
+                         Vector3(change.at("centroid"), "centroid"), false});
+    }
+  } catch (const std::exception& error) {
+    throw ParseError(changes_path + ": " + error.what());
+  }
+  return objects;
+}
+
+void ComputeRatios(ObjectMetrics* m) {
+  const auto ratio = [](int numerator, int denominator) {
+    return denominator > 0 ? static_cast<double>(numerator) / denominator : 0.0;
+  };
+  m->acc = ratio(m->corr_s, m->corr_s + m->unident_s + m->redun_s + m->delet_s + m->unident_m);
+  m->prec = ratio(m->corr_s, m->corr_s + m->redun_s + m->unident_m);
+  m->recall = ratio(m->corr_s, m->corr_s + m->unident_s + m->delet_s);
+}
+
+ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
+                                   const std::vector<RunObject>& objects) {
+  ObjectMetrics metrics;
+  metrics.gt_static = static_cast<int>(truth.static_places.size());
+  metrics.gt_outdated = static_cast<int>(truth.outdated_places.size());
+  std::vector<std::size_t> live;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    if (objects[i].live) {
+      live.push_back(i);
+      ++metrics.live_objects;
+    } else {
+      ++metrics.removed_objects;
+    }
+  }
+
+  // One-to-one, greedy by distance: each static place takes its nearest live object first.
+  struct Pair {
+    double distance;
+    std::size_t place, object;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t p = 0; p < truth.static_places.size(); ++p) {
+    for (std::size_t o : live) {
+      if (Near(truth.static_places[p], objects[o])) {
+        pairs.push_back({(truth.static_places[p].centre - objects[o].centre).norm(), p, o});
+      }
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+    return a.distance != b.distance ? a.distance < b.distance
+                                    : std::tie(a.place, a.object) < std::tie(b.place, b.object);
+  });
+  std::vector<bool> place_matched(truth.static_places.size(), false);
+  std::vector<bool> object_matched(objects.size(), false);
+  for (const Pair& pair : pairs) {
+    if (place_matched[pair.place] || object_matched[pair.object]) continue;
+    place_matched[pair.place] = object_matched[pair.object] = true;
+  }
+
+  for (std::size_t p = 0; p < truth.static_places.size(); ++p) {
+    const GroundTruthPlace& place = truth.static_places[p];
+    if (place_matched[p]) {
+      ++metrics.corr_s;
+      continue;
+    }
+    const bool ever = std::any_of(objects.begin(), objects.end(),
+                                  [&](const RunObject& object) { return Near(place, object); });
+    if (ever) {
+      ++metrics.delet_s;
+      metrics.deleted_static_ids.push_back(place.object_id);
+    } else {
+      ++metrics.unident_s;
+      metrics.unidentified_static_ids.push_back(place.object_id);
+    }
+  }
+  for (const GroundTruthPlace& place : truth.outdated_places) {
+    bool ever = false, now = false;
+    for (const RunObject& object : objects) {
+      if (!Near(place, object)) continue;
+      ever = true;
+      now = now || object.live;
+    }
+    if (now) {
+      ++metrics.unident_m;
+      metrics.unidentified_moved_ids.push_back(place.object_id);
+    } else if (ever) {
+      ++metrics.corr_m;
+    }
+  }
+  for (std::size_t o : live) {
+    if (object_matched[o]) continue;
+    const RunObject& object = objects[o];
+    const auto near = [&object](const GroundTruthPlace& place) { return Near(place, object); };
+    if (std::any_of(truth.outdated_places.begin(), truth.outdated_places.end(), near)) continue;
+    ++metrics.redun_s;
+    if (std::any_of(truth.static_places.begin(), truth.static_places.end(), near)) {
+      ++metrics.redun_duplicates;
+      metrics.duplicate_ids.push_back(object.id);
+    } else {
+      ++metrics.redun_spurious;
+      metrics.spurious_ids.push_back(object.id);
+    }
+  }
+  ComputeRatios(&metrics);
+  return metrics;
+}
+
+void TransformObjects(const Sim3& world_from_run, std::vector<RunObject>* objects) {
+  for (RunObject& object : *objects) object.centre = world_from_run * object.centre;
+}
+
+}  // namespace ocg

@@ -1,0 +1,107 @@
+#include "ocg/objects/box.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ocg {
+
+double IntersectionOverUnion(const Box2& a, const Box2& b) {
+  const Box2 overlap{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
+                     std::min(a.y1, b.y1)};
+  const double intersection = overlap.Area();
+  const double united = a.Area() + b.Area() - intersection;
+  return united > 0 ? intersection / united : 0.0;
+}
+
+std::vector<ObjectDetection> FilterDetections(const std::vector<Detection>& detections,
+                                              const ObjectsOptions& options,
+                                              const PinholeCamera& camera) {
+  const double width = camera.width, height = camera.height, margin = options.border_margin;
+  std::vector<ObjectDetection> kept;
+  for (const Detection& detection : detections) {
+    if (!options.MapsClass(detection.class_id) || detection.confidence < options.min_confidence) {
+      continue;
+    }
+    ObjectDetection object;
+    object.class_id = detection.class_id;
+    object.confidence = detection.confidence;
+    const Box2 raw{detection.x, detection.y, detection.x + detection.width,
+                   detection.y + detection.height};
+    object.box = {std::max(raw.x0, 0.0), std::max(raw.y0, 0.0), std::min(raw.x1, width),
+                  std::min(raw.y1, height)};
+    if (object.box.Area() <= 0) continue;  // entirely outside the image
+    object.truncated = raw.x0 <= margin || raw.y0 <= margin || raw.x1 >= width - margin ||
+                       raw.y1 >= height - margin;
+    kept.push_back(object);
+  }
+  // Non-maximum suppression per class: the detector's duplicates would otherwise go to a
+  // second object of the class nearby.
+  std::vector<std::size_t> order(kept.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&kept](std::size_t a, std::size_t b) {
+    return kept[a].confidence > kept[b].confidence;
+  });
+  std::vector<bool> suppressed(kept.size(), false);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (suppressed[order[i]]) continue;
+    for (std::size_t j = i + 1; j < order.size(); ++j) {
+      const ObjectDetection& best = kept[order[i]];
+      const ObjectDetection& other = kept[order[j]];
+      if (other.class_id == best.class_id &&
+          IntersectionOverUnion(best.box, other.box) > options.nms_iou) {
+        suppressed[order[j]] = true;
+      }
+    }
+  }
+  std::vector<ObjectDetection> result;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    if (!suppressed[i]) result.push_back(kept[i]);
+  }
+  return result;
+}
+
+Eigen::Matrix3d GravityFrame(const Eigen::Vector3d& up) {
+  const Eigen::Vector3d z = up.normalized();
+  Eigen::Index least = 0;
+  z.cwiseAbs().minCoeff(&least);
+  Eigen::Vector3d x = Eigen::Vector3d::Unit(least);
+  x = (x - x.dot(z) * z).normalized();
+  Eigen::Matrix3d R_wg;
+  R_wg.col(0) = x;
+  R_wg.col(1) = z.cross(x);
+  R_wg.col(2) = z;
+  return R_wg;
+}
+
+std::array<Eigen::Vector3d, 8> CuboidCorners(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg) {
+  const Eigen::Matrix3d rotation =
+      R_wg * Eigen::AngleAxisd(cuboid.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::array<Eigen::Vector3d, 8> corners;
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d sign((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5);
+    corners[static_cast<std::size_t>(i)] =
+        cuboid.centre + rotation * sign.cwiseProduct(cuboid.size);
+  }
+  return corners;
+}
+
+std::optional<Box2> ProjectCuboid(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,
+                                  const SE3& T_cw, const PinholeCamera& camera) {
+  Box2 box{1e300, 1e300, -1e300, -1e300};
+  for (const Eigen::Vector3d& corner : CuboidCorners(cuboid, R_wg)) {
+    const Eigen::Vector3d point = T_cw * corner;
+    if (point.z() <= 1e-3) return std::nullopt;
+    // Undistorted projection: boxes are compared in the image the detector saw, but for
+    // the mild distortion of the cameras in use the difference is a pixel or two.
+    const Eigen::Vector2d pixel = camera.ProjectUndistorted(point);
+    box = {std::min(box.x0, pixel.x()), std::min(box.y0, pixel.y()), std::max(box.x1, pixel.x()),
+           std::max(box.y1, pixel.y())};
+  }
+  box = {std::max(box.x0, 0.0), std::max(box.y0, 0.0),
+         std::min(box.x1, static_cast<double>(camera.width)),
+         std::min(box.y1, static_cast<double>(camera.height))};
+  if (box.Area() <= 0) return std::nullopt;
+  return box;
+}
+
+}  // namespace ocg

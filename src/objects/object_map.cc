@@ -1,0 +1,409 @@
+#include "ocg/objects/object_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "ocg/core/coco.h"
+#include "ocg/objects/assignment.h"
+#include "ocg/objects/object_geometry.h"
+
+namespace ocg {
+namespace {
+
+constexpr double kCandidatePenalty = 0.05;  // a map object wins a tie against a candidate
+
+// Every n-th element so that at most limit remain, first and last kept.
+std::vector<std::size_t> Thinned(std::size_t count, std::size_t limit) {
+  std::vector<std::size_t> indices;
+  if (count <= limit) {
+    for (std::size_t i = 0; i < count; ++i) indices.push_back(i);
+    return indices;
+  }
+  for (std::size_t k = 0; k < limit; ++k) indices.push_back(k * (count - 1) / (limit - 1));
+  return indices;
+}
+
+// The most frequent class among the sightings; the lower id on a tie.
+int MajorityClass(const std::vector<ObjectSighting>& sightings) {
+  std::map<int, int> votes;
+  for (const ObjectSighting& sighting : sightings) ++votes[sighting.class_id];
+  int best = sightings.front().class_id, best_votes = 0;
+  for (const auto& [class_id, count] : votes) {
+    if (count > best_votes) {
+      best = class_id;
+      best_votes = count;
+    }
+  }
+  return best;
+}
+
+bool SeenTogether(const MapObject& a, const MapObject& b) {
+  auto i = a.sightings.begin();
+  auto j = b.sightings.begin();
+  while (i != a.sightings.end() && j != b.sightings.end()) {
+    if (i->frame == j->frame) return true;
+    if (i->frame < j->frame) {
+      ++i;
+    } else {
+      ++j;
+    }
+  }
+  return false;
+}
+
+Eigen::Vector3d WorldExtent(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg) {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e300), high = -low;
+  for (const Eigen::Vector3d& corner : CuboidCorners(cuboid, R_wg)) {
+    low = low.cwiseMin(corner);
+    high = high.cwiseMax(corner);
+  }
+  return high - low;
+}
+
+nlohmann::json VectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json CuboidJson(const Cuboid& cuboid) {
+  return {{"centre", VectorJson(cuboid.centre)},
+          {"size", VectorJson(cuboid.size)},
+          {"yaw", cuboid.yaw}};
+}
+
+}  // namespace
+
+ObjectMap::ObjectMap(ObjectsOptions options, PinholeCamera camera)
+    : options_(std::move(options)), camera_(camera), R_wg_(GravityFrame(options_.up)) {
+  options_.Check();
+}
+
+double ObjectMap::AssociationScore(const MapObject& object, const ObjectDetection& detection,
+                                   std::int64_t frame, const SE3& T_cw) const {
+  if (object.has_cuboid) {
+    // Geometry first: the ray through the box centre must pass near the object's centre.
+    // Without this gate a detection of the same class close by (the object's new place
+    // after a move) keeps matching through the predicted box and feeds the old object.
+    const Ray ray = PixelRay(detection.box.Centre(), T_cw, camera_);
+    const Eigen::Vector3d offset = object.cuboid.centre - ray.origin;
+    const double miss = (offset - offset.dot(ray.direction) * ray.direction).norm();
+    if (offset.dot(ray.direction) <= 0 ||
+        miss > options_.max_ray_distance * object.cuboid.size.maxCoeff()) {
+      return 0.0;
+    }
+  }
+  double sum = 0.0;
+  int cues = 0;
+  const ObjectSighting& last = object.sightings.back();
+  if (frame - last.frame <= options_.predicted_box_frames) {
+    Box2 predicted = last.box;
+    if (object.has_cuboid) {
+      // Move the last box with the centre's projection and scale it with its depth.
+      const Eigen::Vector3d before = last.T_cw * object.cuboid.centre;
+      const Eigen::Vector3d now = T_cw * object.cuboid.centre;
+      if (before.z() > 1e-3 && now.z() > 1e-3) {
+        const Eigen::Vector2d shift =
+            camera_.ProjectUndistorted(now) - camera_.ProjectUndistorted(before);
+        const double scale = before.z() / now.z();
+        const Eigen::Vector2d centre = last.box.Centre() + shift;
+        const double half_width = 0.5 * last.box.Width() * scale;
+        const double half_height = 0.5 * last.box.Height() * scale;
+        predicted = {centre.x() - half_width, centre.y() - half_height, centre.x() + half_width,
+                     centre.y() + half_height};
+      }
+    }
+    sum += IntersectionOverUnion(predicted, detection.box);
+    ++cues;
+  }
+  if (object.has_cuboid) {
+    const std::optional<Box2> projected = ProjectCuboid(object.cuboid, R_wg_, T_cw, camera_);
+    const double overlap = projected ? IntersectionOverUnion(*projected, detection.box) : 0.0;
+    // Found again after a gap, with nothing but the cuboid to go by: the detection must
+    // cover it well, or an object of the class put down nearby would be taken for it.
+    if (cues == 0 && overlap < options_.min_reacquire_iou) return 0.0;
+    sum += overlap;
+    ++cues;
+  }
+  return cues > 0 ? sum / cues : 0.0;
+}
+
+FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
+                                     const std::vector<ObjectDetection>& detections) {
+  FrameAssociation result;
+  std::vector<MapObject*> entities;
+  for (auto& entry : objects_) entities.push_back(&entry.second);
+  const std::size_t object_count = entities.size();
+  for (auto& entry : candidates_) entities.push_back(&entry.second);
+
+  Eigen::MatrixXd cost =
+      Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(detections.size()),
+                                static_cast<Eigen::Index>(entities.size()), kForbiddenCost);
+  for (std::size_t d = 0; d < detections.size(); ++d) {
+    for (std::size_t e = 0; e < entities.size(); ++e) {
+      if (entities[e]->class_id != detections[d].class_id) continue;
+      const double score = AssociationScore(*entities[e], detections[d], frame, T_cw);
+      if (score < options_.min_association_score) continue;
+      cost(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(e)) =
+          1.0 - score + (e >= object_count ? kCandidatePenalty : 0.0);
+    }
+  }
+  const std::vector<int> assignment = SolveAssignment(cost);
+
+  for (std::size_t d = 0; d < detections.size(); ++d) {
+    const ObjectDetection& detection = detections[d];
+    const ObjectSighting sighting{frame, T_cw, detection.box, detection.truncated,
+                                  detection.class_id};
+    if (assignment[d] < 0) {
+      MapObject candidate;
+      candidate.id = next_candidate_id_--;
+      candidate.class_id = detection.class_id;
+      candidate.sightings.push_back(sighting);
+      candidate.first_frame = candidate.last_frame = frame;
+      candidate.first_timestamp = candidate.last_timestamp = timestamp;
+      candidates_.emplace(candidate.id, std::move(candidate));
+      ++result.new_candidates;
+      continue;
+    }
+    MapObject& entity = *entities[static_cast<std::size_t>(assignment[d])];
+    entity.sightings.push_back(sighting);
+    entity.last_frame = frame;
+    entity.last_timestamp = timestamp;
+    if (entity.id > 0) {
+      result.matched.emplace_back(static_cast<int>(d), entity.id);
+      observed_since_keyframe_[entity.id] = frame;
+      if (!detection.truncated && Reestimate(entity, false)) geometry_changed_[entity.id] = true;
+    }
+  }
+
+  for (auto it = candidates_.begin(); it != candidates_.end();) {
+    MapObject& candidate = it->second;
+    if (frame - candidate.last_frame > options_.candidate_max_missed_frames) {
+      it = candidates_.erase(it);
+      continue;
+    }
+    if (candidate.last_frame == frame && Reestimate(candidate, true)) {
+      MapObject object = std::move(candidate);
+      object.id = next_object_id_++;
+      observed_since_keyframe_[object.id] = frame;
+      geometry_changed_[object.id] = true;
+      result.promoted.push_back(object.id);
+      result.matched.emplace_back(-1, object.id);
+      objects_.emplace(object.id, std::move(object));
+      it = candidates_.erase(it);
+      continue;
+    }
+    ++it;
+  }
+  return result;
+}
+
+bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
+  std::vector<const ObjectSighting*> usable;
+  for (const ObjectSighting& sighting : object.sightings) {
+    if (!sighting.truncated) usable.push_back(&sighting);
+  }
+  if (candidate && static_cast<int>(usable.size()) < options_.candidate_min_observations) {
+    return false;
+  }
+  std::vector<Ray> rays;
+  std::vector<const ObjectSighting*> used;
+  for (std::size_t index : Thinned(usable.size(), static_cast<std::size_t>(options_.max_rays))) {
+    used.push_back(usable[index]);
+    rays.push_back(PixelRay(usable[index]->box.Centre(), usable[index]->T_cw, camera_));
+  }
+  const RayIntersection intersection =
+      IntersectRays(rays, 0.01, candidate ? options_.min_inlier_share : 0.5);
+  if (!intersection.valid) return false;
+  if (candidate && (intersection.inlier_count < options_.candidate_min_observations ||
+                    intersection.parallax_deg < options_.candidate_min_parallax_deg)) {
+    return false;
+  }
+  std::vector<BoxView> views;
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    if (intersection.inliers[i]) views.push_back({used[i]->T_cw, used[i]->box});
+  }
+  object.cuboid = EstimateCuboid(intersection.point, views, camera_, R_wg_);
+  object.has_cuboid = true;
+  return true;
+}
+
+void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
+                      std::vector<ObjectChange>* merges) {
+  MapObject& into = objects_.at(kept);
+  MapObject& from = objects_.at(absorbed);
+  ObjectChange change;
+  change.type = "merged";
+  change.keyframe_id = keyframe_id;
+  change.timestamp = timestamp;
+  change.object_id = absorbed;
+  change.merged_into = kept;
+  change.class_id = from.class_id;
+  change.cuboid = from.cuboid;
+  change.sightings = from.sightings.size();
+  std::vector<ObjectSighting> sightings;
+  std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
+             from.sightings.end(), std::back_inserter(sightings),
+             [](const ObjectSighting& a, const ObjectSighting& b) { return a.frame < b.frame; });
+  into.sightings = std::move(sightings);
+  into.class_id = MajorityClass(into.sightings);
+  into.first_frame = std::min(into.first_frame, from.first_frame);
+  into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
+  into.last_frame = std::max(into.last_frame, from.last_frame);
+  into.last_timestamp = std::max(into.last_timestamp, from.last_timestamp);
+  Reestimate(into, false);
+  geometry_changed_[kept] = true;
+  if (observed_since_keyframe_.count(absorbed) > 0) {
+    observed_since_keyframe_[kept] =
+        std::max(observed_since_keyframe_[kept], observed_since_keyframe_[absorbed]);
+  }
+  observed_since_keyframe_.erase(absorbed);
+  geometry_changed_.erase(absorbed);
+  objects_.erase(absorbed);
+  changes_.push_back(change);
+  if (merges != nullptr) merges->push_back(change);
+}
+
+KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id, double timestamp,
+                                                       const SE3& T_cw,
+                                                       std::vector<ObjectChange>* merges) {
+  // Hygiene: the same object mapped twice (a lost association, a box that jumped, a class
+  // the detector confused) shows as two objects at one place that were never detected in
+  // the same frame. The merged object takes the class most of its sightings have.
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (auto a = objects_.begin(); a != objects_.end() && !merged; ++a) {
+      for (auto b = std::next(a); b != objects_.end() && !merged; ++b) {
+        const MapObject& first = a->second;
+        const MapObject& second = b->second;
+        if (!first.has_cuboid || !second.has_cuboid) continue;
+        const double reach = options_.merge_distance *
+                             std::max(first.cuboid.size.maxCoeff(), second.cuboid.size.maxCoeff());
+        if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) continue;
+        if (SeenTogether(first, second)) continue;
+        const bool keep_first = first.sightings.size() >= second.sightings.size();
+        Merge(keep_first ? first.id : second.id, keep_first ? second.id : first.id, keyframe_id,
+              timestamp, merges);
+        merged = true;  // iterators are invalid: start over (merges are rare)
+      }
+    }
+  }
+
+  for (auto it = objects_.begin(); it != objects_.end();) {
+    MapObject& object = it->second;
+    if (++object.keyframes_in_map < options_.probation_keyframes ||
+        static_cast<int>(object.sightings.size()) >= options_.min_sightings) {
+      ++it;
+      continue;
+    }
+    ObjectChange change;
+    change.type = "dropped";
+    change.keyframe_id = keyframe_id;
+    change.timestamp = timestamp;
+    change.object_id = object.id;
+    change.class_id = object.class_id;
+    change.cuboid = object.cuboid;
+    change.sightings = object.sightings.size();
+    changes_.push_back(change);
+    if (merges != nullptr) merges->push_back(change);
+    observed_since_keyframe_.erase(object.id);
+    geometry_changed_.erase(object.id);
+    it = objects_.erase(it);
+  }
+
+  KeyframeObservation observation;
+  observation.keyframe_id = keyframe_id;
+  observation.timestamp = timestamp;
+  observation.T_cw = T_cw;
+  observation.camera = camera_;
+  for (const auto& [id, frame] : observed_since_keyframe_) {
+    if (objects_.count(id) > 0) observation.observed.push_back(id);
+  }
+  for (const auto& [id, changed] : geometry_changed_) {
+    const auto it = objects_.find(id);
+    if (it == objects_.end() || !it->second.has_cuboid) continue;
+    ObjectGeometryUpdate& update = observation.updates[id];
+    update.centroid = it->second.cuboid.centre;
+    update.size = WorldExtent(it->second.cuboid, R_wg_);
+    update.class_id = it->second.class_id;
+  }
+  if (merges != nullptr) {
+    for (const ObjectChange& change : *merges) observation.forgotten.push_back(change.object_id);
+  }
+  observed_since_keyframe_.clear();
+  geometry_changed_.clear();
+  return observation;
+}
+
+void ObjectMap::Remove(const RemovalEvent& event) {
+  const auto it = objects_.find(event.object_id);
+  if (it == objects_.end()) return;  // merged away meanwhile
+  ObjectChange change;
+  change.type = "removed";
+  change.keyframe_id = event.keyframe_id;
+  change.timestamp = event.timestamp;
+  change.object_id = event.object_id;
+  change.class_id = it->second.class_id;
+  change.cuboid = it->second.cuboid;
+  change.sightings = it->second.sightings.size();
+  change.doubt = event.doubt;
+  changes_.push_back(change);
+  observed_since_keyframe_.erase(event.object_id);
+  geometry_changed_.erase(event.object_id);
+  objects_.erase(it);
+}
+
+std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states) {
+  std::map<ObjectId, const ObjectStatus*> by_id;
+  for (const ObjectStatus& status : states) by_id[status.id] = &status;
+  nlohmann::json objects = nlohmann::json::array();
+  for (const auto& [id, object] : map.objects()) {
+    nlohmann::json entry = {{"id", id},
+                            {"class_id", object.class_id},
+                            {"class", CocoClassName(object.class_id)},
+                            {"cuboid", CuboidJson(object.cuboid)},
+                            {"observations", object.sightings.size()},
+                            {"first_seen", object.first_timestamp},
+                            {"last_seen", object.last_timestamp},
+                            {"state", nullptr},
+                            {"doubt", nullptr}};
+    const auto status = by_id.find(id);
+    if (status != by_id.end()) {
+      entry["state"] = static_cast<int>(status->second->state);
+      entry["doubt"] = status->second->doubt;
+    }
+    objects.push_back(entry);
+  }
+  const Eigen::Vector3d up = map.gravity_frame().col(2);
+  return nlohmann::json({{"format", "ocg-objects"},
+                         {"version", 1},
+                         {"up", VectorJson(up)},
+                         {"objects", objects}})
+             .dump(1) +
+         "\n";
+}
+
+std::string ObjectChangesJson(const std::vector<ObjectChange>& changes) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ObjectChange& change : changes) {
+    nlohmann::json entry = {{"type", change.type},
+                            {"keyframe", change.keyframe_id},
+                            {"timestamp", change.timestamp},
+                            {"object_id", change.object_id},
+                            {"class_id", change.class_id},
+                            {"class", CocoClassName(change.class_id)},
+                            {"centroid", VectorJson(change.cuboid.centre)},
+                            {"cuboid", CuboidJson(change.cuboid)},
+                            {"observations", change.sightings}};
+    if (change.type == "removed") {
+      entry["doubt"] = change.doubt;
+      entry["reason"] = "outlier";
+    } else if (change.type == "merged") {
+      entry["merged_into"] = change.merged_into;
+      entry["reason"] = "duplicate";
+    } else {
+      entry["reason"] = "too few sightings";
+    }
+    list.push_back(entry);
+  }
+  return nlohmann::json({{"changes", list}}).dump(1) + "\n";
+}
+
+}  // namespace ocg

@@ -1,0 +1,82 @@
+#include "ocg/objects/object_mapper.h"
+
+#include "ocg/ocg/replay_format.h"
+
+namespace ocg {
+
+ObjectMapper::ObjectMapper(ObjectsOptions objects, OcgOptions ocg, PinholeCamera camera,
+                           bool sequential)
+    : map_(std::move(objects), camera), manager_(std::move(ocg), sequential) {
+  // Runs on the OCG's thread (in sequential mode inside Submit()): never hold map_mutex_
+  // while submitting.
+  manager_.SetRemovalCallback([this](const KeyframeResult& result) {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    for (const RemovalEvent& event : result.removed) map_.Remove(event);
+  });
+}
+
+ObjectMapper::~ObjectMapper() {
+  try {
+    manager_.Shutdown();
+  } catch (...) {
+    // A worker error was already reported by Finish(); a destructor must not throw.
+  }
+}
+
+FrameAssociation ObjectMapper::AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
+                                        const std::vector<Detection>& detections) {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  const std::vector<ObjectDetection> usable =
+      FilterDetections(detections, map_.options(), map_.camera());
+  FrameAssociation association = map_.AddFrame(frame, timestamp, T_cw, usable);
+  ++stats_.frames;
+  stats_.detections_used += static_cast<std::int64_t>(usable.size());
+  stats_.detections_matched +=
+      static_cast<std::int64_t>(association.matched.size() - association.promoted.size());
+  stats_.objects_created += static_cast<std::int64_t>(association.promoted.size());
+  return association;
+}
+
+void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw) {
+  KeyframeObservation observation;
+  {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    std::vector<ObjectChange> merges;
+    observation = map_.MakeKeyframeObservation(keyframe_id, timestamp, T_cw, &merges);
+    ++stats_.keyframes;
+    if (record_observations_) observations_jsonl_ += ObservationToJson(observation) + "\n";
+  }
+  manager_.Submit(std::move(observation));
+}
+
+void ObjectMapper::Finish() { manager_.Shutdown(); }
+
+std::string ObjectMapper::ObjectsJson() const {
+  const std::vector<ObjectStatus> states = manager_.Snapshot();
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return ocg::ObjectsJson(map_, states);
+}
+
+std::string ObjectMapper::ChangesJson() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return ObjectChangesJson(map_.changes());
+}
+
+std::string ObjectMapper::ObservationsJsonl() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return observations_jsonl_;
+}
+
+std::string ObjectMapper::GraphJson() const { return manager_.GraphJson(); }
+
+ObjectLayerStats ObjectMapper::Stats() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return stats_;
+}
+
+std::size_t ObjectMapper::LiveObjectCount() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.objects().size();
+}
+
+}  // namespace ocg
