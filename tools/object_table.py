@@ -66,7 +66,10 @@ def main():
                 # Objects were mapped in the SLAM frame: align through the trajectory. The
                 # run folder of `ocg_slam objects` holds no trajectory, so point at the
                 # SLAM run's.
-                os.symlink(os.path.abspath(trajectory), os.path.join(run_dir, "CameraTrajectory.txt"))
+                link = os.path.join(run_dir, "CameraTrajectory.txt")
+                if os.path.lexists(link):
+                    os.remove(link)
+                os.symlink(os.path.abspath(trajectory), link)
                 evaluate += ["--groundtruth", groundtruth]
             m = json.loads(run(evaluate))
             truth = m
