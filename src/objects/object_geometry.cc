@@ -17,11 +17,6 @@ double Median(std::vector<double> values) {
   return *middle;
 }
 
-double DistanceToRay(const Eigen::Vector3d& point, const Ray& ray) {
-  const Eigen::Vector3d offset = point - ray.origin;
-  return (offset - offset.dot(ray.direction) * ray.direction).norm();
-}
-
 // Weighted least-squares point nearest to the rays; false when they are (nearly) parallel.
 bool NearestPoint(const std::vector<Ray>& rays, const std::vector<double>& weights,
                   Eigen::Vector3d* point) {
@@ -40,6 +35,11 @@ bool NearestPoint(const std::vector<Ray>& rays, const std::vector<double>& weigh
 }
 
 }  // namespace
+
+double DistanceToRay(const Eigen::Vector3d& point, const Ray& ray) {
+  const Eigen::Vector3d offset = point - ray.origin;
+  return (offset - offset.dot(ray.direction) * ray.direction).norm();
+}
 
 Ray PixelRay(const Eigen::Vector2d& pixel, const SE3& T_cw, const PinholeCamera& camera) {
   const SE3 T_wc = T_cw.Inverse();

@@ -83,10 +83,9 @@ double ObjectMap::AssociationScore(const MapObject& object, const ObjectDetectio
     // Without this gate a detection of the same class close by (the object's new place
     // after a move) keeps matching through the predicted box and feeds the old object.
     const Ray ray = PixelRay(detection.box.Centre(), T_cw, camera_);
-    const Eigen::Vector3d offset = object.cuboid.centre - ray.origin;
-    const double miss = (offset - offset.dot(ray.direction) * ray.direction).norm();
-    if (offset.dot(ray.direction) <= 0 ||
-        miss > options_.max_ray_distance * object.cuboid.size.maxCoeff()) {
+    const bool in_front = (object.cuboid.centre - ray.origin).dot(ray.direction) > 0;
+    if (!in_front || DistanceToRay(object.cuboid.centre, ray) >
+                         options_.max_ray_distance * object.cuboid.size.maxCoeff()) {
       return 0.0;
     }
   }

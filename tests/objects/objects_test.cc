@@ -159,17 +159,22 @@ class TwoObjectScene : public ::testing::Test {
     }
     return detections;
   }
+  // Frames first..last-1 of the orbit into the map (the cup hidden if asked).
+  void Watch(ObjectMap& map, const ObjectsOptions& options, int first, int last,
+             bool cup_visible = true) const {
+    for (int frame = first; frame < last; ++frame) {
+      const SE3 T_cw = OrbitPose(0.02 * frame);
+      map.AddFrame(frame, frame / 30.0, T_cw,
+                   FilterDetections(DetectionsAt(T_cw, cup_visible), options, Camera()));
+    }
+  }
   Cuboid cup_, laptop_;
 };
 
 TEST_F(TwoObjectScene, CandidatesBecomeObjectsAtTheirPlaces) {
   ObjectsOptions options;
   ObjectMap map(options, Camera());
-  for (int frame = 0; frame < 40; ++frame) {
-    const SE3 T_cw = OrbitPose(0.02 * frame);
-    map.AddFrame(frame, frame / 30.0, T_cw,
-                 FilterDetections(DetectionsAt(T_cw), options, Camera()));
-  }
+  Watch(map, options, 0, 40);
   ASSERT_EQ(map.objects().size(), 2u);
   EXPECT_EQ(map.CandidateCount(), 0u);
   for (const auto& [id, object] : map.objects()) {
@@ -192,21 +197,13 @@ TEST_F(TwoObjectScene, CandidatesBecomeObjectsAtTheirPlaces) {
 TEST_F(TwoObjectScene, UnseenObjectIsNotObservedAndRemovalEntersTheChangeLog) {
   ObjectsOptions options;
   ObjectMap map(options, Camera());
-  for (int frame = 0; frame < 40; ++frame) {
-    const SE3 T_cw = OrbitPose(0.02 * frame);
-    map.AddFrame(frame, frame / 30.0, T_cw,
-                 FilterDetections(DetectionsAt(T_cw), options, Camera()));
-  }
+  Watch(map, options, 0, 40);
   map.MakeKeyframeObservation(0, 1.0, OrbitPose(0.78), nullptr);
   ObjectId cup = 0;
   for (const auto& [id, object] : map.objects()) {
     if (object.class_id == 41) cup = id;
   }
-  for (int frame = 40; frame < 50; ++frame) {
-    const SE3 T_cw = OrbitPose(0.02 * frame);
-    map.AddFrame(frame, frame / 30.0, T_cw,
-                 FilterDetections(DetectionsAt(T_cw, false), options, Camera()));
-  }
+  Watch(map, options, 40, 50, /*cup_visible=*/false);
   const KeyframeObservation observation =
       map.MakeKeyframeObservation(1, 2.0, OrbitPose(0.98), nullptr);
   EXPECT_EQ(observation.observed.size(), 1u);
@@ -226,12 +223,8 @@ TEST_F(TwoObjectScene, TheSameObjectMappedTwiceIsMerged) {
   ObjectsOptions options;
   options.min_reacquire_iou = 1.0;  // after a gap, nothing is found again: new objects
   ObjectMap map(options, Camera());
-  for (int frame = 0; frame < 60; ++frame) {
-    if (frame >= 20 && frame < 30) continue;  // the detector is blind for a while
-    const SE3 T_cw = OrbitPose(0.02 * frame);
-    map.AddFrame(frame, frame / 30.0, T_cw,
-                 FilterDetections(DetectionsAt(T_cw), options, Camera()));
-  }
+  Watch(map, options, 0, 20);
+  Watch(map, options, 30, 60);          // the detector was blind for frames 20-29
   ASSERT_EQ(map.objects().size(), 4u);  // each object twice, never seen together
   std::vector<ObjectChange> merges;
   const KeyframeObservation observation =

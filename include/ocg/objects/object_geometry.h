@@ -31,6 +31,9 @@ struct RayIntersection {
 RayIntersection IntersectRays(const std::vector<Ray>& rays, double min_sigma = 0.01,
                               double min_inlier_share = 0.5);
 
+// Distance from a point to the line of a ray.
+double DistanceToRay(const Eigen::Vector3d& point, const Ray& ray);
+
 // The ray through a pixel from a camera.
 Ray PixelRay(const Eigen::Vector2d& pixel, const SE3& T_cw, const PinholeCamera& camera);
 
