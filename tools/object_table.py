@@ -3,13 +3,18 @@
 
 Usage:
   tools/object_table.py [--build build] [--modes off,visibility,paper,improved]
-                        [--poses gt | --slam-runs DIR] [--out DIR] SEQUENCE_DIR...
+                        [--slam-runs DIR | --slam [--reuse]] [--out DIR] SEQUENCE_DIR...
 
-For each sequence folder written by ocg_synth, runs the object layer in pose-given mode
-(`ocg_slam objects`) once per OCG mode and scores the result with `ocg_eval objects`
-(SPEC 4). Poses: the ground truth (default), or with --slam-runs the CameraTrajectory.txt
-of an `ocg_slam run` per sequence (DIR/<sequence name>/), in which case the objects are
-aligned to the ground truth through the trajectory (Sim(3)) before scoring.
+For each sequence folder written by ocg_synth, runs the object layer once per OCG mode
+and scores the result with `ocg_eval objects` (SPEC 4). Three sources of poses:
+  default       pose-given mode (`ocg_slam objects`) on the ground-truth poses;
+  --slam-runs   pose-given mode on the CameraTrajectory.txt of an earlier `ocg_slam run`
+                per sequence (DIR/<sequence name>/): SLAM's final poses, after the fact;
+  --slam        the whole pipeline, `ocg_slam run --detections --mode M` (images, SLAM,
+                objects from SLAM's poses and map points as it runs), into OUT/<name>/<M>/;
+                with --reuse, a run folder that already holds run.json is scored as it is.
+With SLAM poses the objects are aligned to the ground truth through the trajectory
+(Sim(3)) before scoring.
 Prints a Markdown table (and writes it to OUT/table.md with every run's files).
 Needs Python 3 only.
 """
@@ -37,9 +42,15 @@ def main():
     parser.add_argument("--modes", default="off,visibility,paper,improved",
                         help="OCG modes, comma-separated")
     parser.add_argument("--slam-runs", help="folder of ocg_slam run outputs, one per sequence")
+    parser.add_argument("--slam", action="store_true",
+                        help="run the whole pipeline (ocg_slam run --detections) per mode")
+    parser.add_argument("--reuse", action="store_true",
+                        help="with --slam: score existing runs (OUT/<name>/<mode>/run.json)")
     parser.add_argument("--settings", help="settings file (default: the sequence's camera.yaml)")
     parser.add_argument("--out", help="keep the runs and table.md here (default: a temp folder)")
     args = parser.parse_args()
+    if args.slam and args.slam_runs:
+        parser.error("--slam runs SLAM itself: give --slam or --slam-runs, not both")
     tools = os.path.join(args.build, "tools")
     out = args.out or tempfile.mkdtemp(prefix="ocg_object_table_")
     os.makedirs(out, exist_ok=True)
@@ -56,13 +67,22 @@ def main():
         truth = None
         for mode in modes:
             run_dir = os.path.join(out, name, mode)
-            run([os.path.join(tools, "ocg_slam"), "objects", "--trajectory", trajectory,
-                 "--detections", os.path.join(sequence, "detections"), "--frames",
-                 os.path.join(sequence, "rgb.txt"), "--settings", settings, "--mode", mode,
-                 "--out", run_dir, "--log-level", "warn"])
             evaluate = [os.path.join(tools, "ocg_eval"), "objects", "--gt",
                         os.path.join(sequence, "objects_gt.json"), "--run", run_dir, "--json"]
-            if args.slam_runs:
+            if args.slam:
+                if not (args.reuse and os.path.exists(os.path.join(run_dir, "run.json"))):
+                    print("%s, %s: ocg_slam run" % (name, mode), file=sys.stderr)
+                    run([os.path.join(tools, "ocg_slam"), "run", "--settings", settings,
+                         "--sequence", sequence, "--detections",
+                         os.path.join(sequence, "detections"), "--mode", mode, "--out",
+                         run_dir, "--log-level", "warn"])
+                evaluate += ["--groundtruth", groundtruth]
+            else:
+                run([os.path.join(tools, "ocg_slam"), "objects", "--trajectory", trajectory,
+                     "--detections", os.path.join(sequence, "detections"), "--frames",
+                     os.path.join(sequence, "rgb.txt"), "--settings", settings, "--mode",
+                     mode, "--out", run_dir, "--log-level", "warn"])
+            if args.slam_runs and not args.slam:
                 # Objects were mapped in the SLAM frame: align through the trajectory. The
                 # run folder of `ocg_slam objects` holds no trajectory, so point at the
                 # SLAM run's.

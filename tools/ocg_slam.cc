@@ -2,6 +2,7 @@
 // trajectories (TUM format) and run.json (docs/slam.md). `ocg_slam objects` builds the
 // object map from a given trajectory and detections alone (docs/objects.md).
 
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -155,6 +156,100 @@ void RunObjects(const ObjectsCommand& command) {
             << "/objects.json, changes.json, ocg.json, ocg_observations.jsonl, run.json\n";
 }
 
+// The object layer inside a SLAM run: every tracked frame's detections with its pose and
+// tracked map points; at each SLAM keyframe (after its bundle adjustment) the objects
+// follow the optimized poses and the supporting plane. The OCG gets every
+// Objects.keyframe_interval-th tracked frame, as in pose-given mode, not SLAM's keyframes:
+// it counts doubt in keyframes, and SLAM's keyframe rate follows the camera's motion
+// (every 3 frames on the 10 Hz smoke preset, every 9 at 30 Hz), which would make one
+// setting remove objects three times sooner on one sequence than on another.
+class ObjectLayer {
+ public:
+  ObjectLayer(const ocg::Settings& settings, std::string detections, bool sequential)
+      : settings_(settings), detections_(std::move(detections)), sequential_(sequential) {
+    if (Enabled()) Start();
+  }
+  bool Enabled() const { return !detections_.empty(); }
+
+  void AddFrame(const ocg::System& system, const ocg::TrackingResult& result, std::int64_t frame,
+                const ocg::TimedImage& image) {
+    if (!Enabled()) return;
+    const auto start = std::chrono::steady_clock::now();
+    if (result.reset) {
+      // The SLAM map the objects were built in is gone; so are they.
+      spdlog::warn("frame {}: the SLAM map was reset: the object map starts over", frame);
+      ++resets_;
+      Start();
+    }
+    if (!result.T_cw) return;
+    std::vector<ocg::PointObservation> points;
+    points.reserve(result.points.size());
+    for (const ocg::TrackedPoint& point : result.points)
+      points.push_back({point.id, point.pixel, point.position});
+    mapper_->AddFrame(frame, image.timestamp, *result.T_cw,
+                      ocg::ReadEaoDetectionsForImage(detections_, image.timestamp_text), &points);
+    if (result.new_keyframe) Follow(system);
+    if (tracked_frames_++ % settings_.objects.keyframe_interval == 0)
+      mapper_->AddKeyframe(keyframes_++, image.timestamp, *result.T_cw);
+    seconds_.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+
+  // After SLAM has finished: the objects take the final poses, the OCG its last keyframe.
+  void Finish(const ocg::System& system) {
+    if (!Enabled()) return;
+    Follow(system);
+    mapper_->Finish();
+  }
+
+  // Writes the object outputs; returns run.json's "objects" section.
+  nlohmann::json Write(const std::string& output) const {
+    ocg::WriteFileAtomically(output + "/objects.json", mapper_->ObjectsJson());
+    ocg::WriteFileAtomically(output + "/changes.json", mapper_->ChangesJson());
+    ocg::WriteFileAtomically(output + "/ocg.json", mapper_->GraphJson());
+    ocg::WriteFileAtomically(output + "/ocg_observations.jsonl", mapper_->ObservationsJsonl());
+    const ocg::ObjectLayerStats stats = mapper_->Stats();
+    std::cout << "objects: " << stats.objects_created << " created, " << mapper_->LiveObjectCount()
+              << " live at the end, " << keyframes_ << " OCG keyframes (mode " << settings_.ocg.mode
+              << ")\n";
+    return {{"detections", detections_},
+            {"ocg_mode", settings_.ocg.mode},
+            {"keyframes", keyframes_},
+            {"detections_used", stats.detections_used},
+            {"detections_matched", stats.detections_matched},
+            {"objects_created", stats.objects_created},
+            {"objects_live", mapper_->LiveObjectCount()},
+            {"object_map_resets", resets_},
+            {"supporting_plane_inliers", stats.plane_inliers},
+            {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
+            {"timing", {{"objects_per_frame", Timing(seconds_)}}}};
+  }
+
+ private:
+  void Start() {
+    mapper_ = std::make_unique<ocg::ObjectMapper>(settings_.objects, settings_.ocg,
+                                                  settings_.camera.model, sequential_);
+    mapper_->RecordObservations();
+    keyframes_ = 0;
+    tracked_frames_ = 0;
+  }
+
+  void Follow(const ocg::System& system) {
+    mapper_->FollowSlamMap(
+        {system.FramePoses(), system.MapPointPositions(), system.KeyFrameRotations()},
+        settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
+  }
+
+  const ocg::Settings& settings_;
+  std::string detections_;
+  bool sequential_;
+  std::unique_ptr<ocg::ObjectMapper> mapper_;
+  std::int64_t keyframes_ = 0;
+  std::int64_t tracked_frames_ = 0;
+  int resets_ = 0;
+  std::vector<double> seconds_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -176,11 +271,17 @@ int main(int argc, char** argv) {
   run->add_option("--format", format, "tum or euroc")
       ->capture_default_str()
       ->check(CLI::IsMember({"tum", "euroc"}));
-  run->add_option("--detections", detections, "detection folder (for the object layer)");
+  run->add_option("--detections", detections,
+                  "folder of <timestamp>.txt detection files (EAO format): maps objects too, "
+                  "writes objects.json, changes.json, ocg.json")
+      ->check(CLI::ExistingDirectory);
   run->add_option("--out", output, "output folder")->required();
   run->add_option("--max-frames", max_frames, "stop after N frames (0: all)")
       ->check(CLI::NonNegativeNumber);
   run->add_option("--vocabulary", vocabulary_path, "vocabulary file (overrides Vocabulary.path)");
+  std::string run_mode;
+  run->add_option("--mode", run_mode,
+                  "OCG.mode override for the object layer (off, visibility, paper, ...)");
   run->add_flag("--realtime", realtime,
                 "feed images at the pace of their timestamps (never drops frames)");
 
@@ -220,10 +321,10 @@ int main(int argc, char** argv) {
       return;
     }
     const ocg::LoadedSettings loaded = ocg::LoadSettings(settings_path);
-    const ocg::Settings& settings = loaded.settings;
-    if (!detections.empty()) {
-      std::cerr << "ocg_slam: note: --detections is read by the object layer, which is not part "
-                   "of this build yet; running SLAM only\n";
+    ocg::Settings settings = loaded.settings;
+    if (!run_mode.empty()) {
+      settings.ocg.mode = run_mode;
+      settings.ocg.Check();
     }
     ocg::VocabularyOptions vocabulary_options = settings.vocabulary;
     if (!vocabulary_path.empty()) vocabulary_options.path = vocabulary_path;
@@ -253,6 +354,7 @@ int main(int argc, char** argv) {
               << load_seconds << " s), " << (config.sequential ? "sequential" : "threaded")
               << " mode\n";
     ocg::System system(config, vocabulary);
+    ObjectLayer objects_layer(settings, detections, config.sequential);
     ocg::ProgressLine progress("frames", frames);
     const auto wall_start = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < frames; ++i) {
@@ -265,11 +367,14 @@ int main(int argc, char** argv) {
       }
       const cv::Mat gray = cv::imread(image.path, cv::IMREAD_GRAYSCALE);
       if (gray.empty()) throw ocg::FileError("cannot read image '" + image.path + "'");
-      system.TrackImage(gray, image.timestamp, TimestampInSeconds(image.timestamp_text, format));
+      const ocg::TrackingResult result = system.TrackImage(
+          gray, image.timestamp, TimestampInSeconds(image.timestamp_text, format));
+      objects_layer.AddFrame(system, result, static_cast<std::int64_t>(i), image);
       progress.Update(i + 1);
     }
     progress.Finish();
     system.Shutdown();
+    objects_layer.Finish(system);
     const double wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
 
@@ -292,45 +397,50 @@ int main(int argc, char** argv) {
         mapping_seconds.push_back(record.local_mapping_seconds);
     }
     const ocg::LocalMappingStats mapping = system.MappingStats();
-    const nlohmann::json report = {{"sequence", sequence_path},
-                                   {"settings", settings_path},
-                                   {"vocabulary", vocabulary_file},
-                                   {"mode", config.sequential ? "sequential" : "threaded"},
-                                   {"frames", frames},
-                                   {"frames_tracked", tracked},
-                                   {"frames_lost", lost},
-                                   {"frames_before_initialization", uninitialized},
-                                   {"first_tracked_frame", first_tracked},
-                                   {"relocalizations", relocalized},
-                                   {"map_resets", system.Resets()},
-                                   {"keyframes", system.KeyFrameCount()},
-                                   {"map_points", system.MapPointCount()},
-                                   {"points_created", mapping.points_created},
-                                   {"points_culled", mapping.points_culled},
-                                   {"keyframes_culled", mapping.keyframes_culled},
-                                   {"wall_seconds", wall_seconds},
-                                   {"timing",
-                                    {{"tracking_per_frame", Timing(tracking_seconds)},
-                                     {"local_mapping_per_keyframe", Timing(mapping_seconds)},
-                                     {"local_ba_per_keyframe", Timing(mapping.ba_seconds)}}},
-                                   {"camera",
-                                    {{"fx", config.camera.fx},
-                                     {"fy", config.camera.fy},
-                                     {"cx", config.camera.cx},
-                                     {"cy", config.camera.cy},
-                                     {"width", config.camera.width},
-                                     {"height", config.camera.height}}},
-                                   {"orb",
-                                    {{"features", config.orb.features},
-                                     {"scale_factor", config.orb.scale_factor},
-                                     {"levels", config.orb.levels}}},
-                                   {"seed", settings.system.seed}};
+    nlohmann::json report = {{"sequence", sequence_path},
+                             {"settings", settings_path},
+                             {"vocabulary", vocabulary_file},
+                             {"mode", config.sequential ? "sequential" : "threaded"},
+                             {"frames", frames},
+                             {"frames_tracked", tracked},
+                             {"frames_lost", lost},
+                             {"frames_before_initialization", uninitialized},
+                             {"first_tracked_frame", first_tracked},
+                             {"relocalizations", relocalized},
+                             {"map_resets", system.Resets()},
+                             {"keyframes", system.KeyFrameCount()},
+                             {"map_points", system.MapPointCount()},
+                             {"points_created", mapping.points_created},
+                             {"points_culled", mapping.points_culled},
+                             {"keyframes_culled", mapping.keyframes_culled},
+                             {"wall_seconds", wall_seconds},
+                             {"timing",
+                              {{"tracking_per_frame", Timing(tracking_seconds)},
+                               {"local_mapping_per_keyframe", Timing(mapping_seconds)},
+                               {"local_ba_per_keyframe", Timing(mapping.ba_seconds)}}},
+                             {"camera",
+                              {{"fx", config.camera.fx},
+                               {"fy", config.camera.fy},
+                               {"cx", config.camera.cx},
+                               {"cy", config.camera.cy},
+                               {"width", config.camera.width},
+                               {"height", config.camera.height}}},
+                             {"orb",
+                              {{"features", config.orb.features},
+                               {"scale_factor", config.orb.scale_factor},
+                               {"levels", config.orb.levels}}},
+                             {"seed", settings.system.seed}};
+    if (objects_layer.Enabled()) report["objects"] = objects_layer.Write(output);
     ocg::WriteFileAtomically(output + "/run.json", report.dump(2) + "\n");
     std::cout << "tracked " << tracked << " of " << frames << " frames (first at " << first_tracked
               << "), lost " << lost << ", relocalized " << relocalized << ", resets "
               << system.Resets() << "; " << system.KeyFrameCount() << " keyframes, "
               << system.MapPointCount() << " points; tracking median "
               << 1000.0 * Percentile(tracking_seconds, 0.5) << " ms/frame\n"
-              << "wrote " << output << "/KeyFrameTrajectory.txt, CameraTrajectory.txt, run.json\n";
+              << "wrote " << output << "/KeyFrameTrajectory.txt, CameraTrajectory.txt, run.json"
+              << (objects_layer.Enabled()
+                      ? ", objects.json, changes.json, ocg.json, ocg_observations.jsonl"
+                      : "")
+              << "\n";
   });
 }

@@ -69,7 +69,41 @@ nlohmann::json CuboidJson(const Cuboid& cuboid) {
           {"yaw", cuboid.yaw}};
 }
 
+void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
+  for (const PointObservation* point : box_points) {
+    ObjectPoint& entry = object.points[point->id];
+    ++entry.votes;
+    entry.position = point->position;
+  }
+}
+
 }  // namespace
+
+std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes) {
+  // Where the boxes' rays meet says which of the points in them are on the object: the
+  // background behind it can hold most of them when the camera moves little.
+  const double reach = object.has_cuboid ? object.cuboid.size.maxCoeff() : 0.0;
+  std::vector<Eigen::Vector3d> voted;
+  for (const auto& [id, point] : object.points) {
+    if (point.votes < min_votes) continue;
+    if (object.has_cuboid && (point.position - object.cuboid.centre).norm() > reach) continue;
+    voted.push_back(point.position);
+  }
+  const RobustBounds bounds = RobustPointBounds(voted, 3.0);
+  if (!bounds.valid) return voted;
+  std::vector<Eigen::Vector3d> kept;
+  for (const Eigen::Vector3d& position : voted) {
+    if (bounds.Contains(position)) kept.push_back(position);
+  }
+  return kept;
+}
+
+// An object's points as an association cue: how many are its own and the bounds of its
+// point set.
+struct ObjectMap::PointCue {
+  int own_points = 0;
+  RobustBounds bounds;
+};
 
 ObjectMap::ObjectMap(ObjectsOptions options, PinholeCamera camera)
     : options_(std::move(options)), camera_(camera), R_wg_(GravityFrame(options_.up)) {
@@ -77,7 +111,9 @@ ObjectMap::ObjectMap(ObjectsOptions options, PinholeCamera camera)
 }
 
 double ObjectMap::AssociationScore(const MapObject& object, const ObjectDetection& detection,
-                                   std::int64_t frame, const SE3& T_cw) const {
+                                   std::int64_t frame, const SE3& T_cw,
+                                   const std::vector<const PointObservation*>& box_points,
+                                   const PointCue* object_points) const {
   if (object.has_cuboid) {
     // Geometry first: the ray through the box centre must pass near the object's centre.
     // Without this gate a detection of the same class close by (the object's new place
@@ -121,16 +157,50 @@ double ObjectMap::AssociationScore(const MapObject& object, const ObjectDetectio
     sum += overlap;
     ++cues;
   }
+  // Map points: the box holds the object's own points, and they lie where its points do.
+  // Too few on either side says nothing (untextured objects, a new object).
+  if (object_points != nullptr && box_points.size() >= 3 && object_points->own_points >= 5) {
+    int shared = 0, inside = 0;
+    for (const PointObservation* point : box_points) {
+      const auto own = object.points.find(point->id);
+      shared += own != object.points.end() && own->second.votes >= options_.min_point_votes;
+      inside += object_points->bounds.Contains(point->position) ? 1 : 0;
+    }
+    const double count = static_cast<double>(box_points.size());
+    sum += shared / count + inside / count;
+    cues += 2;
+  }
   return cues > 0 ? sum / cues : 0.0;
 }
 
 FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
-                                     const std::vector<ObjectDetection>& detections) {
+                                     const std::vector<ObjectDetection>& detections,
+                                     const std::vector<PointObservation>* points) {
   FrameAssociation result;
   std::vector<MapObject*> entities;
   for (auto& entry : objects_) entities.push_back(&entry.second);
   const std::size_t object_count = entities.size();
   for (auto& entry : candidates_) entities.push_back(&entry.second);
+
+  std::vector<std::vector<const PointObservation*>> box_points(detections.size());
+  if (points != nullptr) {
+    for (std::size_t d = 0; d < detections.size(); ++d) {
+      box_points[d] = PointsInBox(*points, detections[d].box, options_.point_box_shrink);
+    }
+  }
+  // Built on first use: only entities of a detected class need theirs.
+  std::vector<std::optional<PointCue>> point_cues(entities.size());
+  const auto point_cue = [&](std::size_t e) -> const PointCue* {
+    if (points == nullptr) return nullptr;
+    if (!point_cues[e]) {
+      PointCue cue;
+      for (const auto& [id, point] : entities[e]->points)
+        cue.own_points += point.votes >= options_.min_point_votes ? 1 : 0;
+      cue.bounds = RobustPointBounds(ObjectPointSet(*entities[e], options_.min_point_votes), 3.0);
+      point_cues[e] = std::move(cue);
+    }
+    return &*point_cues[e];
+  };
 
   Eigen::MatrixXd cost =
       Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(detections.size()),
@@ -138,7 +208,8 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
   for (std::size_t d = 0; d < detections.size(); ++d) {
     for (std::size_t e = 0; e < entities.size(); ++e) {
       if (entities[e]->class_id != detections[d].class_id) continue;
-      const double score = AssociationScore(*entities[e], detections[d], frame, T_cw);
+      const double score =
+          AssociationScore(*entities[e], detections[d], frame, T_cw, box_points[d], point_cue(e));
       if (score < options_.min_association_score) continue;
       cost(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(e)) =
           1.0 - score + (e >= object_count ? kCandidatePenalty : 0.0);
@@ -155,6 +226,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
       candidate.id = next_candidate_id_--;
       candidate.class_id = detection.class_id;
       candidate.sightings.push_back(sighting);
+      AddPointVotes(candidate, box_points[d]);
       candidate.first_frame = candidate.last_frame = frame;
       candidate.first_timestamp = candidate.last_timestamp = timestamp;
       candidates_.emplace(candidate.id, std::move(candidate));
@@ -163,6 +235,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     }
     MapObject& entity = *entities[static_cast<std::size_t>(assignment[d])];
     entity.sightings.push_back(sighting);
+    AddPointVotes(entity, box_points[d]);
     entity.last_frame = frame;
     entity.last_timestamp = timestamp;
     if (entity.id > 0) {
@@ -192,6 +265,28 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     ++it;
   }
   return result;
+}
+
+void ObjectMap::SetUp(const Eigen::Vector3d& up) { R_wg_ = GravityFrame(up); }
+
+void ObjectMap::UpdatePoses(
+    const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame) {
+  for (auto* entities : {&objects_, &candidates_}) {
+    for (auto& [id, entity] : *entities) {
+      for (ObjectSighting& sighting : entity.sightings) {
+        if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
+      }
+    }
+  }
+  for (auto& [id, object] : objects_) {
+    const Cuboid before = object.cuboid;
+    // The OCG hears of a change only when it matters (1% of the object's size).
+    if (Reestimate(object, false) &&
+        ((object.cuboid.centre - before.centre).norm() > 0.01 * before.size.maxCoeff() ||
+         (object.cuboid.size - before.size).norm() > 0.01 * before.size.maxCoeff())) {
+      geometry_changed_[id] = true;
+    }
+  }
 }
 
 bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
@@ -242,6 +337,11 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
              from.sightings.end(), std::back_inserter(sightings),
              [](const ObjectSighting& a, const ObjectSighting& b) { return a.frame < b.frame; });
   into.sightings = std::move(sightings);
+  for (const auto& [id, point] : from.points) {
+    ObjectPoint& entry = into.points[id];
+    if (entry.votes == 0) entry.position = point.position;
+    entry.votes += point.votes;
+  }
   into.class_id = MajorityClass(into.sightings);
   into.first_frame = std::min(into.first_frame, from.first_frame);
   into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
@@ -354,15 +454,17 @@ std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& s
   for (const ObjectStatus& status : states) by_id[status.id] = &status;
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& [id, object] : map.objects()) {
-    nlohmann::json entry = {{"id", id},
-                            {"class_id", object.class_id},
-                            {"class", CocoClassName(object.class_id)},
-                            {"cuboid", CuboidJson(object.cuboid)},
-                            {"observations", object.sightings.size()},
-                            {"first_seen", object.first_timestamp},
-                            {"last_seen", object.last_timestamp},
-                            {"state", nullptr},
-                            {"doubt", nullptr}};
+    nlohmann::json entry = {
+        {"id", id},
+        {"class_id", object.class_id},
+        {"class", CocoClassName(object.class_id)},
+        {"cuboid", CuboidJson(object.cuboid)},
+        {"observations", object.sightings.size()},
+        {"map_points", ObjectPointSet(object, map.options().min_point_votes).size()},
+        {"first_seen", object.first_timestamp},
+        {"last_seen", object.last_timestamp},
+        {"state", nullptr},
+        {"doubt", nullptr}};
     const auto status = by_id.find(id);
     if (status != by_id.end()) {
       entry["state"] = static_cast<int>(status->second->state);

@@ -24,17 +24,35 @@ ObjectMapper::~ObjectMapper() {
 }
 
 FrameAssociation ObjectMapper::AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
-                                        const std::vector<Detection>& detections) {
+                                        const std::vector<Detection>& detections,
+                                        const std::vector<PointObservation>* points) {
   std::lock_guard<std::mutex> lock(map_mutex_);
   const std::vector<ObjectDetection> usable =
       FilterDetections(detections, map_.options(), map_.camera());
-  FrameAssociation association = map_.AddFrame(frame, timestamp, T_cw, usable);
+  FrameAssociation association = map_.AddFrame(frame, timestamp, T_cw, usable, points);
   ++stats_.frames;
   stats_.detections_used += static_cast<std::int64_t>(usable.size());
   stats_.detections_matched +=
       static_cast<std::int64_t>(association.matched.size() - association.promoted.size());
   stats_.objects_created += static_cast<std::int64_t>(association.promoted.size());
   return association;
+}
+
+void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
+  const ObjectsOptions& options = map_.options();
+  const Eigen::Vector3d prior = CameraUpPrior(view.camera_rotations);
+  const SupportingPlane plane =
+      FindSupportingPlane(view.map_points, prior, options.plane_max_tilt_deg,
+                          options.plane_inlier_share, options.plane_iterations, seed);
+  const Eigen::Vector3d up = plane.valid ? plane.normal : prior;
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  stats_.plane_inliers = plane.valid ? plane.inliers : 0;
+  stats_.up = up;
+  map_.SetUp(up);
+  map_.UpdatePoses([&view](std::int64_t frame) -> std::optional<SE3> {
+    if (frame < 0 || frame >= static_cast<std::int64_t>(view.frame_poses.size())) return {};
+    return view.frame_poses[static_cast<std::size_t>(frame)];
+  });
 }
 
 void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw) {

@@ -42,6 +42,13 @@ void ObjectsOptions::Check() const {
                 "must be at least Objects.candidate_min_observations");
   RequireOption(merge_distance >= 0, "Objects.merge_distance", "must be non-negative");
   RequireOption(up.allFinite() && up.norm() > 1e-9, "Objects.up", "must be a non-zero vector");
+  RequireOption(point_box_shrink >= 0 && point_box_shrink < 0.5, "Objects.point_box_shrink",
+                "must be in [0, 0.5)");
+  RequireOption(min_point_votes >= 1, "Objects.min_point_votes", "must be at least 1");
+  RequireOption(plane_max_tilt_deg > 0 && plane_max_tilt_deg < 90, "Objects.plane_max_tilt_deg",
+                "must be in (0, 90)");
+  RequireOption(plane_inlier_share > 0, "Objects.plane_inlier_share", "must be positive");
+  RequireOption(plane_iterations >= 1, "Objects.plane_iterations", "must be at least 1");
   RequireOption(keyframe_interval >= 1, "Objects.keyframe_interval", "must be at least 1");
 }
 
@@ -74,6 +81,11 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
     RequireOption(up.size() == 3, "Objects.up", "needs 3 numbers");
     options->up = Eigen::Vector3d(up[0], up[1], up[2]);
   }
+  file.Read("Objects.point_box_shrink", &options->point_box_shrink);
+  file.Read("Objects.min_point_votes", &options->min_point_votes);
+  file.Read("Objects.plane_max_tilt_deg", &options->plane_max_tilt_deg);
+  file.Read("Objects.plane_inlier_share", &options->plane_inlier_share);
+  file.Read("Objects.plane_iterations", &options->plane_iterations);
   file.Read("Objects.keyframe_interval", &options->keyframe_interval);
 }
 

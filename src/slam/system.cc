@@ -107,17 +107,45 @@ std::vector<StampedPose> System::KeyFrameTrajectory() const {
 }
 
 std::vector<StampedPose> System::CameraTrajectory() const {
-  std::lock_guard<std::mutex> lock(map_.mutex());
+  const std::vector<std::optional<SE3>> frame_poses = FramePoses();
   std::vector<StampedPose> poses;
-  for (const FrameRecord& record : frames_) {
-    if (!record.tracked) continue;
-    const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
-    if (!reference) continue;
-    // A culled reference keeps the pose it had when it was culled.
-    poses.push_back(
-        MakePose(record.timestamp, record.timestamp_text, record.T_c_reference * reference->T_cw));
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    if (frame_poses[i])
+      poses.push_back(MakePose(frames_[i].timestamp, frames_[i].timestamp_text, *frame_poses[i]));
   }
   return poses;
+}
+
+std::vector<std::optional<SE3>> System::FramePoses() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<std::optional<SE3>> poses(frames_.size());
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    const FrameRecord& record = frames_[i];
+    if (!record.tracked) continue;
+    // A culled reference keeps the pose it had when it was culled.
+    const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
+    if (reference) poses[i] = record.T_c_reference * reference->T_cw;
+  }
+  return poses;
+}
+
+std::vector<Eigen::Vector3d> System::MapPointPositions() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<Eigen::Vector3d> positions;
+  positions.reserve(map_.points().size());
+  for (const auto& [id, point] : map_.points()) {
+    if (!point->bad) positions.push_back(point->position);
+  }
+  return positions;
+}
+
+std::vector<Eigen::Matrix3d> System::KeyFrameRotations() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<Eigen::Matrix3d> rotations;
+  for (const auto& [id, keyframe] : map_.keyframes()) {
+    if (!keyframe->bad) rotations.push_back(keyframe->T_cw.Inverse().rotation());
+  }
+  return rotations;
 }
 
 std::size_t System::KeyFrameCount() const {

@@ -197,7 +197,15 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
   }
   result.state = state_;
   result.T_cw = state_ == TrackingState::kOk ? frame.T_cw : std::nullopt;
-  if (state_ == TrackingState::kOk) last_frame_ = std::make_unique<Frame>(std::move(frame));
+  if (state_ == TrackingState::kOk) {
+    std::lock_guard<std::mutex> lock(dependencies_.map->mutex());  // positions move in BA
+    for (std::size_t i = 0; i < frame.points.size(); ++i) {
+      const MapPointPtr& point = frame.points[i];
+      if (!point || point->bad || (i < frame.outlier.size() && frame.outlier[i])) continue;
+      result.points.push_back({point->id, frame.features.undistorted[i], point->position});
+    }
+    last_frame_ = std::make_unique<Frame>(std::move(frame));
+  }
   return result;
 }
 

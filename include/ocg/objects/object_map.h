@@ -6,13 +6,16 @@
 // Not thread-safe: ObjectMapper serialises every call (see object_mapper.h).
 
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ocg/core/camera.h"
 #include "ocg/core/lie.h"
 #include "ocg/objects/box.h"
+#include "ocg/objects/map_cues.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/ocg/change_detector.h"
 #include "ocg/ocg/observation.h"
@@ -27,6 +30,12 @@ struct ObjectSighting {
   int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
 };
 
+// A SLAM map point seen inside an object's boxes (SLAM runs only).
+struct ObjectPoint {
+  int votes = 0;                                       // boxes it was inside
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, when last tracked
+};
+
 // A map object, or a candidate (id < 0) not yet triangulated.
 struct MapObject {
   ObjectId id = 0;
@@ -38,8 +47,14 @@ struct MapObject {
   std::int64_t last_frame = 0;
   double first_timestamp = 0.0;
   double last_timestamp = 0.0;
-  std::int64_t keyframes_in_map = 0;  // keyframes since promotion
+  std::int64_t keyframes_in_map = 0;            // keyframes since promotion
+  std::map<std::uint64_t, ObjectPoint> points;  // by SLAM map point id
 };
+
+// The object's point set: its map points with at least min_votes votes, within its largest
+// extent of its centre once it has a cuboid, and within 3 robust sigmas of their median
+// (the background caught in its boxes left out).
+std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes);
 
 struct ObjectChange {
   // "removed" (by the OCG), "merged" (a duplicate, hygiene) or "dropped" (too few
@@ -67,9 +82,19 @@ class ObjectMap {
   ObjectMap(ObjectsOptions options, PinholeCamera camera);
 
   // Associates this frame's (filtered) detections, updates the objects that got one,
-  // starts, promotes and drops candidates.
+  // starts, promotes and drops candidates. points: the SLAM map points tracked in the
+  // frame, when there is a SLAM map; they add two association cues (the share of the
+  // box's points that are the object's, and the share inside its point set's bounds).
   FrameAssociation AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
-                            const std::vector<ObjectDetection>& detections);
+                            const std::vector<ObjectDetection>& detections,
+                            const std::vector<PointObservation>* points = nullptr);
+
+  // A new up direction (the supporting plane's normal): cuboids are re-estimated at
+  // the next UpdatePoses() or sighting.
+  void SetUp(const Eigen::Vector3d& up);
+  // Bundle adjustment moved the cameras: every sighting takes its frame's current pose
+  // (frames without one keep theirs) and the objects are re-estimated.
+  void UpdatePoses(const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame);
 
   // The OCG's input for a keyframe at the last added frame: the map objects detected in
   // any frame since the previous keyframe, with the geometry of those that changed.
@@ -93,8 +118,11 @@ class ObjectMap {
   bool Reestimate(MapObject& object, bool candidate) const;
   void Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
              std::vector<ObjectChange>* merges);
+  struct PointCue;
   double AssociationScore(const MapObject& object, const ObjectDetection& detection,
-                          std::int64_t frame, const SE3& T_cw) const;
+                          std::int64_t frame, const SE3& T_cw,
+                          const std::vector<const PointObservation*>& box_points,
+                          const PointCue* object_points) const;
 
   ObjectsOptions options_;
   PinholeCamera camera_;

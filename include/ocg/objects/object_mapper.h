@@ -9,7 +9,9 @@
 
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "ocg/objects/object_map.h"
 #include "ocg/ocg/manager.h"
@@ -17,12 +19,22 @@
 
 namespace ocg {
 
+// What a SLAM run shows the object layer at a keyframe, after its bundle adjustment.
+struct SlamMapView {
+  std::vector<std::optional<SE3>> frame_poses;    // by the frame numbers given to AddFrame
+  std::vector<Eigen::Vector3d> map_points;        // world
+  std::vector<Eigen::Matrix3d> camera_rotations;  // keyframes', camera to world
+};
+
 struct ObjectLayerStats {
   std::int64_t frames = 0;
   std::int64_t keyframes = 0;
   std::int64_t detections_used = 0;
   std::int64_t detections_matched = 0;
   std::int64_t objects_created = 0;
+  // SLAM runs: the last supporting plane found (0 inliers: none, up from the cameras).
+  int plane_inliers = 0;
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
 };
 
 class ObjectMapper {
@@ -32,9 +44,14 @@ class ObjectMapper {
   ObjectMapper(const ObjectMapper&) = delete;
   ObjectMapper& operator=(const ObjectMapper&) = delete;
 
-  // Detections straight from the files: filtered here.
+  // Detections straight from the files: filtered here. points: the SLAM map points
+  // tracked in the frame (SLAM runs), else null.
   FrameAssociation AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
-                            const std::vector<Detection>& detections);
+                            const std::vector<Detection>& detections,
+                            const std::vector<PointObservation>* points = nullptr);
+  // SLAM runs, before each AddKeyframe(): up from the supporting plane of the map points
+  // (RANSAC seeded with seed), and the sightings moved to their frames' optimized poses.
+  void FollowSlamMap(const SlamMapView& view, std::uint64_t seed);
   // Hands the OCG this keyframe (at the last added frame's pose).
   void AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw);
   // Keeps every keyframe's OCG input as a JSON line (SPEC 3.1), so the OCG can be replayed

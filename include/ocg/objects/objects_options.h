@@ -67,6 +67,19 @@ struct ObjectsOptions {
   // pose-given mode the given trajectory's world frame decides it.
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
 
+  // SLAM runs (`ocg_slam run --detections`) only. Objects.point_box_shrink: map points
+  // count as inside a box when inside it shrunk by this share of its size on every side.
+  // Objects.min_point_votes: a map point belongs to an object once it was inside that
+  // many of its boxes; the object's point set is those points within 3 robust sigmas.
+  double point_box_shrink = 0.1;
+  int min_point_votes = 3;
+  // Up from the map: the supporting plane (RANSAC on the map points) whose normal is within
+  // Objects.plane_max_tilt_deg of the cameras' up; inliers within
+  // Objects.plane_inlier_share of the map's robust spread; Objects.plane_iterations tries.
+  double plane_max_tilt_deg = 40.0;
+  double plane_inlier_share = 0.02;
+  int plane_iterations = 300;
+
   // Objects.keyframe_interval: pose-given mode has no SLAM keyframes; every N-th frame is
   // one (about 3 per second at 30 Hz).
   int keyframe_interval = 10;

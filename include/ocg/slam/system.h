@@ -64,6 +64,13 @@ class System {
   std::vector<StampedPose> KeyFrameTrajectory() const;
   // Every tracked frame, placed relative to its reference keyframe's final pose.
   std::vector<StampedPose> CameraTrajectory() const;
+  // The current pose (after bundle adjustment) of every frame given to TrackImage, in
+  // call order; none for frames not tracked or whose map was reset.
+  std::vector<std::optional<SE3>> FramePoses() const;
+  // The positions of every map point (for the object layer's supporting plane).
+  std::vector<Eigen::Vector3d> MapPointPositions() const;
+  // The camera-to-world rotations of the keyframes in the map.
+  std::vector<Eigen::Matrix3d> KeyFrameRotations() const;
   const std::vector<FrameRecord>& Frames() const { return frames_; }
   std::size_t KeyFrameCount() const;
   std::size_t MapPointCount() const;

@@ -62,9 +62,17 @@ struct Frame {
   KeyFramePtr reference;
 };
 
+// A map point matched in the tracked frame: what the object layer reads of the map.
+struct TrackedPoint {
+  MapPointId id = 0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();     // undistorted keypoint
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, as tracked
+};
+
 struct TrackingResult {
   TrackingState state = TrackingState::kNoImages;
   std::optional<SE3> T_cw;
+  std::vector<TrackedPoint> points;  // tracked frames: the map points matched (inliers)
   bool new_keyframe = false;
   bool relocalized = false;
   // Lost with too small a map: the owner must stop local mapping and call Reset().
