@@ -7,7 +7,8 @@
 # camera is on the other side. It runs the generator, then OCG-SLAM on the sequence:
 # monocular SLAM with the object layer (cuboids from the detections, kept up to date by
 # the Object Covisibility Graph), and scores the trajectory and the object map against
-# the ground truth. The viewer (snapshots) is not built yet.
+# the ground truth, and renders snapshots of the map (before the laptop's removal and at
+# the end) and of the last frame.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${OCG_BUILD_DIR:-$ROOT/build}
@@ -19,10 +20,9 @@ GENERATOR=()
 [ -f "$BUILD/CMakeCache.txt" ] || { command -v ninja >/dev/null 2>&1 && GENERATOR=(-G Ninja); }
 echo "== build"
 cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$BUILD" --parallel "$JOBS" --target ocg_synth ocg_slam ocg_replay ocg_eval >/dev/null
+cmake --build "$BUILD" --parallel "$JOBS" --target ocg_synth ocg_slam ocg_eval >/dev/null
 
 echo "== demo"
-echo "note: the viewer is not built yet: no snapshots"
 mkdir -p "$OUT"
 "$BUILD/tools/ocg_synth" --preset smoke --out "$OUT/sequence" --overwrite --log-level warn
 "$BUILD/tools/ocg_slam" run --settings "$OUT/sequence/camera.yaml" --sequence "$OUT/sequence" \
@@ -34,9 +34,14 @@ echo "object map against the ground truth (SPEC 4, aligned through the trajector
   --groundtruth "$OUT/sequence/groundtruth.txt"
 echo
 echo "outputs:"
-echo "  $OUT/sequence/           TUM-format sequence: rgb/, rgb.txt, groundtruth.txt,"
-echo "                           detections/, objects_gt.json (the laptop's move), camera.yaml"
-echo "  $OUT/run/                KeyFrameTrajectory.txt, CameraTrajectory.txt (TUM format), run.json"
-echo "  $OUT/run/objects.json    the object map: cuboids with their OCG state"
-echo "  $OUT/run/changes.json    change log: objects removed by the OCG (and merged duplicates)"
-echo "  $OUT/run/ocg.json        the final Object Covisibility Graph"
+row() { printf '  %-40s %s\n' "$1" "$2"; }
+row "$OUT/sequence/" "TUM-format sequence: rgb/, rgb.txt, groundtruth.txt, detections/,"
+row "" "objects_gt.json (the laptop's move), camera.yaml"
+row "$OUT/run/" "KeyFrameTrajectory.txt, CameraTrajectory.txt (TUM format), run.json"
+row "$OUT/run/objects.json" "the object map: cuboids with their OCG state"
+row "$OUT/run/changes.json" "change log: objects removed by the OCG (and merged duplicates)"
+row "$OUT/run/ocg.json" "the final Object Covisibility Graph"
+row "$OUT/run/map_points.ply" "the map points (ASCII PLY)"
+row "$OUT/run/snapshots/" "PNGs: final_{follow,top,three_quarter,objects}.png (the map),"
+row "" "final_frame.png (the last frame with detections and cuboids),"
+row "" "before_first_removal_objects.png (the laptop in red, about to be removed)"

@@ -14,11 +14,16 @@
 #include "cli_common.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/eval/trajectory_error.h"
 #include "ocg/io/detections.h"
+#include "ocg/io/point_cloud.h"
 #include "ocg/io/sequence.h"
 #include "ocg/io/trajectory.h"
+#include "ocg/objects/map_cues.h"
 #include "ocg/objects/object_mapper.h"
 #include "ocg/slam/system.h"
+#include "ocg/viewer/frame_view.h"
+#include "ocg/viewer/snapshots.h"
 
 namespace {
 
@@ -186,13 +191,47 @@ class ObjectLayer {
     points.reserve(result.points.size());
     for (const ocg::TrackedPoint& point : result.points)
       points.push_back({point.id, point.pixel, point.position});
-    mapper_->AddFrame(frame, image.timestamp, *result.T_cw,
-                      ocg::ReadEaoDetectionsForImage(detections_, image.timestamp_text), &points);
+    last_association_ = mapper_->AddFrame(
+        frame, image.timestamp, *result.T_cw,
+        ocg::ReadEaoDetectionsForImage(detections_, image.timestamp_text), &points);
     if (result.new_keyframe) Follow(system);
-    if (tracked_frames_++ % settings_.objects.keyframe_interval == 0)
+    if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
+      // The map as it was just before the OCG's first removal, for the before/after
+      // snapshots (exact in sequential mode; a keyframe late when the OCG has a thread).
+      std::vector<ocg::ObjectView> before;
+      if (!first_removal_) before = mapper_->Views();
+      const std::int64_t removed = mapper_->Stats().objects_removed;
       mapper_->AddKeyframe(keyframes_++, image.timestamp, *result.T_cw);
+      if (!first_removal_ && mapper_->Stats().objects_removed > removed)
+        first_removal_ = std::move(before);
+    }
     seconds_.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+
+  // The objects for the viewer (none without detections) and their up direction.
+  std::vector<ocg::ObjectView> Views() const {
+    return Enabled() ? mapper_->Views() : std::vector<ocg::ObjectView>{};
+  }
+  std::optional<Eigen::Vector3d> Up() const {
+    if (!Enabled()) return std::nullopt;
+    return mapper_->Up();
+  }
+  // The detections of the last frame given, with the objects they were associated to.
+  std::vector<ocg::FrameDetection> LastFrameDetections() const {
+    std::vector<ocg::FrameDetection> detections;
+    for (const ocg::ObjectDetection& detection : last_association_.detections)
+      detections.push_back({detection.box, detection.class_id, detection.confidence, 0});
+    for (const auto& [index, id] : last_association_.matched) {
+      if (index >= 0) detections[static_cast<std::size_t>(index)].object_id = id;
+    }
+    return detections;
+  }
+  // Once: the objects just before the OCG's first removal, if there was one.
+  std::optional<std::vector<ocg::ObjectView>> TakeFirstRemoval() {
+    if (!first_removal_ || first_removal_taken_) return std::nullopt;
+    first_removal_taken_ = true;
+    return first_removal_;
   }
 
   // After SLAM has finished: the objects take the final poses, the OCG its last keyframe.
@@ -232,6 +271,7 @@ class ObjectLayer {
     mapper_->RecordObservations();
     keyframes_ = 0;
     tracked_frames_ = 0;
+    last_association_ = {};
   }
 
   void Follow(const ocg::System& system) {
@@ -247,7 +287,115 @@ class ObjectLayer {
   std::int64_t keyframes_ = 0;
   std::int64_t tracked_frames_ = 0;
   int resets_ = 0;
+  ocg::FrameAssociation last_association_;
+  std::optional<std::vector<ocg::ObjectView>> first_removal_;
+  bool first_removal_taken_ = false;
   std::vector<double> seconds_;
+};
+
+// The run's PNG snapshots (docs/viewer.md): the map from three viewpoints and the last
+// frame at the end, the map and the frame every N SLAM keyframes when asked, and the map
+// just before the OCG's first removal (with the final map, a before/after pair).
+class RunSnapshots {
+ public:
+  RunSnapshots(const ocg::Settings& settings, ocg::SnapshotPolicy policy, const std::string& output,
+               std::vector<ocg::StampedPose> groundtruth)
+      : policy_(policy),
+        writer_(output + "/snapshots", settings.viewer),
+        camera_(settings.camera.model),
+        groundtruth_(std::move(groundtruth)) {
+    if (policy_.Enabled()) writer_.RemoveOldSnapshots();
+  }
+
+  void AfterFrame(const ocg::System& system, ObjectLayer& objects,
+                  const ocg::TrackingResult& result, const ocg::TimedImage& image) {
+    if (result.T_cw) {
+      last_image_ = image.path;
+      last_pose_ = *result.T_cw;
+    }
+    if (!policy_.Enabled()) return;
+    const auto start = std::chrono::steady_clock::now();
+    if (const auto before = objects.TakeFirstRemoval()) {
+      ocg::MapScene scene = Scene(system, objects, false);
+      scene.objects = *before;
+      Record(
+          writer_.WriteMapViews(scene, "before_first_removal",
+                                {ocg::MapViewpoint::kThreeQuarter, ocg::MapViewpoint::kObjects}));
+    }
+    if (result.new_keyframe && policy_.every_keyframes > 0 &&
+        ++keyframes_ % policy_.every_keyframes == 0) {
+      char prefix[32];
+      std::snprintf(prefix, sizeof prefix, "keyframe_%05d", keyframes_);
+      Record(writer_.WriteMapViews(Scene(system, objects, false), prefix,
+                                   {ocg::MapViewpoint::kThreeQuarter}));
+      WriteFrame(objects, std::string(prefix) + "_frame");
+    }
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  // The final snapshots; returns run.json's "snapshots" section.
+  nlohmann::json Finish(const ocg::System& system, const ObjectLayer& objects) {
+    if (!policy_.Enabled()) return nullptr;
+    const auto start = std::chrono::steady_clock::now();
+    Record(writer_.WriteMapViews(Scene(system, objects, true), "final",
+                                 {ocg::MapViewpoint::kFollow, ocg::MapViewpoint::kTopDown,
+                                  ocg::MapViewpoint::kThreeQuarter, ocg::MapViewpoint::kObjects}));
+    WriteFrame(objects, "final_frame");
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return {{"folder", writer_.folder()}, {"files", written_}, {"seconds", seconds_}};
+  }
+
+ private:
+  ocg::MapScene Scene(const ocg::System& system, const ObjectLayer& objects,
+                      bool with_groundtruth) const {
+    ocg::MapScene scene;
+    scene.points = system.MapPointPositions();
+    for (const ocg::StampedPose& pose : system.KeyFrameTrajectory())
+      scene.keyframes.push_back(pose.T_wc);
+    const std::vector<ocg::StampedPose> trajectory = system.CameraTrajectory();
+    for (const ocg::StampedPose& pose : trajectory)
+      scene.trajectory.push_back(pose.T_wc.translation());
+    scene.objects = objects.Views();
+    if (!last_image_.empty()) scene.current_camera = last_pose_.Inverse();
+    scene.up = objects.Up().value_or(ocg::CameraUpPrior(system.KeyFrameRotations()));
+    if (with_groundtruth && !groundtruth_.empty()) {
+      try {
+        // The ground truth in the map's frame: the ATE alignment, inverted.
+        const ocg::Sim3 map_from_truth =
+            ocg::ComputeAte(groundtruth_, trajectory, {}).reference_from_estimate.Inverse();
+        for (const ocg::StampedPose& pose : groundtruth_)
+          scene.groundtruth.push_back(map_from_truth * pose.T_wc.translation());
+      } catch (const std::invalid_argument& error) {
+        spdlog::warn("snapshots: no ground truth drawn: {}", error.what());
+      }
+    }
+    return scene;
+  }
+
+  void WriteFrame(const ObjectLayer& objects, const std::string& name) {
+    if (last_image_.empty()) return;
+    const cv::Mat image = cv::imread(last_image_, cv::IMREAD_COLOR);
+    if (image.empty()) throw ocg::FileError("cannot read image '" + last_image_ + "'");
+    const Eigen::Vector3d up = objects.Up().value_or(Eigen::Vector3d::UnitZ());
+    written_.push_back(
+        writer_.WriteImage(ocg::RenderFrameView(image, objects.LastFrameDetections(),
+                                                objects.Views(), last_pose_, camera_, up),
+                           name));
+  }
+
+  void Record(const std::vector<std::string>& paths) {
+    written_.insert(written_.end(), paths.begin(), paths.end());
+  }
+
+  ocg::SnapshotPolicy policy_;
+  ocg::SnapshotWriter writer_;
+  ocg::PinholeCamera camera_;
+  std::vector<ocg::StampedPose> groundtruth_;
+  std::string last_image_;
+  ocg::SE3 last_pose_;
+  int keyframes_ = 0;
+  double seconds_ = 0.0;
+  std::vector<std::string> written_;
 };
 
 }  // namespace
@@ -279,7 +427,10 @@ int main(int argc, char** argv) {
   run->add_option("--max-frames", max_frames, "stop after N frames (0: all)")
       ->check(CLI::NonNegativeNumber);
   run->add_option("--vocabulary", vocabulary_path, "vocabulary file (overrides Vocabulary.path)");
-  std::string run_mode;
+  std::string run_mode, snapshots;
+  run->add_option("--snapshots", snapshots,
+                  "PNG snapshots under OUT/snapshots/: final, every:N (also every N "
+                  "keyframes) or none; default: final, or every:Viewer.every_keyframes");
   run->add_option("--mode", run_mode,
                   "OCG.mode override for the object layer (off, visibility, paper, ...)");
   run->add_flag("--realtime", realtime,
@@ -353,8 +504,19 @@ int main(int argc, char** argv) {
               << vocabulary_file << " (" << vocabulary.WordCount() << " words, loaded in "
               << load_seconds << " s), " << (config.sequential ? "sequential" : "threaded")
               << " mode\n";
+    ocg::SnapshotPolicy snapshot_policy;
+    if (!snapshots.empty()) {
+      snapshot_policy = ocg::ParseSnapshotPolicy(snapshots);
+    } else {
+      snapshot_policy.every_keyframes = settings.viewer.every_keyframes;
+    }
     ocg::System system(config, vocabulary);
     ObjectLayer objects_layer(settings, detections, config.sequential);
+    const std::string groundtruth_path = sequence_path + "/groundtruth.txt";
+    RunSnapshots run_snapshots(settings, snapshot_policy, output,
+                               format == "tum" && std::filesystem::exists(groundtruth_path)
+                                   ? ocg::ReadTumTrajectory(groundtruth_path)
+                                   : std::vector<ocg::StampedPose>{});
     ocg::ProgressLine progress("frames", frames);
     const auto wall_start = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < frames; ++i) {
@@ -370,6 +532,7 @@ int main(int argc, char** argv) {
       const ocg::TrackingResult result = system.TrackImage(
           gray, image.timestamp, TimestampInSeconds(image.timestamp_text, format));
       objects_layer.AddFrame(system, result, static_cast<std::int64_t>(i), image);
+      run_snapshots.AfterFrame(system, objects_layer, result, image);
       progress.Update(i + 1);
     }
     progress.Finish();
@@ -380,6 +543,7 @@ int main(int argc, char** argv) {
 
     ocg::WriteTumTrajectory(output + "/KeyFrameTrajectory.txt", system.KeyFrameTrajectory());
     ocg::WriteTumTrajectory(output + "/CameraTrajectory.txt", system.CameraTrajectory());
+    ocg::WritePlyPoints(output + "/map_points.ply", system.MapPointPositions());
     int tracked = 0, lost = 0, relocalized = 0, uninitialized = 0;
     std::vector<double> tracking_seconds, mapping_seconds;
     int first_tracked = -1;
@@ -431,13 +595,15 @@ int main(int argc, char** argv) {
                                {"levels", config.orb.levels}}},
                              {"seed", settings.system.seed}};
     if (objects_layer.Enabled()) report["objects"] = objects_layer.Write(output);
+    report["snapshots"] = run_snapshots.Finish(system, objects_layer);
     ocg::WriteFileAtomically(output + "/run.json", report.dump(2) + "\n");
     std::cout << "tracked " << tracked << " of " << frames << " frames (first at " << first_tracked
               << "), lost " << lost << ", relocalized " << relocalized << ", resets "
               << system.Resets() << "; " << system.KeyFrameCount() << " keyframes, "
               << system.MapPointCount() << " points; tracking median "
               << 1000.0 * Percentile(tracking_seconds, 0.5) << " ms/frame\n"
-              << "wrote " << output << "/KeyFrameTrajectory.txt, CameraTrajectory.txt, run.json"
+              << "wrote " << output
+              << "/KeyFrameTrajectory.txt, CameraTrajectory.txt, map_points.ply, run.json"
               << (objects_layer.Enabled()
                       ? ", objects.json, changes.json, ocg.json, ocg_observations.jsonl"
                       : "")

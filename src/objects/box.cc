@@ -85,6 +85,21 @@ std::array<Eigen::Vector3d, 8> CuboidCorners(const Cuboid& cuboid, const Eigen::
   return corners;
 }
 
+std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 12> CuboidEdges(
+    const Cuboid& cuboid, const Eigen::Matrix3d& R_wg) {
+  const std::array<Eigen::Vector3d, 8> corners = CuboidCorners(cuboid, R_wg);
+  std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 12> edges;
+  std::size_t next = 0;
+  for (int i = 0; i < 8; ++i) {
+    for (int bit : {1, 2, 4}) {
+      if ((i & bit) == 0)
+        edges[next++] = {corners[static_cast<std::size_t>(i)],
+                         corners[static_cast<std::size_t>(i | bit)]};
+    }
+  }
+  return edges;
+}
+
 std::optional<Box2> ProjectCuboid(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,
                                   const SE3& T_cw, const PinholeCamera& camera) {
   Box2 box{1e300, 1e300, -1e300, -1e300};

@@ -177,6 +177,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
                                      const std::vector<ObjectDetection>& detections,
                                      const std::vector<PointObservation>* points) {
   FrameAssociation result;
+  result.detections = detections;
   std::vector<MapObject*> entities;
   for (auto& entry : objects_) entities.push_back(&entry.second);
   const std::size_t object_count = entities.size();

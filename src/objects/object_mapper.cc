@@ -1,5 +1,7 @@
 #include "ocg/objects/object_mapper.h"
 
+#include <map>
+
 #include "ocg/ocg/replay_format.h"
 
 namespace ocg {
@@ -12,6 +14,7 @@ ObjectMapper::ObjectMapper(ObjectsOptions objects, OcgOptions ocg, PinholeCamera
   manager_.SetRemovalCallback([this](const KeyframeResult& result) {
     std::lock_guard<std::mutex> lock(map_mutex_);
     for (const RemovalEvent& event : result.removed) map_.Remove(event);
+    stats_.objects_removed += static_cast<std::int64_t>(result.removed.size());
   });
 }
 
@@ -90,6 +93,30 @@ std::string ObjectMapper::GraphJson() const { return manager_.GraphJson(); }
 ObjectLayerStats ObjectMapper::Stats() const {
   std::lock_guard<std::mutex> lock(map_mutex_);
   return stats_;
+}
+
+std::vector<ObjectView> ObjectMapper::Views() const {
+  std::map<ObjectId, int> states;
+  for (const ObjectStatus& status : manager_.Snapshot())
+    states[status.id] = static_cast<int>(status.state);
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  std::vector<ObjectView> views;
+  for (const auto& [id, object] : map_.objects()) {
+    if (!object.has_cuboid) continue;
+    const auto state = states.find(id);
+    views.push_back(
+        {id, object.class_id, object.cuboid, state == states.end() ? 0 : state->second, false});
+  }
+  for (const ObjectChange& change : map_.changes()) {
+    if (change.type == "removed")
+      views.push_back({change.object_id, change.class_id, change.cuboid, 5, true});
+  }
+  return views;
+}
+
+Eigen::Vector3d ObjectMapper::Up() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.gravity_frame().col(2);
 }
 
 std::size_t ObjectMapper::LiveObjectCount() const {

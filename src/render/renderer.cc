@@ -242,17 +242,64 @@ void Renderer::Draw(const DrawItem& item, bool id_pass) {
   glDisableClientState(GL_VERTEX_ARRAY);
 }
 
+void Renderer::DrawOverlay(const Overlay& overlay) {
+  glDisable(GL_TEXTURE_2D);
+  glDisableClientState(GL_COLOR_ARRAY);
+  glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+  glEnableClientState(GL_VERTEX_ARRAY);
+  for (const LineBatch& batch : overlay.lines) {
+    if (batch.segments.size() < 2) continue;
+    glLineWidth(batch.width);
+    if (batch.dashed) {
+      glEnable(GL_LINE_STIPPLE);
+      glLineStipple(3, 0x00FF);
+    }
+    glColor3f(batch.colour.x(), batch.colour.y(), batch.colour.z());
+    glVertexPointer(3, GL_FLOAT, sizeof(Eigen::Vector3f), batch.segments[0].data());
+    glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(batch.segments.size() / 2 * 2));
+    glDisable(GL_LINE_STIPPLE);
+  }
+  for (const PointBatch& batch : overlay.points) {
+    if (batch.positions.empty()) continue;
+    glPointSize(batch.size);
+    glColor3f(batch.colour.x(), batch.colour.y(), batch.colour.z());
+    glVertexPointer(3, GL_FLOAT, sizeof(Eigen::Vector3f), batch.positions[0].data());
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(batch.positions.size()));
+  }
+  glDisableClientState(GL_VERTEX_ARRAY);
+  glLineWidth(1.0f);
+  glPointSize(1.0f);
+}
+
+cv::Mat Renderer::ReadColour() {
+  glFinish();
+  const cv::Mat rgba(height_, width_, CV_8UC4, context_->buffer.data());
+  cv::Mat bgr;
+  cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
+  return bgr;
+}
+
 cv::Mat Renderer::RenderColour(const std::vector<const DrawItem*>& items, const SE3& T_cw,
                                const PinholeCamera& camera, const Eigen::Vector3f& background) {
   SetCamera(T_cw, camera);
   glClearColor(background.x(), background.y(), background.z(), 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   for (const DrawItem* item : items) Draw(*item, false);
-  glFinish();
-  const cv::Mat rgba(height_, width_, CV_8UC4, context_->buffer.data());
-  cv::Mat bgr;
-  cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
-  return bgr;
+  return ReadColour();
+}
+
+cv::Mat Renderer::RenderColour(const std::vector<const DrawItem*>& items, const Overlay& overlay,
+                               const SE3& T_cw, const PinholeCamera& camera,
+                               const Eigen::Vector3f& background) {
+  SetCamera(T_cw, camera);
+  glClearColor(background.x(), background.y(), background.z(), 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
+  for (const DrawItem* item : items) Draw(*item, false);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  DrawOverlay(overlay);
+  return ReadColour();
 }
 
 cv::Mat Renderer::RenderIds(const std::vector<const DrawItem*>& items, const SE3& T_cw,

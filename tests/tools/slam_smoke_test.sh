@@ -17,7 +17,8 @@ for run in a b; do
     --detections "$WORK/smoke/detections" --out "$WORK/$run" --log-level warn >"$WORK/$run.log"
 done
 cat "$WORK/a.log"
-for file in CameraTrajectory.txt KeyFrameTrajectory.txt objects.json changes.json ocg.json; do
+for file in CameraTrajectory.txt KeyFrameTrajectory.txt objects.json changes.json ocg.json \
+  map_points.ply snapshots/final_three_quarter.png; do
   cmp -s "$WORK/a/$file" "$WORK/b/$file" || fail "two runs differ ($file)"
 done
 first=$(grep -o '"first_tracked_frame": [-0-9]*' "$WORK/a/run.json" | awk '{print $2}')
@@ -43,6 +44,18 @@ corr_s=$(metric corr_s); redun_s=$(metric redun_s); delet_s=$(metric delet_s)
 [ "$delet_s" -eq 0 ] || fail "$delet_s static objects deleted"
 grep -q '"map_points": [1-9]' "$WORK/a/objects.json" || fail "no object holds map points"
 echo "passed: object map with $corr_s correct static objects, $redun_s redundant, none deleted"
+
+# Snapshots: the final map from every viewpoint and the last frame, 1280x720 PNGs; and
+# ocg_render draws the same map from the run folder alone.
+png_size() { python3 -c "import struct,sys; d=open(sys.argv[1],'rb').read(24); assert d[:8]==b'\x89PNG\r\n\x1a\n'; print('%dx%d' % struct.unpack('>II', d[16:24]))" "$1"; }
+for view in follow top three_quarter objects; do
+  [ "$(png_size "$WORK/a/snapshots/final_$view.png")" = 1280x720 ] || fail "final_$view.png missing or not 1280x720"
+done
+[ "$(png_size "$WORK/a/snapshots/final_frame.png")" = 640x480 ] || fail "final_frame.png missing or not 640x480"
+"$BIN/ocg_render" --run "$WORK/a" --out "$WORK/render" --views top,objects >"$WORK/render.log"
+cat "$WORK/render.log"
+[ "$(png_size "$WORK/render/map_top.png")" = 1280x720 ] || fail "ocg_render wrote no map_top.png"
+echo "passed: snapshots written by the run and by ocg_render"
 
 # Relocalization: after frame 150 come five blank frames (tracking is lost), then the
 # images jump back to frame 60: tracking must relocalize against the keyframes of that

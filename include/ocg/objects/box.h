@@ -3,6 +3,7 @@
 
 #include <array>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "ocg/core/camera.h"
@@ -50,7 +51,11 @@ struct Cuboid {
 // with up, projected on the horizontal plane, so that for up = world z it is the identity.
 Eigen::Matrix3d GravityFrame(const Eigen::Vector3d& up);
 
+// Corner i is at -+ half the size along the cuboid's x (bit 0 of i), y (bit 1), z (bit 2).
 std::array<Eigen::Vector3d, 8> CuboidCorners(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg);
+// The 12 edges, as pairs of corners.
+std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 12> CuboidEdges(
+    const Cuboid& cuboid, const Eigen::Matrix3d& R_wg);
 
 // The bounding rectangle of the cuboid's projected corners, clipped to the image; none
 // when a corner is behind the camera or the rectangle misses the image.

@@ -51,6 +51,15 @@ struct MapObject {
   std::map<std::uint64_t, ObjectPoint> points;  // by SLAM map point id
 };
 
+// An object as viewers and reports show it: live or removed, with its OCG state.
+struct ObjectView {
+  ObjectId id = 0;
+  int class_id = 0;
+  Cuboid cuboid;
+  int state = 0;         // OCG state 1-4; 0 before the object's first keyframe
+  bool removed = false;  // left the map (the change log's last cuboid)
+};
+
 // The object's point set: its map points with at least min_votes votes, within its largest
 // extent of its centre once it has a cuboid, and within 3 robust sigmas of their median
 // (the background caught in its boxes left out).
@@ -71,6 +80,7 @@ struct ObjectChange {
 };
 
 struct FrameAssociation {
+  std::vector<ObjectDetection> detections;  // the frame's detections after filtering
   // (detection index, object id) for map objects; candidates are not listed.
   std::vector<std::pair<int, ObjectId>> matched;
   int new_candidates = 0;

@@ -32,6 +32,7 @@ struct ObjectLayerStats {
   std::int64_t detections_used = 0;
   std::int64_t detections_matched = 0;
   std::int64_t objects_created = 0;
+  std::int64_t objects_removed = 0;  // by the OCG
   // SLAM runs: the last supporting plane found (0 inliers: none, up from the cameras).
   int plane_inliers = 0;
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
@@ -65,6 +66,10 @@ class ObjectMapper {
   std::string ChangesJson() const;
   std::string GraphJson() const;
   ObjectLayerStats Stats() const;
+  // The live objects with their OCG state, and the removed ones (for viewers).
+  std::vector<ObjectView> Views() const;
+  // The up direction the cuboids are aligned with.
+  Eigen::Vector3d Up() const;
   std::size_t LiveObjectCount() const;
 
  private:

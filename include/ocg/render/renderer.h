@@ -46,6 +46,24 @@ struct DrawItem {
   std::vector<Eigen::Vector3f> shade;  // per-vertex light, filled by Renderer::Shade
 };
 
+// Lines and points, drawn after the meshes and depth-tested against them (the map
+// viewer's points, frustums, trajectories and cuboid edges).
+struct LineBatch {
+  std::vector<Eigen::Vector3f> segments;  // world points, two per segment
+  Eigen::Vector3f colour = Eigen::Vector3f::Zero();
+  float width = 1.0f;  // pixels
+  bool dashed = false;
+};
+struct PointBatch {
+  std::vector<Eigen::Vector3f> positions;  // world
+  Eigen::Vector3f colour = Eigen::Vector3f::Zero();
+  float size = 2.0f;  // pixels
+};
+struct Overlay {
+  std::vector<LineBatch> lines;
+  std::vector<PointBatch> points;
+};
+
 class Renderer {
  public:
   // Throws std::runtime_error when no OSMesa context can be created.
@@ -67,6 +85,11 @@ class Renderer {
   // Distortion of the camera model is ignored (rendered images are ideal pinhole).
   cv::Mat RenderColour(const std::vector<const DrawItem*>& items, const SE3& T_cw,
                        const PinholeCamera& camera, const Eigen::Vector3f& background);
+  // The same with lines and points over the meshes (faces are pushed back a little so
+  // that edges drawn on them stay visible).
+  cv::Mat RenderColour(const std::vector<const DrawItem*>& items, const Overlay& overlay,
+                       const SE3& T_cw, const PinholeCamera& camera,
+                       const Eigen::Vector3f& background);
   // Id image (CV_32SC1): the id of the item visible at each pixel, 0 where none.
   // With depth, also fills a CV_32FC1 image of metric depth (0 where nothing).
   cv::Mat RenderIds(const std::vector<const DrawItem*>& items, const SE3& T_cw,
@@ -83,6 +106,8 @@ class Renderer {
  private:
   void SetCamera(const SE3& T_cw, const PinholeCamera& camera);
   void Draw(const DrawItem& item, bool id_pass);
+  void DrawOverlay(const Overlay& overlay);
+  cv::Mat ReadColour();
 
   struct Context;
   std::unique_ptr<Context> context_;

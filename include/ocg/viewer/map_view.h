@@ -1,0 +1,56 @@
+#pragma once
+// The 3-D map snapshot: map points, keyframe frustums, the trajectory (and the ground
+// truth's), and the object cuboids coloured by OCG state, removed objects as grey dashed
+// ghosts, with class labels. Rendered off-screen (OSMesa) into an image.
+//
+// Threading: RenderMapView uses the caller's Renderer (one thread per Renderer).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "ocg/core/lie.h"
+#include "ocg/objects/object_map.h"
+#include "ocg/render/renderer.h"
+#include "ocg/viewer/viewer_options.h"
+
+namespace ocg {
+
+// What a map snapshot shows, in the map's world frame.
+struct MapScene {
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // gravity-aligned cuboids' up
+  std::vector<Eigen::Vector3d> points;
+  std::vector<SE3> keyframes;                // camera-to-world (T_wc)
+  std::vector<Eigen::Vector3d> trajectory;   // camera centres, in order
+  std::vector<Eigen::Vector3d> groundtruth;  // aligned to the map, in order; may be empty
+  std::vector<ObjectView> objects;
+  std::optional<SE3> current_camera;  // T_wc of the last tracked frame, drawn in green
+};
+
+enum class MapViewpoint {
+  kFollow,        // ORB-SLAM2's view: Viewer.ViewpointX/Y/Z/F behind the last keyframe
+  kTopDown,       // from above, framing the whole map
+  kThreeQuarter,  // from 45 degrees round and 35 up, framing the whole map
+  kObjects,       // as kThreeQuarter, framing the objects (the whole map without any)
+};
+const char* ToString(MapViewpoint viewpoint);
+
+// The colour of an OCG state (RGB in [0, 1]); state 5 / removed: grey.
+Eigen::Vector3f StateColour(int state, bool removed);
+
+// Where the snapshot camera is and how it projects, for a viewpoint of the scene.
+struct ViewCamera {
+  SE3 T_cw;
+  PinholeCamera camera;
+};
+ViewCamera MapViewCamera(const MapScene& scene, const ViewerOptions& options,
+                         MapViewpoint viewpoint);
+
+// The snapshot (BGR, options.snapshot_width x snapshot_height). An empty scene renders
+// as the background.
+cv::Mat RenderMapView(Renderer& renderer, const MapScene& scene, const ViewerOptions& options,
+                      MapViewpoint viewpoint);
+
+}  // namespace ocg

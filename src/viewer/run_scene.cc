@@ -1,0 +1,85 @@
+#include "ocg/viewer/run_scene.h"
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "ocg/core/file_io.h"
+#include "ocg/io/point_cloud.h"
+#include "ocg/io/text_lines.h"
+#include "ocg/io/trajectory.h"
+
+namespace ocg {
+namespace {
+
+Eigen::Vector3d ReadVector(const nlohmann::json& value) {
+  return {value.at(0).get<double>(), value.at(1).get<double>(), value.at(2).get<double>()};
+}
+
+Cuboid ReadCuboid(const nlohmann::json& value) {
+  Cuboid cuboid;
+  cuboid.centre = ReadVector(value.at("centre"));
+  cuboid.size = ReadVector(value.at("size"));
+  cuboid.yaw = value.at("yaw").get<double>();
+  return cuboid;
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  try {
+    return nlohmann::json::parse(ReadTextFile(path));
+  } catch (const nlohmann::json::exception& error) {
+    throw ParseError(path + ": " + error.what());
+  }
+}
+
+}  // namespace
+
+MapScene ReadRunScene(const std::string& run_dir) {
+  namespace fs = std::filesystem;
+  MapScene scene;
+  for (const StampedPose& pose : ReadTumTrajectory(run_dir + "/KeyFrameTrajectory.txt"))
+    scene.keyframes.push_back(pose.T_wc);
+  if (fs::exists(run_dir + "/CameraTrajectory.txt")) {
+    for (const StampedPose& pose : ReadTumTrajectory(run_dir + "/CameraTrajectory.txt"))
+      scene.trajectory.push_back(pose.T_wc.translation());
+  }
+  if (fs::exists(run_dir + "/map_points.ply"))
+    scene.points = ReadPlyPoints(run_dir + "/map_points.ply");
+  const std::string objects_path = run_dir + "/objects.json";
+  if (fs::exists(objects_path)) {
+    const nlohmann::json objects = ReadJson(objects_path);
+    try {
+      if (objects.contains("up")) scene.up = ReadVector(objects.at("up"));
+      for (const nlohmann::json& entry : objects.at("objects")) {
+        ObjectView view;
+        view.id = entry.at("id").get<ObjectId>();
+        view.class_id = entry.at("class_id").get<int>();
+        view.cuboid = ReadCuboid(entry.at("cuboid"));
+        view.state = entry.at("state").is_null() ? 0 : entry.at("state").get<int>();
+        scene.objects.push_back(view);
+      }
+    } catch (const nlohmann::json::exception& error) {
+      throw ParseError(objects_path + ": " + error.what());
+    }
+  }
+  const std::string changes_path = run_dir + "/changes.json";
+  if (fs::exists(changes_path)) {
+    const nlohmann::json changes = ReadJson(changes_path);
+    try {
+      for (const nlohmann::json& entry : changes.at("changes")) {
+        if (entry.at("type").get<std::string>() != "removed") continue;
+        ObjectView view;
+        view.id = entry.at("object_id").get<ObjectId>();
+        view.class_id = entry.at("class_id").get<int>();
+        view.cuboid = ReadCuboid(entry.at("cuboid"));
+        view.state = 5;
+        view.removed = true;
+        scene.objects.push_back(view);
+      }
+    } catch (const nlohmann::json::exception& error) {
+      throw ParseError(changes_path + ": " + error.what());
+    }
+  }
+  return scene;
+}
+
+}  // namespace ocg
