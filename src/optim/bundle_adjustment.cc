@@ -8,23 +8,10 @@
 
 #include "ocg/optim/pose_parameters.h"
 #include "ocg/optim/reprojection_cost.h"
+#include "solver_options.h"
 
 namespace ocg {
 namespace {
-
-ceres::Solver::Options SolverOptions(int iterations, bool schur) {
-  ceres::Solver::Options options;
-  options.max_num_iterations = iterations;
-  options.num_threads = 1;  // reproducible sums
-  options.linear_solver_type =
-      schur ? (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)
-                   ? ceres::SPARSE_SCHUR
-                   : ceres::DENSE_SCHUR)
-            : ceres::DENSE_QR;
-  options.logging_type = ceres::SILENT;
-  options.minimizer_progress_to_stdout = false;
-  return options;
-}
 
 double Chi2(const PinholeCamera& camera, const SE3& T_cw, const Eigen::Vector3d& X,
             const Eigen::Vector2d& pixel, double inverse_sigma2, bool* in_front) {
@@ -103,7 +90,8 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
   report.initial_rms_pixels = std::sqrt(initial_sum / count);
   if (any_free && !problem->observations.empty()) {
     ceres::Solver::Summary summary;
-    ceres::Solve(SolverOptions(options.max_iterations, true), &ceres_problem, &summary);
+    ceres::Solve(SolverOptions(options.max_iterations, LinearSolver::kSchur), &ceres_problem,
+                 &summary);
     report.solved = summary.IsSolutionUsable();
     report.message = summary.BriefReport();
     report.iterations = static_cast<int>(summary.iterations.size());
@@ -166,7 +154,8 @@ PoseOptimizationResult OptimizePose(const PinholeCamera& camera, const SE3& T_cw
     if (used < 3) break;  // too few to constrain a pose: keep the last estimate
     problem.SetManifold(pose.data(), &manifold);
     ceres::Solver::Summary summary;
-    ceres::Solve(SolverOptions(options.iterations_per_round, false), &problem, &summary);
+    ceres::Solve(SolverOptions(options.iterations_per_round, LinearSolver::kDense), &problem,
+                 &summary);
     if (summary.IsSolutionUsable()) result.T_cw = FromParameters(pose.data());
     // Re-judge every observation, the excluded ones too: a good pose brings some back.
     for (std::size_t i = 0; i < observations.size(); ++i) {

@@ -1,0 +1,13 @@
+#pragma once
+// Ceres solver settings shared by the project's problems (internal to optim).
+
+#include <ceres/ceres.h>
+
+namespace ocg {
+
+// Single-threaded (sums in a fixed order, so runs repeat exactly), silent; the Schur
+// complement for bundle adjustment, sparse Cholesky for graphs, dense QR otherwise.
+enum class LinearSolver { kSchur, kSparse, kDense };
+ceres::Solver::Options SolverOptions(int iterations, LinearSolver solver);
+
+}  // namespace ocg
