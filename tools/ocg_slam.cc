@@ -499,6 +499,8 @@ int main(int argc, char** argv) {
     config.initializer.two_view.seed ^= settings.system.seed;
     config.tracking = settings.tracking;
     config.local_mapping = settings.local_mapping;
+    config.loop_closing = settings.loop_closing;
+    config.seed = settings.system.seed;
     ocg::EnsureDirectory(output);
     std::cout << "ocg_slam: " << frames << " frames of " << sequence_path << ", vocabulary "
               << vocabulary_file << " (" << vocabulary.WordCount() << " words, loaded in "
@@ -594,14 +596,30 @@ int main(int argc, char** argv) {
                                {"scale_factor", config.orb.scale_factor},
                                {"levels", config.orb.levels}}},
                              {"seed", settings.system.seed}};
+    nlohmann::json loops = nlohmann::json::array();
+    for (const ocg::LoopEvent& loop : system.LoopStats().loops) {
+      loops.push_back({{"keyframe", loop.keyframe},
+                       {"matched_keyframe", loop.matched},
+                       {"timestamp", loop.timestamp},
+                       {"sim3_inliers", loop.sim3_inliers},
+                       {"loop_matches", loop.loop_matches},
+                       {"scale", loop.scale},
+                       {"correction", loop.correction},
+                       {"points_fused", loop.points_fused},
+                       {"seconds", loop.seconds}});
+    }
+    report["loop_closing"] = {{"enabled", settings.loop_closing.enabled},
+                              {"candidates_checked", system.LoopStats().candidates_checked},
+                              {"loops", loops}};
     if (objects_layer.Enabled()) report["objects"] = objects_layer.Write(output);
     report["snapshots"] = run_snapshots.Finish(system, objects_layer);
     ocg::WriteFileAtomically(output + "/run.json", report.dump(2) + "\n");
     std::cout << "tracked " << tracked << " of " << frames << " frames (first at " << first_tracked
               << "), lost " << lost << ", relocalized " << relocalized << ", resets "
-              << system.Resets() << "; " << system.KeyFrameCount() << " keyframes, "
-              << system.MapPointCount() << " points; tracking median "
-              << 1000.0 * Percentile(tracking_seconds, 0.5) << " ms/frame\n"
+              << system.Resets() << ", loops closed " << system.LoopStats().loops.size() << "; "
+              << system.KeyFrameCount() << " keyframes, " << system.MapPointCount()
+              << " points; tracking median " << 1000.0 * Percentile(tracking_seconds, 0.5)
+              << " ms/frame\n"
               << "wrote " << output
               << "/KeyFrameTrajectory.txt, CameraTrajectory.txt, map_points.ply, run.json"
               << (objects_layer.Enabled()

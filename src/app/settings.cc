@@ -23,6 +23,7 @@ void CheckAll(const Settings& settings) {
   settings.initializer.Check();
   settings.tracking.Check();
   settings.local_mapping.Check();
+  settings.loop_closing.Check();
   settings.objects.Check();
   settings.ocg.Check();
   settings.viewer.Check();
@@ -40,6 +41,7 @@ LoadedSettings ReadAll(const SettingsFile& file) {
   ReadSettings(file, &settings.initializer);
   ReadSettings(file, &settings.tracking);
   ReadSettings(file, &settings.local_mapping);
+  ReadSettings(file, &settings.loop_closing);
   ReadSettings(file, &settings.objects);
   ReadSettings(file, &settings.ocg);
   ReadSettings(file, &settings.viewer);

@@ -9,6 +9,7 @@
 
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/slam/map_operations.h"
 #include "ocg/slam/two_view.h"
 
 namespace ocg {
@@ -265,51 +266,6 @@ void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe) {
   }
 }
 
-int LocalMapping::Fuse(const KeyFramePtr& target, const std::vector<MapPointPtr>& points) {
-  std::vector<ProjectedPoint> projected;
-  std::vector<MapPointPtr> sources;
-  for (const MapPointPtr& point : points) {
-    if (!point || point->bad || point->observations.count(target->id) != 0) continue;
-    const auto projection =
-        ProjectPoint(camera_, target->features.grid.bounds(), target->T_cw, *point, true);
-    if (!projection) continue;
-    const double distance = projection->distance;
-    const Eigen::Vector2d& pixel = projection->pixel;
-    const int level = pyramid_.PredictLevel(distance, point->max_distance);
-    ProjectedPoint p;
-    p.pixel = pixel;
-    p.radius = options_.fuse_radius * pyramid_.scale[static_cast<std::size_t>(level)];
-    p.min_level = std::max(0, level - 1);
-    p.max_level = level + 1;
-    p.descriptor = point->descriptor;
-    projected.push_back(p);
-    sources.push_back(point);
-  }
-  MatcherOptions options = matcher_;
-  options.check_orientation = false;
-  const std::vector<int> matches = SearchByProjection(target->features, projected, nullptr, 0.0,
-                                                      matcher_.strict_distance, options);
-  int fused = 0;
-  for (std::size_t q = 0; q < matches.size(); ++q) {
-    if (matches[q] == kNoMatch) continue;
-    const MapPointPtr& source = sources[q];
-    if (source->bad) continue;
-    const MapPointPtr existing = target->points[static_cast<std::size_t>(matches[q])];
-    if (existing && !existing->bad) {
-      if (existing == source) continue;
-      if (existing->observations.size() > source->observations.size()) {
-        map_->ReplacePoint(source, existing);
-      } else {
-        map_->ReplacePoint(existing, source);
-      }
-    } else {
-      map_->AddObservation(target, matches[q], source);
-    }
-    ++fused;
-  }
-  return fused;
-}
-
 void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
   std::vector<KeyFramePtr> targets =
       map_->BestCovisible(keyframe, static_cast<std::size_t>(options_.triangulation_neighbours));
@@ -321,7 +277,9 @@ void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
       if (second->id != keyframe->id && seen.insert(second->id).second) targets.push_back(second);
     }
   }
-  for (const KeyFramePtr& target : targets) stats_.points_fused += Fuse(target, keyframe->points);
+  for (const KeyFramePtr& target : targets)
+    stats_.points_fused += FusePoints(*map_, camera_, pyramid_, matcher_, options_.fuse_radius,
+                                      target, keyframe->points);
   std::vector<MapPointPtr> candidates;
   std::set<MapPointId> added;
   for (const KeyFramePtr& target : targets) {
@@ -329,7 +287,8 @@ void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
       if (point && !point->bad && added.insert(point->id).second) candidates.push_back(point);
     }
   }
-  stats_.points_fused += Fuse(keyframe, candidates);
+  stats_.points_fused +=
+      FusePoints(*map_, camera_, pyramid_, matcher_, options_.fuse_radius, keyframe, candidates);
   for (const MapPointPtr& point : keyframe->points) {
     if (point && !point->bad) {
       map_->UpdatePointDescriptor(point);
@@ -345,62 +304,7 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe) {
   for (const KeyFramePtr& k : map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
     local.push_back(k);
   }
-  std::map<KeyFrameId, int> keyframe_index;
-  BundleAdjustmentProblem problem;
-  problem.camera = camera_;
-  const KeyFrameId first_id = map_->keyframes().begin()->first;
-  for (const KeyFramePtr& k : local) {
-    keyframe_index[k->id] = static_cast<int>(problem.keyframes.size());
-    problem.keyframes.push_back({k->T_cw, k->id == first_id});
-  }
-  std::vector<MapPointPtr> points;
-  std::map<MapPointId, int> point_index;
-  for (const KeyFramePtr& k : local) {
-    for (const MapPointPtr& point : k->points) {
-      if (!point || point->bad || point_index.count(point->id) != 0) continue;
-      point_index[point->id] = static_cast<int>(points.size());
-      points.push_back(point);
-      problem.points.push_back({point->position, false});
-    }
-  }
-  // Keyframes outside the local set that see local points hold the gauge, fixed.
-  std::vector<std::pair<KeyFramePtr, int>> observers;
-  std::vector<std::pair<MapPointPtr, KeyFramePtr>> observation_owner;
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    for (const auto& [keyframe_id, feature] : points[p]->observations) {
-      const KeyFramePtr k = map_->GetKeyFrame(keyframe_id);
-      if (!k || k->bad) continue;
-      auto found = keyframe_index.find(keyframe_id);
-      if (found == keyframe_index.end()) {
-        found =
-            keyframe_index.emplace(keyframe_id, static_cast<int>(problem.keyframes.size())).first;
-        problem.keyframes.push_back({k->T_cw, true});
-        local.push_back(k);
-      }
-      const cv::KeyPoint& kp = k->features.keypoints[static_cast<std::size_t>(feature)];
-      problem.observations.push_back(
-          {found->second, static_cast<int>(p),
-           k->features.undistorted[static_cast<std::size_t>(feature)],
-           pyramid_.inverse_sigma2[static_cast<std::size_t>(kp.octave)]});
-      observation_owner.emplace_back(points[p], k);
-    }
-  }
-  BundleAdjustmentOptions options;
-  options.max_iterations = options_.local_ba_iterations;
-  const BundleAdjustmentReport report = BundleAdjust(&problem, options);
-  if (!report.solved) return;
-  for (std::size_t i = 0; i < local.size(); ++i) {
-    if (!problem.keyframes[i].fixed) local[i]->T_cw = problem.keyframes[i].T_cw;
-  }
-  for (std::size_t p = 0; p < points.size(); ++p) points[p]->position = problem.points[p].position;
-  for (std::size_t i = 0; i < report.outlier.size(); ++i) {
-    if (!report.outlier[i]) continue;
-    const auto& [point, owner] = observation_owner[i];
-    if (!point->bad) map_->EraseObservation(owner, point);
-  }
-  for (const MapPointPtr& point : points) {
-    if (!point->bad) map_->UpdatePointGeometry(point, pyramid_);
-  }
+  if (!AdjustKeyFrames(*map_, camera_, pyramid_, local, options_.local_ba_iterations)) return;
   stats_.ba_seconds.push_back(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
@@ -409,7 +313,7 @@ void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe) {
   const KeyFrameId first_id = map_->keyframes().begin()->first;
   for (const KeyFramePtr& candidate :
        map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
-    if (candidate->id == first_id || candidate->bad) continue;
+    if (candidate->id == first_id || candidate->bad || !candidate->loop_edges.empty()) continue;
     int valid = 0;
     int redundant = 0;
     for (std::size_t i = 0; i < candidate->points.size(); ++i) {
@@ -473,6 +377,7 @@ void LocalMapping::Run() {
     }
     try {
       ProcessKeyFrame(keyframe);
+      if (keyframe_mapped_) keyframe_mapped_(keyframe);
     } catch (...) {
       std::lock_guard<std::mutex> lock(queue_mutex_);
       failure_ = std::current_exception();

@@ -23,13 +23,15 @@ System::System(const SystemConfig& config, const Vocabulary& vocabulary)
     : config_(config), vocabulary_(vocabulary), database_(vocabulary.WordCount()) {
   config_.camera.Check();
   auto sink = [this](const KeyFramePtr& keyframe) {
-    if (config_.sequential) {
-      const auto start = std::chrono::steady_clock::now();
-      local_mapping_->ProcessKeyFrame(keyframe);
-      pending_mapping_seconds_ += Seconds(start);
-    } else {
+    if (!config_.sequential) {
       local_mapping_->Insert(keyframe);
+      return false;
     }
+    const auto start = std::chrono::steady_clock::now();
+    local_mapping_->ProcessKeyFrame(keyframe);
+    const bool loop_closed = loop_closing_->ProcessKeyFrame(keyframe);
+    pending_mapping_seconds_ += Seconds(start);
+    return loop_closed;
   };
   auto idle = [this] { return config_.sequential || local_mapping_->Idle(); };
   tracking_ = std::make_unique<Tracking>(
@@ -38,7 +40,14 @@ System::System(const SystemConfig& config, const Vocabulary& vocabulary)
   local_mapping_ =
       std::make_unique<LocalMapping>(config_.camera, tracking_->pyramid(), config_.matcher,
                                      config_.local_mapping, &map_, &database_);
-  if (!config_.sequential) local_mapping_->Start();
+  loop_closing_ =
+      std::make_unique<LoopClosing>(config_.camera, tracking_->pyramid(), config_.matcher,
+                                    config_.loop_closing, &map_, &database_, config_.seed);
+  if (!config_.sequential) {
+    local_mapping_->SetKeyFrameMapped(
+        [this](const KeyFramePtr& keyframe) { loop_closing_->ProcessKeyFrame(keyframe); });
+    local_mapping_->Start();
+  }
 }
 
 System::~System() {
@@ -59,6 +68,7 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
     if (!config_.sequential) local_mapping_->Stop();  // drains the queue and joins
     tracking_->Reset();
     local_mapping_->Reset();
+    loop_closing_->Reset();
     if (!config_.sequential) local_mapping_->Start();
     for (FrameRecord& record : frames_) record.tracked = false;  // that map is gone
   }

@@ -91,7 +91,7 @@ const char* ToString(TrackingState state) {
 Tracking::Tracking(const PinholeCamera& camera, double fps, const OrbExtractorOptions& orb,
                    const MatcherOptions& matcher, const InitialMapOptions& initializer,
                    const TrackingOptions& options, TrackingDependencies dependencies,
-                   std::function<void(const KeyFramePtr&)> keyframe_sink,
+                   std::function<bool(const KeyFramePtr&)> keyframe_sink,
                    std::function<bool()> local_mapping_idle)
     : camera_(camera),
       fps_(fps),
@@ -172,7 +172,11 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
           keyframe = CreateKeyFrame(frame);
         }
         result.new_keyframe = true;
-        keyframe_sink_(keyframe);
+        if (keyframe_sink_(keyframe)) {
+          // A loop moved the map under this frame: it stands where its keyframe now does.
+          std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+          frame.T_cw = keyframe->T_cw;
+        }
       }
     } else {
       state_ = TrackingState::kLost;

@@ -13,6 +13,7 @@
 #include "ocg/ocg/options.h"
 #include "ocg/slam/initializer.h"
 #include "ocg/slam/local_mapping.h"
+#include "ocg/slam/loop_closing.h"
 #include "ocg/slam/tracking.h"
 #include "ocg/viewer/viewer_options.h"
 
@@ -28,6 +29,7 @@ struct Settings {
   InitialMapOptions initializer;
   TrackingOptions tracking;
   LocalMappingOptions local_mapping;
+  LoopClosingOptions loop_closing;
   ObjectsOptions objects;
   OcgOptions ocg;
   ViewerOptions viewer;

@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <list>
 #include <mutex>
 #include <thread>
@@ -72,6 +73,11 @@ class LocalMapping {
   void Stop();
   // Forgets recent points (after a map reset). Call with the worker idle.
   void Reset();
+  // Threaded mode: called on the worker with each keyframe once it is mapped (loop
+  // closing). Set before Start().
+  void SetKeyFrameMapped(std::function<void(const KeyFramePtr&)> callback) {
+    keyframe_mapped_ = std::move(callback);
+  }
 
   LocalMappingStats Stats() const;
 
@@ -83,7 +89,6 @@ class LocalMapping {
   void FuseDuplicates(const KeyFramePtr& keyframe);
   void LocalBundleAdjustment(const KeyFramePtr& keyframe);
   void CullKeyFrames(const KeyFramePtr& keyframe);
-  int Fuse(const KeyFramePtr& target, const std::vector<MapPointPtr>& points);
 
   PinholeCamera camera_;
   ScalePyramid pyramid_;
@@ -101,6 +106,7 @@ class LocalMapping {
   bool stopping_ = false;
   std::exception_ptr failure_;
   std::thread worker_;
+  std::function<void(const KeyFramePtr&)> keyframe_mapped_;
 };
 
 }  // namespace ocg

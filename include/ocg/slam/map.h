@@ -67,6 +67,7 @@ struct KeyFrame {
   KeyFrameId parent = 0;                      // spanning tree (0 for the first keyframe)
   bool has_parent = false;
   std::set<KeyFrameId> children;
+  std::set<KeyFrameId> loop_edges;  // keyframes a closed loop linked it to (never culled)
   bool bad = false;
 
   Eigen::Vector3d Centre() const { return T_cw.Inverse().translation(); }

@@ -5,7 +5,8 @@
 // Threading: TrackImage, Shutdown and the trajectory getters are for one caller thread.
 // In sequential mode (SystemConfig::sequential) local mapping runs inside TrackImage
 // after each new keyframe, so identical inputs give identical outputs; otherwise it runs
-// on its own thread, fed through a bounded queue.
+// on its own thread, fed through a bounded queue. Loop closing follows local mapping on
+// the same thread (not yet a thread of its own).
 
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@
 #include "ocg/features/vocabulary.h"
 #include "ocg/io/trajectory.h"
 #include "ocg/slam/local_mapping.h"
+#include "ocg/slam/loop_closing.h"
 #include "ocg/slam/map.h"
 #include "ocg/slam/tracking.h"
 
@@ -29,6 +31,8 @@ struct SystemConfig {
   InitialMapOptions initializer;
   TrackingOptions tracking;
   LocalMappingOptions local_mapping;
+  LoopClosingOptions loop_closing;
+  std::uint64_t seed = 42;  // System.seed: loop closing's RANSAC
 };
 
 struct FrameRecord {
@@ -75,6 +79,8 @@ class System {
   std::size_t KeyFrameCount() const;
   std::size_t MapPointCount() const;
   LocalMappingStats MappingStats() const { return local_mapping_->Stats(); }
+  // Call after Shutdown() in threaded mode (the worker writes it).
+  const LoopClosingStats& LoopStats() const { return loop_closing_->Stats(); }
   int Resets() const { return resets_; }
 
  private:
@@ -83,6 +89,7 @@ class System {
   Map map_;
   BowDatabase database_;
   std::unique_ptr<LocalMapping> local_mapping_;
+  std::unique_ptr<LoopClosing> loop_closing_;
   std::unique_ptr<Tracking> tracking_;
   std::vector<FrameRecord> frames_;
   double pending_mapping_seconds_ = 0.0;

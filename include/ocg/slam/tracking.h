@@ -89,11 +89,12 @@ struct TrackingDependencies {
 class Tracking {
  public:
   // keyframe_sink receives each new keyframe (local mapping's queue, or a synchronous
-  // call in sequential mode); it is called without the map lock held.
+  // call in sequential mode); it is called without the map lock held, and returns true
+  // when it closed a loop (the keyframe's pose was corrected: the frame takes it).
   Tracking(const PinholeCamera& camera, double fps, const OrbExtractorOptions& orb,
            const MatcherOptions& matcher, const InitialMapOptions& initializer,
            const TrackingOptions& options, TrackingDependencies dependencies,
-           std::function<void(const KeyFramePtr&)> keyframe_sink,
+           std::function<bool(const KeyFramePtr&)> keyframe_sink,
            std::function<bool()> local_mapping_idle);
 
   TrackingResult Track(const cv::Mat& image, double timestamp, const std::string& timestamp_text);
@@ -123,7 +124,7 @@ class Tracking {
   InitialMapOptions initializer_;
   TrackingOptions options_;
   TrackingDependencies dependencies_;
-  std::function<void(const KeyFramePtr&)> keyframe_sink_;
+  std::function<bool(const KeyFramePtr&)> keyframe_sink_;
   std::function<bool()> local_mapping_idle_;
   PoseOptimizationOptions pose_options_;
 

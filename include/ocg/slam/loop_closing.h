@@ -1,0 +1,103 @@
+#pragma once
+// Loop closing: recognizes a place seen long ago (BoW database, candidates consistent
+// over consecutive keyframes), estimates the similarity between now and then (Sim(3):
+// scale drifts in monocular maps), corrects the current keyframe's neighbourhood, fuses
+// the duplicated points, optimizes the essential graph as a Sim(3) pose graph and runs a
+// global bundle adjustment.
+//
+// Threading: ProcessKeyFrame is called with each keyframe local mapping has finished,
+// from the thread that ran local mapping (the caller's in sequential mode, the local
+// mapping worker otherwise); it takes Map::mutex() itself and holds it while it corrects
+// the map, so tracking waits for a correction to finish.
+
+#include <cstdint>
+#include <set>
+#include <vector>
+
+#include "ocg/features/bow_database.h"
+#include "ocg/features/matcher.h"
+#include "ocg/features/scale_pyramid.h"
+#include "ocg/optim/sim3_estimation.h"
+#include "ocg/slam/map.h"
+
+namespace ocg {
+
+class SettingsFile;
+
+// LoopClosing.* settings.
+struct LoopClosingOptions {
+  bool enabled = true;               // LoopClosing.enabled
+  int min_keyframes_between = 10;    // LoopClosing.minKeyFramesBetween: after the map's start
+                                     // and after the last loop
+  int min_loop_age = 30;             // LoopClosing.minLoopAge: keyframes between a place
+                                     // and its recognition (a moment ago is no loop)
+  int consistency = 3;               // LoopClosing.consistency: consecutive keyframes
+  int max_candidates = 8;            // LoopClosing.maxCandidates: per keyframe
+  int min_bow_matches = 20;          // LoopClosing.minBowMatches
+  int min_loop_matches = 40;         // LoopClosing.minLoopMatches: after guided matching
+  double loop_search_radius = 10.0;  // LoopClosing.searchRadius: pixels at level 0
+  int strong_covisibility = 100;     // LoopClosing.strongCovisibility: essential-graph edges
+  int pose_graph_iterations = 20;    // LoopClosing.poseGraphIterations
+  int global_ba_iterations = 10;     // LoopClosing.globalBAIterations (0: none)
+  Sim3EstimationOptions sim3;        // LoopClosing.sim3* keys
+  void Check() const;
+};
+
+void ReadSettings(const SettingsFile& file, LoopClosingOptions* options);
+
+struct LoopEvent {
+  KeyFrameId keyframe = 0;  // the current keyframe
+  KeyFrameId matched = 0;   // the keyframe of the place seen before
+  double timestamp = 0.0;
+  int sim3_inliers = 0;
+  int loop_matches = 0;     // after guided matching
+  double scale = 1.0;       // the correction's scale (1: no scale drift)
+  double correction = 0.0;  // how far the current keyframe moved, map units
+  int points_fused = 0;
+  double seconds = 0.0;
+};
+
+struct LoopClosingStats {
+  int keyframes = 0;
+  int candidates_checked = 0;  // consistent candidates that reached Sim(3) estimation
+  std::vector<LoopEvent> loops;
+};
+
+class LoopClosing {
+ public:
+  // seed: the Sim(3) RANSAC's seed (from System.seed).
+  LoopClosing(const PinholeCamera& camera, const ScalePyramid& pyramid,
+              const MatcherOptions& matcher, const LoopClosingOptions& options, Map* map,
+              BowDatabase* database, std::uint64_t seed);
+
+  // True when this keyframe closed a loop (the map has been corrected).
+  bool ProcessKeyFrame(const KeyFramePtr& keyframe);
+  // Forgets the consistency history (after a map reset).
+  void Reset();
+  const LoopClosingStats& Stats() const { return stats_; }
+
+ private:
+  struct Loop;
+  struct ConsistentGroup {
+    std::set<KeyFrameId> keyframes;
+    int consistency = 0;
+  };
+  std::vector<KeyFramePtr> DetectCandidates(const KeyFramePtr& keyframe);
+  bool ComputeSim3(const KeyFramePtr& keyframe, const std::vector<KeyFramePtr>& candidates,
+                   Loop* loop);
+  // Returns the number of points fused.
+  int Correct(const KeyFramePtr& keyframe, Loop& loop);
+
+  PinholeCamera camera_;
+  ScalePyramid pyramid_;
+  MatcherOptions matcher_;
+  LoopClosingOptions options_;
+  Map* map_;
+  BowDatabase* database_;
+  std::uint64_t seed_;
+  std::vector<ConsistentGroup> groups_;
+  KeyFrameId last_loop_keyframe_ = 0;
+  LoopClosingStats stats_;
+};
+
+}  // namespace ocg

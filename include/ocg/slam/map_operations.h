@@ -1,0 +1,28 @@
+#pragma once
+// Map operations shared by local mapping and loop closing. Callers hold Map::mutex().
+
+#include <vector>
+
+#include "ocg/features/matcher.h"
+#include "ocg/features/scale_pyramid.h"
+#include "ocg/optim/bundle_adjustment.h"
+#include "ocg/slam/map.h"
+
+namespace ocg {
+
+// Projects points into target (its current pose) and matches them to its features
+// within radius_pixels x the predicted level's scale: an unmatched feature gains the
+// point as an observation; a feature that already has another point merges the two
+// (the one with more observations is kept). Returns the number of points fused.
+int FusePoints(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
+               const MatcherOptions& matcher, double radius_pixels, const KeyFramePtr& target,
+               const std::vector<MapPointPtr>& points);
+
+// Bundle adjustment of the given keyframes and every point they see; keyframes outside
+// the set that see those points are held fixed, as is the map's first keyframe (the
+// gauge). Outlier observations are removed afterwards. False when Ceres gave no usable
+// solution (the map is then unchanged).
+bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
+                     const std::vector<KeyFramePtr>& keyframes, int iterations);
+
+}  // namespace ocg
