@@ -210,6 +210,7 @@ void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
   // Children go to the parent (ORB-SLAM2 picks the most covisible candidate; the parent
   // keeps the tree connected and is enough for trajectory output).
   if (const KeyFramePtr parent = GetKeyFrame(keyframe->parent)) {
+    keyframe->T_c_parent = keyframe->T_cw * parent->T_cw.Inverse();
     parent->children.erase(keyframe->id);
     for (const KeyFrameId child_id : keyframe->children) {
       if (const KeyFramePtr child = GetKeyFrame(child_id)) {

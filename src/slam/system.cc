@@ -132,9 +132,15 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const FrameRecord& record = frames_[i];
     if (!record.tracked) continue;
-    // A culled reference keeps the pose it had when it was culled.
-    const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
-    if (reference) poses[i] = record.T_c_reference * reference->T_cw;
+    // A culled reference hands the frame on to its parent (ORB-SLAM2's way), so frames
+    // follow the bundle adjustments and loop corrections that come after the culling.
+    KeyFramePtr reference = map_.GetKeyFrame(record.reference);
+    SE3 T_c_reference = record.T_c_reference;
+    while (reference && reference->bad && reference->has_parent) {
+      T_c_reference = T_c_reference * reference->T_c_parent;
+      reference = map_.GetKeyFrame(reference->parent);
+    }
+    if (reference) poses[i] = T_c_reference * reference->T_cw;
   }
   return poses;
 }

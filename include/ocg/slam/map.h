@@ -69,6 +69,9 @@ struct KeyFrame {
   std::set<KeyFrameId> children;
   std::set<KeyFrameId> loop_edges;  // keyframes a closed loop linked it to (never culled)
   bool bad = false;
+  // Culled keyframes: the pose relative to the parent at culling time, so that frames
+  // that referred to it can follow the parent's later corrections.
+  SE3 T_c_parent;
 
   Eigen::Vector3d Centre() const { return T_cw.Inverse().translation(); }
   int TrackedPoints(int min_observations) const;
