@@ -170,8 +170,9 @@ void RunObjects(const ObjectsCommand& command) {
 // setting remove objects three times sooner on one sequence than on another.
 class ObjectLayer {
  public:
-  ObjectLayer(const ocg::Settings& settings, std::string detections, bool sequential)
+  ObjectLayer(const ocg::Settings& settings, std::string detections, bool sequential, bool lenient)
       : settings_(settings), detections_(std::move(detections)), sequential_(sequential) {
+    read_options_.lenient = lenient;
     if (Enabled()) Start();
   }
   bool Enabled() const { return !detections_.empty(); }
@@ -193,7 +194,7 @@ class ObjectLayer {
       points.push_back({point.id, point.pixel, point.position});
     last_association_ = mapper_->AddFrame(
         frame, image.timestamp, *result.T_cw,
-        ocg::ReadEaoDetectionsForImage(detections_, image.timestamp_text), &points);
+        ocg::ReadEaoDetectionsForImage(detections_, image.timestamp_text, read_options_), &points);
     if (result.new_keyframe) Follow(system);
     if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
       // The map as it was just before the OCG's first removal, for the before/after
@@ -283,6 +284,7 @@ class ObjectLayer {
   const ocg::Settings& settings_;
   std::string detections_;
   bool sequential_;
+  ocg::DetectionReadOptions read_options_;
   std::unique_ptr<ocg::ObjectMapper> mapper_;
   std::int64_t keyframes_ = 0;
   std::int64_t tracked_frames_ = 0;
@@ -428,6 +430,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run->add_option("--vocabulary", vocabulary_path, "vocabulary file (overrides Vocabulary.path)");
   std::string run_mode, snapshots;
+  bool run_lenient = false;
+  run->add_flag("--lenient", run_lenient,
+                "skip malformed detection lines with a warning instead of failing");
   run->add_option("--snapshots", snapshots,
                   "PNG snapshots under OUT/snapshots/: final, every:N (also every N "
                   "keyframes) or none; default: final, or every:Viewer.every_keyframes");
@@ -513,7 +518,7 @@ int main(int argc, char** argv) {
       snapshot_policy.every_keyframes = settings.viewer.every_keyframes;
     }
     ocg::System system(config, vocabulary);
-    ObjectLayer objects_layer(settings, detections, config.sequential);
+    ObjectLayer objects_layer(settings, detections, config.sequential, run_lenient);
     const std::string groundtruth_path = sequence_path + "/groundtruth.txt";
     RunSnapshots run_snapshots(settings, snapshot_policy, output,
                                format == "tum" && std::filesystem::exists(groundtruth_path)
