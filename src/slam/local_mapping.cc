@@ -101,7 +101,11 @@ LocalMapping::LocalMapping(const PinholeCamera& camera, const ScalePyramid& pyra
       matcher_(matcher),
       options_(options),
       map_(map),
-      database_(database) {
+      database_(database),
+      worker_(options.queue_capacity, [this](const KeyFramePtr& keyframe) {
+        ProcessKeyFrame(keyframe);
+        if (keyframe_mapped_) keyframe_mapped_(keyframe);
+      }) {
   options_.Check();
 }
 
@@ -343,69 +347,13 @@ void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe) {
   }
 }
 
-void LocalMapping::Start() {
-  std::lock_guard<std::mutex> lock(queue_mutex_);
-  if (worker_.joinable()) return;
-  stopping_ = false;
-  worker_ = std::thread([this] { Run(); });
-}
+void LocalMapping::Start() { worker_.Start(); }
 
-void LocalMapping::Insert(const KeyFramePtr& keyframe) {
-  std::unique_lock<std::mutex> lock(queue_mutex_);
-  queue_changed_.wait(
-      lock, [this] { return queue_.size() < options_.queue_capacity || failure_ != nullptr; });
-  if (failure_) std::rethrow_exception(failure_);
-  queue_.push_back(keyframe);
-  queue_changed_.notify_all();
-}
+void LocalMapping::Insert(const KeyFramePtr& keyframe) { worker_.Insert(keyframe); }
 
-bool LocalMapping::Idle() const {
-  std::lock_guard<std::mutex> lock(queue_mutex_);
-  return queue_.empty() && !busy_;
-}
+bool LocalMapping::Idle() const { return worker_.Idle(); }
 
-void LocalMapping::Run() {
-  for (;;) {
-    KeyFramePtr keyframe;
-    {
-      std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_changed_.wait(lock, [this] { return !queue_.empty() || stopping_; });
-      if (queue_.empty()) return;  // stopping and drained
-      keyframe = queue_.front();
-      queue_.pop_front();
-      busy_ = true;
-    }
-    try {
-      ProcessKeyFrame(keyframe);
-      if (keyframe_mapped_) keyframe_mapped_(keyframe);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(queue_mutex_);
-      failure_ = std::current_exception();
-      busy_ = false;
-      queue_.clear();
-      queue_changed_.notify_all();
-      return;
-    }
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    busy_ = false;
-    queue_changed_.notify_all();
-  }
-}
-
-void LocalMapping::Stop() {
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    stopping_ = true;
-    queue_changed_.notify_all();
-  }
-  if (worker_.joinable()) worker_.join();
-  std::lock_guard<std::mutex> lock(queue_mutex_);
-  if (failure_) {
-    std::exception_ptr failure = failure_;
-    failure_ = nullptr;
-    std::rethrow_exception(failure);
-  }
-}
+void LocalMapping::Stop() { worker_.Stop(); }
 
 void LocalMapping::Reset() { recent_points_.clear(); }
 

@@ -38,6 +38,7 @@ void LoopClosingOptions::Check() const {
   RequireOption(strong_covisibility >= 1, "LoopClosing.strongCovisibility", "must be positive");
   RequireOption(pose_graph_iterations >= 1, "LoopClosing.poseGraphIterations",
                 "must be at least 1");
+  RequireOption(queue_capacity >= 1, "LoopClosing.queueCapacity", "must be at least 1");
   RequireOption(global_ba_iterations >= 0, "LoopClosing.globalBAIterations",
                 "must be non-negative");
   sim3.Check();
@@ -55,6 +56,11 @@ void ReadSettings(const SettingsFile& file, LoopClosingOptions* options) {
   file.Read("LoopClosing.strongCovisibility", &options->strong_covisibility);
   file.Read("LoopClosing.poseGraphIterations", &options->pose_graph_iterations);
   file.Read("LoopClosing.globalBAIterations", &options->global_ba_iterations);
+  int queue_capacity = static_cast<int>(options->queue_capacity);
+  if (file.Read("LoopClosing.queueCapacity", &queue_capacity)) {
+    RequireOption(queue_capacity >= 1, "LoopClosing.queueCapacity", "must be at least 1");
+    options->queue_capacity = static_cast<std::size_t>(queue_capacity);
+  }
   file.Read("LoopClosing.sim3Iterations", &options->sim3.iterations);
   file.Read("LoopClosing.sim3MinInliers", &options->sim3.min_inliers);
   file.Read("LoopClosing.sim3Chi2", &options->sim3.chi2);
@@ -81,7 +87,9 @@ LoopClosing::LoopClosing(const PinholeCamera& camera, const ScalePyramid& pyrami
       options_(options),
       map_(map),
       database_(database),
-      seed_(seed) {
+      seed_(seed),
+      worker_(options.queue_capacity,
+              [this](const KeyFramePtr& keyframe) { ProcessKeyFrame(keyframe); }) {
   options_.Check();
 }
 

@@ -45,7 +45,8 @@ System::System(const SystemConfig& config, const Vocabulary& vocabulary)
                                     config_.loop_closing, &map_, &database_, config_.seed);
   if (!config_.sequential) {
     local_mapping_->SetKeyFrameMapped(
-        [this](const KeyFramePtr& keyframe) { loop_closing_->ProcessKeyFrame(keyframe); });
+        [this](const KeyFramePtr& keyframe) { loop_closing_->Insert(keyframe); });
+    loop_closing_->Start();
     local_mapping_->Start();
   }
 }
@@ -65,11 +66,17 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text);
   if (result.reset) {
     ++resets_;
-    if (!config_.sequential) local_mapping_->Stop();  // drains the queue and joins
+    if (!config_.sequential) {  // drain the queues and join, in the order keyframes flow
+      local_mapping_->Stop();
+      loop_closing_->Stop();
+    }
     tracking_->Reset();
     local_mapping_->Reset();
     loop_closing_->Reset();
-    if (!config_.sequential) local_mapping_->Start();
+    if (!config_.sequential) {
+      loop_closing_->Start();
+      local_mapping_->Start();
+    }
     for (FrameRecord& record : frames_) record.tracked = false;  // that map is gone
   }
   FrameRecord record;
@@ -103,7 +110,17 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
 void System::Shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
-  local_mapping_->Stop();
+  try {
+    local_mapping_->Stop();
+  } catch (...) {
+    try {
+      loop_closing_->Stop();
+    } catch (...) {
+      // The local mapping failure comes first; this one is its consequence or later.
+    }
+    throw;
+  }
+  loop_closing_->Stop();
 }
 
 std::vector<StampedPose> System::KeyFrameTrajectory() const {

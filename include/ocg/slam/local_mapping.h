@@ -9,17 +9,13 @@
 // given to Insert() (a bounded queue: Insert blocks while it is full); Stop() finishes
 // the queue and joins. Every map access holds Map::mutex().
 
-#include <condition_variable>
-#include <deque>
-#include <exception>
 #include <functional>
 #include <list>
-#include <mutex>
-#include <thread>
 
 #include "ocg/features/bow_database.h"
 #include "ocg/features/matcher.h"
 #include "ocg/optim/bundle_adjustment.h"
+#include "ocg/slam/keyframe_worker.h"
 #include "ocg/slam/map.h"
 
 namespace ocg {
@@ -82,7 +78,6 @@ class LocalMapping {
   LocalMappingStats Stats() const;
 
  private:
-  void Run();
   void LinkKeyFrame(const KeyFramePtr& keyframe);
   void CullRecentPoints(const KeyFramePtr& keyframe);
   void TriangulateNewPoints(const KeyFramePtr& keyframe);
@@ -99,14 +94,8 @@ class LocalMapping {
   std::list<MapPointPtr> recent_points_;
   LocalMappingStats stats_;
 
-  mutable std::mutex queue_mutex_;
-  std::condition_variable queue_changed_;
-  std::deque<KeyFramePtr> queue_;
-  bool busy_ = false;
-  bool stopping_ = false;
-  std::exception_ptr failure_;
-  std::thread worker_;
   std::function<void(const KeyFramePtr&)> keyframe_mapped_;
+  KeyFrameWorker worker_;  // last: stopped before the members it uses go
 };
 
 }  // namespace ocg

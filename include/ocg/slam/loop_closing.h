@@ -5,10 +5,12 @@
 // the duplicated points, optimizes the essential graph as a Sim(3) pose graph and runs a
 // global bundle adjustment.
 //
-// Threading: ProcessKeyFrame is called with each keyframe local mapping has finished,
-// from the thread that ran local mapping (the caller's in sequential mode, the local
-// mapping worker otherwise); it takes Map::mutex() itself and holds it while it corrects
-// the map, so tracking waits for a correction to finish.
+// Threading: in sequential mode the caller runs ProcessKeyFrame on each keyframe local
+// mapping has finished. In threaded mode Start() runs a worker fed by Insert() (called
+// by the local mapping thread; a bounded queue), Stop() drains and joins, and Stats() is
+// for after Stop(). ProcessKeyFrame takes Map::mutex() itself and holds it while it
+// corrects the map and runs the global bundle adjustment, so nothing is added to the map
+// meanwhile: tracking and local mapping wait for a correction to finish.
 
 #include <cstdint>
 #include <set>
@@ -18,6 +20,7 @@
 #include "ocg/features/matcher.h"
 #include "ocg/features/scale_pyramid.h"
 #include "ocg/optim/sim3_estimation.h"
+#include "ocg/slam/keyframe_worker.h"
 #include "ocg/slam/map.h"
 
 namespace ocg {
@@ -39,6 +42,7 @@ struct LoopClosingOptions {
   int strong_covisibility = 100;     // LoopClosing.strongCovisibility: essential-graph edges
   int pose_graph_iterations = 20;    // LoopClosing.poseGraphIterations
   int global_ba_iterations = 10;     // LoopClosing.globalBAIterations (0: none)
+  std::size_t queue_capacity = 8;    // LoopClosing.queueCapacity (threaded mode)
   Sim3EstimationOptions sim3;        // LoopClosing.sim3* keys
   void Check() const;
 };
@@ -72,6 +76,11 @@ class LoopClosing {
 
   // True when this keyframe closed a loop (the map has been corrected).
   bool ProcessKeyFrame(const KeyFramePtr& keyframe);
+  // Threaded use (see above).
+  void Start() { worker_.Start(); }
+  void Insert(const KeyFramePtr& keyframe) { worker_.Insert(keyframe); }
+  bool Idle() const { return worker_.Idle(); }
+  void Stop() { worker_.Stop(); }
   // Forgets the consistency history (after a map reset).
   void Reset();
   const LoopClosingStats& Stats() const { return stats_; }
@@ -98,6 +107,7 @@ class LoopClosing {
   std::vector<ConsistentGroup> groups_;
   KeyFrameId last_loop_keyframe_ = 0;
   LoopClosingStats stats_;
+  KeyFrameWorker worker_;  // last: stopped before the members it uses go
 };
 
 }  // namespace ocg

@@ -5,8 +5,8 @@
 // Threading: TrackImage, Shutdown and the trajectory getters are for one caller thread.
 // In sequential mode (SystemConfig::sequential) local mapping runs inside TrackImage
 // after each new keyframe, so identical inputs give identical outputs; otherwise it runs
-// on its own thread, fed through a bounded queue. Loop closing follows local mapping on
-// the same thread (not yet a thread of its own).
+// on its own thread, fed through a bounded queue, and loop closing on another, fed by
+// local mapping.
 
 #include <memory>
 #include <string>
