@@ -10,10 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
+#include <utility>
 
 #include "cli_common.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/core/statistics.h"
 #include "ocg/eval/trajectory_error.h"
 #include "ocg/io/detections.h"
 #include "ocg/io/point_cloud.h"
@@ -27,18 +29,10 @@
 
 namespace {
 
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t index =
-      std::min(values.size() - 1, static_cast<std::size_t>(fraction * (values.size() - 1) + 0.5));
-  return values[index];
-}
-
 nlohmann::json Timing(const std::vector<double>& seconds) {
   return {{"count", seconds.size()},
-          {"median_ms", 1000.0 * Percentile(seconds, 0.5)},
-          {"p95_ms", 1000.0 * Percentile(seconds, 0.95)},
+          {"median_ms", 1000.0 * ocg::Quantile(seconds, 0.5)},
+          {"p95_ms", 1000.0 * ocg::Quantile(seconds, 0.95)},
           {"max_ms",
            seconds.empty() ? 0.0 : 1000.0 * *std::max_element(seconds.begin(), seconds.end())}};
 }
@@ -51,6 +45,20 @@ std::string TimestampInSeconds(const std::string& text, const std::string& forma
     return text;
   }
   return text.substr(0, text.size() - 9) + "." + text.substr(text.size() - 9);
+}
+
+// Writes the object map's files (objects.json, changes.json, ocg.json,
+// ocg_observations.jsonl) into folder; returns the counts run.json reports of it.
+nlohmann::json WriteObjectMap(const ocg::ObjectMapper& mapper, const std::string& folder) {
+  ocg::WriteFileAtomically(folder + "/objects.json", mapper.ObjectsJson());
+  ocg::WriteFileAtomically(folder + "/changes.json", mapper.ChangesJson());
+  ocg::WriteFileAtomically(folder + "/ocg.json", mapper.GraphJson());
+  ocg::WriteFileAtomically(folder + "/ocg_observations.jsonl", mapper.ObservationsJsonl());
+  const ocg::ObjectLayerStats stats = mapper.Stats();
+  return {{"detections_used", stats.detections_used},
+          {"detections_matched", stats.detections_matched},
+          {"objects_created", stats.objects_created},
+          {"objects_live", mapper.LiveObjectCount()}};
 }
 
 struct ObjectsCommand {
@@ -134,25 +142,18 @@ void RunObjects(const ObjectsCommand& command) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const ocg::ObjectLayerStats stats = mapper.Stats();
-  ocg::WriteFileAtomically(command.output + "/objects.json", mapper.ObjectsJson());
-  ocg::WriteFileAtomically(command.output + "/changes.json", mapper.ChangesJson());
-  ocg::WriteFileAtomically(command.output + "/ocg.json", mapper.GraphJson());
-  ocg::WriteFileAtomically(command.output + "/ocg_observations.jsonl", mapper.ObservationsJsonl());
-  const nlohmann::json report = {{"command", "objects"},
-                                 {"trajectory", command.trajectory},
-                                 {"detections", command.detections},
-                                 {"settings", command.settings},
-                                 {"ocg_mode", settings.ocg.mode},
-                                 {"frames", frames.size()},
-                                 {"frames_used", used},
-                                 {"frames_without_pose", without_pose},
-                                 {"keyframes", keyframes},
-                                 {"detections_used", stats.detections_used},
-                                 {"detections_matched", stats.detections_matched},
-                                 {"objects_created", stats.objects_created},
-                                 {"objects_live", mapper.LiveObjectCount()},
-                                 {"wall_seconds", seconds},
-                                 {"timing", {{"objects_per_frame", Timing(frame_seconds)}}}};
+  nlohmann::json report = {{"command", "objects"},
+                           {"trajectory", command.trajectory},
+                           {"detections", command.detections},
+                           {"settings", command.settings},
+                           {"ocg_mode", settings.ocg.mode},
+                           {"frames", frames.size()},
+                           {"frames_used", used},
+                           {"frames_without_pose", without_pose},
+                           {"keyframes", keyframes},
+                           {"wall_seconds", seconds},
+                           {"timing", {{"objects_per_frame", Timing(frame_seconds)}}}};
+  report.update(WriteObjectMap(mapper, command.output));
   ocg::WriteFileAtomically(command.output + "/run.json", report.dump(2) + "\n");
   std::cout << used << " frames (" << without_pose << " without a pose skipped), " << keyframes
             << " keyframes; " << stats.objects_created << " objects created, "
@@ -170,8 +171,15 @@ void RunObjects(const ObjectsCommand& command) {
 // setting remove objects three times sooner on one sequence than on another.
 class ObjectLayer {
  public:
-  ObjectLayer(const ocg::Settings& settings, std::string detections, bool sequential, bool lenient)
-      : settings_(settings), detections_(std::move(detections)), sequential_(sequential) {
+  // keep_first_removal: keep the objects as they were just before the OCG's first removal
+  // (for the before/after snapshots; a copy of the object list at every OCG keyframe
+  // until then).
+  ObjectLayer(const ocg::Settings& settings, std::string detections, bool sequential, bool lenient,
+              bool keep_first_removal)
+      : settings_(settings),
+        detections_(std::move(detections)),
+        sequential_(sequential),
+        keep_first_removal_(keep_first_removal) {
     read_options_.lenient = lenient;
     if (Enabled()) Start();
   }
@@ -200,11 +208,13 @@ class ObjectLayer {
       // The map as it was just before the OCG's first removal, for the before/after
       // snapshots (exact in sequential mode; a keyframe late when the OCG has a thread).
       std::vector<ocg::ObjectView> before;
-      if (!first_removal_) before = mapper_->Views();
+      if (keep_first_removal_ && !removal_seen_) before = mapper_->Views();
       const std::int64_t removed = mapper_->Stats().objects_removed;
       mapper_->AddKeyframe(keyframes_++, image.timestamp, *result.T_cw);
-      if (!first_removal_ && mapper_->Stats().objects_removed > removed)
-        first_removal_ = std::move(before);
+      if (!removal_seen_ && mapper_->Stats().objects_removed > removed) {
+        removal_seen_ = true;
+        if (keep_first_removal_) first_removal_ = std::move(before);
+      }
     }
     seconds_.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -230,9 +240,7 @@ class ObjectLayer {
   }
   // Once: the objects just before the OCG's first removal, if there was one.
   std::optional<std::vector<ocg::ObjectView>> TakeFirstRemoval() {
-    if (!first_removal_ || first_removal_taken_) return std::nullopt;
-    first_removal_taken_ = true;
-    return first_removal_;
+    return std::exchange(first_removal_, std::nullopt);
   }
 
   // After SLAM has finished: the objects take the final poses, the OCG its last keyframe.
@@ -244,25 +252,19 @@ class ObjectLayer {
 
   // Writes the object outputs; returns run.json's "objects" section.
   nlohmann::json Write(const std::string& output) const {
-    ocg::WriteFileAtomically(output + "/objects.json", mapper_->ObjectsJson());
-    ocg::WriteFileAtomically(output + "/changes.json", mapper_->ChangesJson());
-    ocg::WriteFileAtomically(output + "/ocg.json", mapper_->GraphJson());
-    ocg::WriteFileAtomically(output + "/ocg_observations.jsonl", mapper_->ObservationsJsonl());
+    nlohmann::json section = WriteObjectMap(*mapper_, output);
     const ocg::ObjectLayerStats stats = mapper_->Stats();
     std::cout << "objects: " << stats.objects_created << " created, " << mapper_->LiveObjectCount()
               << " live at the end, " << keyframes_ << " OCG keyframes (mode " << settings_.ocg.mode
               << ")\n";
-    return {{"detections", detections_},
-            {"ocg_mode", settings_.ocg.mode},
-            {"keyframes", keyframes_},
-            {"detections_used", stats.detections_used},
-            {"detections_matched", stats.detections_matched},
-            {"objects_created", stats.objects_created},
-            {"objects_live", mapper_->LiveObjectCount()},
-            {"object_map_resets", resets_},
-            {"supporting_plane_inliers", stats.plane_inliers},
-            {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
-            {"timing", {{"objects_per_frame", Timing(seconds_)}}}};
+    section.update({{"detections", detections_},
+                    {"ocg_mode", settings_.ocg.mode},
+                    {"keyframes", keyframes_},
+                    {"object_map_resets", resets_},
+                    {"supporting_plane_inliers", stats.plane_inliers},
+                    {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
+                    {"timing", {{"objects_per_frame", Timing(seconds_)}}}});
+    return section;
   }
 
  private:
@@ -291,7 +293,8 @@ class ObjectLayer {
   int resets_ = 0;
   ocg::FrameAssociation last_association_;
   std::optional<std::vector<ocg::ObjectView>> first_removal_;
-  bool first_removal_taken_ = false;
+  bool keep_first_removal_;
+  bool removal_seen_ = false;
   std::vector<double> seconds_;
 };
 
@@ -518,7 +521,8 @@ int main(int argc, char** argv) {
       snapshot_policy.every_keyframes = settings.viewer.every_keyframes;
     }
     ocg::System system(config, vocabulary);
-    ObjectLayer objects_layer(settings, detections, config.sequential, run_lenient);
+    ObjectLayer objects_layer(settings, detections, config.sequential, run_lenient,
+                              snapshot_policy.Enabled());
     const std::string groundtruth_path = sequence_path + "/groundtruth.txt";
     RunSnapshots run_snapshots(settings, snapshot_policy, output,
                                format == "tum" && std::filesystem::exists(groundtruth_path)
@@ -623,7 +627,7 @@ int main(int argc, char** argv) {
               << "), lost " << lost << ", relocalized " << relocalized << ", resets "
               << system.Resets() << ", loops closed " << system.LoopStats().loops.size() << "; "
               << system.KeyFrameCount() << " keyframes, " << system.MapPointCount()
-              << " points; tracking median " << 1000.0 * Percentile(tracking_seconds, 0.5)
+              << " points; tracking median " << 1000.0 * ocg::Quantile(tracking_seconds, 0.5)
               << " ms/frame\n"
               << "wrote " << output
               << "/KeyFrameTrajectory.txt, CameraTrajectory.txt, map_points.ply, run.json"

@@ -15,16 +15,10 @@ OUT/slam_table.md. Needs Python 3 only.
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 
-
-def run(command):
-    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if result.returncode != 0:
-        sys.exit("failed: %s\n%s%s" % (" ".join(command), result.stdout, result.stderr))
-    return result.stdout
+from object_table import run  # tools/ is on the path: the script's own folder
 
 
 def ate(tools, groundtruth, trajectory):

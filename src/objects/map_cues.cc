@@ -6,15 +6,10 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "ocg/core/statistics.h"
+
 namespace ocg {
 namespace {
-
-double Median(std::vector<double> values) {
-  const std::size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle),
-                   values.end());
-  return values[middle];
-}
 
 // Least-squares plane through the points: the normal is the direction of least spread.
 SupportingPlane FitPlane(const std::vector<Eigen::Vector3d>& points) {

@@ -5,17 +5,12 @@
 
 #include <Eigen/Dense>
 
+#include "ocg/core/statistics.h"
+
 namespace ocg {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 // Weighted least-squares point nearest to the rays; false when they are (nearly) parallel.
 bool NearestPoint(const std::vector<Ray>& rays, const std::vector<double>& weights,

@@ -4,6 +4,7 @@
 
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/core/statistics.h"
 
 namespace ocg {
 
@@ -65,9 +66,7 @@ InitialMap InitializeFromTwoViews(const std::vector<Eigen::Vector2d>& pixels1,
                   std::to_string(options.min_map_points) + ")";
     return map;
   }
-  std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2),
-                   depths.end());
-  map.median_depth_before_scaling = depths[depths.size() / 2];
+  map.median_depth_before_scaling = Median(std::move(depths));
   if (map.median_depth_before_scaling <= 0.0) {
     map.failure = "points behind the first camera after bundle adjustment";
     return map;

@@ -9,6 +9,7 @@
 
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/core/statistics.h"
 #include "ocg/slam/map_operations.h"
 #include "ocg/slam/two_view.h"
 
@@ -42,10 +43,7 @@ double MedianDepth(const KeyFrame& keyframe) {
   for (const MapPointPtr& point : keyframe.points) {
     if (point && !point->bad) depths.push_back((keyframe.T_cw * point->position).z());
   }
-  if (depths.empty()) return 0.0;
-  std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2),
-                   depths.end());
-  return depths[depths.size() / 2];
+  return Median(std::move(depths));
 }
 
 Eigen::Matrix<double, 3, 4> Projection(const Eigen::Matrix3d& K, const SE3& T_cw) {

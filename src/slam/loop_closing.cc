@@ -16,13 +16,6 @@ namespace {
 
 SE3 ToSE3(const Sim3& S) { return SE3(S.rotation(), S.translation() / S.scale()); }
 
-std::vector<bool> PointsUsable(const KeyFrame& keyframe) {
-  std::vector<bool> usable(keyframe.points.size());
-  for (std::size_t i = 0; i < usable.size(); ++i)
-    usable[i] = keyframe.points[i] && !keyframe.points[i]->bad;
-  return usable;
-}
-
 }  // namespace
 
 void LoopClosingOptions::Check() const {
@@ -103,7 +96,6 @@ bool LoopClosing::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   const auto start = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(map_->mutex());
   if (keyframe->bad) return false;
-  ++stats_.keyframes;
   const std::vector<KeyFramePtr> candidates = DetectCandidates(keyframe);
   if (candidates.empty()) return false;
   Loop loop;
@@ -190,11 +182,11 @@ std::vector<KeyFramePtr> LoopClosing::DetectCandidates(const KeyFramePtr& keyfra
 
 bool LoopClosing::ComputeSim3(const KeyFramePtr& keyframe,
                               const std::vector<KeyFramePtr>& candidates, Loop* loop) {
-  const std::vector<bool> keyframe_usable = PointsUsable(*keyframe);
+  const std::vector<bool> keyframe_usable = keyframe->GoodPointMask();
   for (const KeyFramePtr& candidate : candidates) {
     if (candidate->bad) continue;
     ++stats_.candidates_checked;
-    const std::vector<bool> candidate_usable = PointsUsable(*candidate);
+    const std::vector<bool> candidate_usable = candidate->GoodPointMask();
     const std::vector<int> bow_matches =
         SearchByBow({&keyframe->feature_vector, &keyframe->features.descriptors,
                      &keyframe->features.keypoints, &keyframe_usable},
@@ -249,27 +241,18 @@ bool LoopClosing::ComputeSim3(const KeyFramePtr& keyframe,
         if (point && !point->bad && seen.insert(point->id).second) loop_points.push_back(point);
       }
     }
-    const Eigen::Vector3d centre = S_cw.Inverse() * Eigen::Vector3d::Zero();  // loop world
+    // The rigid pose with the similarity's scale divided out projects to the same pixels
+    // from the same centre, and measures distances in the loop region's units, as the
+    // points' scale-invariance distances are.
+    const SE3 T_cw = ToSE3(S_cw);
     std::vector<ProjectedPoint> projected;
     std::vector<MapPointPtr> sources;
     for (const MapPointPtr& point : loop_points) {
       if (already.count(point->id) > 0) continue;
-      const Eigen::Vector3d p_c = S_cw * point->position;
-      if (p_c.z() <= 0) continue;
-      const Eigen::Vector2d pixel = camera_.ProjectUndistorted(p_c);
-      if (!keyframe->features.grid.bounds().Contains(pixel)) continue;
-      const Eigen::Vector3d ray = point->position - centre;
-      const double distance = ray.norm();  // in the loop region's units, as max_distance
-      if (distance < 0.8 * point->min_distance || distance > 1.2 * point->max_distance) continue;
-      if (ray.dot(point->normal) < 0.5 * distance) continue;  // seen from another side
-      const int level = pyramid_.PredictLevel(distance, point->max_distance);
-      ProjectedPoint p;
-      p.pixel = pixel;
-      p.radius = options_.loop_search_radius * pyramid_.scale[static_cast<std::size_t>(level)];
-      p.min_level = std::max(0, level - 1);
-      p.max_level = level + 1;
-      p.descriptor = point->descriptor;
-      projected.push_back(p);
+      const auto projection =
+          ProjectPoint(camera_, keyframe->features.grid.bounds(), T_cw, *point, true);
+      if (!projection) continue;
+      projected.push_back(SearchWindow(*projection, *point, pyramid_, options_.loop_search_radius));
       sources.push_back(point);
     }
     const std::vector<int> guided = SearchByProjection(keyframe->features, projected, &taken, 0.0,

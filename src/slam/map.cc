@@ -34,6 +34,12 @@ std::optional<PointProjection> ProjectPoint(const PinholeCamera& camera, const I
   return p;
 }
 
+std::vector<bool> KeyFrame::GoodPointMask() const {
+  std::vector<bool> mask(points.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = points[i] && !points[i]->bad;
+  return mask;
+}
+
 KeyFramePtr Map::GetKeyFrame(KeyFrameId id) const {
   const auto it = keyframes_.find(id);
   return it == keyframes_.end() ? nullptr : it->second;

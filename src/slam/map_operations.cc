@@ -4,6 +4,18 @@
 
 namespace ocg {
 
+ProjectedPoint SearchWindow(const PointProjection& projection, const MapPoint& point,
+                            const ScalePyramid& pyramid, double radius_pixels) {
+  const int level = pyramid.PredictLevel(projection.distance, point.max_distance);
+  ProjectedPoint window;
+  window.pixel = projection.pixel;
+  window.radius = radius_pixels * pyramid.scale[static_cast<std::size_t>(level)];
+  window.min_level = std::max(0, level - 1);
+  window.max_level = level + 1;
+  window.descriptor = point.descriptor;
+  return window;
+}
+
 int FusePoints(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
                const MatcherOptions& matcher, double radius_pixels, const KeyFramePtr& target,
                const std::vector<MapPointPtr>& points) {
@@ -14,14 +26,7 @@ int FusePoints(Map& map, const PinholeCamera& camera, const ScalePyramid& pyrami
     const auto projection =
         ProjectPoint(camera, target->features.grid.bounds(), target->T_cw, *point, true);
     if (!projection) continue;
-    const int level = pyramid.PredictLevel(projection->distance, point->max_distance);
-    ProjectedPoint p;
-    p.pixel = projection->pixel;
-    p.radius = radius_pixels * pyramid.scale[static_cast<std::size_t>(level)];
-    p.min_level = std::max(0, level - 1);
-    p.max_level = level + 1;
-    p.descriptor = point->descriptor;
-    projected.push_back(p);
+    projected.push_back(SearchWindow(*projection, *point, pyramid, radius_pixels));
     sources.push_back(point);
   }
   MatcherOptions options = matcher;

@@ -9,6 +9,7 @@
 
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/slam/map_operations.h"
 
 namespace ocg {
 namespace {
@@ -372,10 +373,7 @@ bool Tracking::TrackWithMotionModel(Frame& frame) {
 bool Tracking::TrackReferenceKeyFrame(Frame& frame) {
   if (!reference_ || !last_frame_ || !last_frame_->T_cw) return false;
   ComputeBow(frame);
-  std::vector<bool> usable(reference_->points.size());
-  for (std::size_t i = 0; i < usable.size(); ++i) {
-    usable[i] = reference_->points[i] && !reference_->points[i]->bad;
-  }
+  const std::vector<bool> usable = reference_->GoodPointMask();
   MatcherOptions options = matcher_;
   const BowFeatures a{&reference_->feature_vector, &reference_->features.descriptors,
                       &reference_->features.keypoints, &usable};
@@ -522,10 +520,7 @@ bool Tracking::Relocalize(Frame& frame) {
     const KeyFramePtr keyframe =
         dependencies_.map->GetKeyFrame(static_cast<KeyFrameId>(candidate.id));
     if (!keyframe || keyframe->bad) continue;
-    std::vector<bool> usable(keyframe->points.size());
-    for (std::size_t i = 0; i < usable.size(); ++i) {
-      usable[i] = keyframe->points[i] && !keyframe->points[i]->bad;
-    }
+    const std::vector<bool> usable = keyframe->GoodPointMask();
     MatcherOptions options = matcher_;
     options.bow_ratio = kRelocalizationRatio;
     const std::vector<int> matches = SearchByBow(
@@ -580,14 +575,7 @@ bool Tracking::Relocalize(Frame& frame) {
         const auto projection =
             ProjectPoint(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, true);
         if (!projection) continue;
-        const int level = pyramid().PredictLevel(projection->distance, point->max_distance);
-        ProjectedPoint p;
-        p.pixel = projection->pixel;
-        p.radius = 10.0 * pyramid().scale[static_cast<std::size_t>(level)];
-        p.min_level = std::max(0, level - 1);
-        p.max_level = level + 1;
-        p.descriptor = point->descriptor;
-        projected.push_back(p);
+        projected.push_back(SearchWindow(*projection, *point, pyramid(), 10.0));
         sources.push_back(point);
       }
       const std::vector<bool> taken = MatchedFeatures(frame);

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
+#include "drawing.h"
 #include "ocg/core/coco.h"
 
 namespace ocg {
@@ -26,8 +27,7 @@ cv::Mat RenderFrameView(const cv::Mat& image, const std::vector<FrameDetection>&
   const Eigen::Matrix3d R_wg = GravityFrame(up);
   for (const ObjectView& object : objects) {
     if (object.removed) continue;
-    const Eigen::Vector3f rgb = StateColour(object.state, false);
-    const cv::Scalar colour(255.0 * rgb.z(), 255.0 * rgb.y(), 255.0 * rgb.x());
+    const cv::Scalar colour = ToBgr(StateColour(object.state, false));
     for (const auto& [a, b] : CuboidEdges(object.cuboid, R_wg)) {
       const Eigen::Vector3d a_c = T_cw * a, b_c = T_cw * b;
       if (a_c.z() <= 0.05 || b_c.z() <= 0.05) continue;  // behind the camera
@@ -46,11 +46,7 @@ cv::Mat RenderFrameView(const cv::Mat& image, const std::vector<FrameDetection>&
     const std::string label =
         (detection.object_id > 0 ? "#" + std::to_string(detection.object_id) + " " : "") +
         CocoClassName(detection.class_id) + confidence;
-    const cv::Point at(rect.x + 2, std::max(12, rect.y - 4));
-    cv::putText(view, label, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(255, 255, 255), 3,
-                cv::LINE_AA);
-    cv::putText(view, label, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1,
-                cv::LINE_AA);
+    DrawLabel(view, label, cv::Point(rect.x + 2, std::max(12, rect.y - 4)));
   }
   return view;
 }

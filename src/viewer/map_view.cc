@@ -4,7 +4,9 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "drawing.h"
 #include "ocg/core/coco.h"
+#include "ocg/core/statistics.h"
 
 namespace ocg {
 namespace {
@@ -12,19 +14,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector3f ToFloat(const Eigen::Vector3d& v) { return v.cast<float>(); }
-
-cv::Scalar ToBgr(const Eigen::Vector3f& rgb) {
-  return cv::Scalar(255.0 * rgb.z(), 255.0 * rgb.y(), 255.0 * rgb.x());
-}
-
-// The value below which share of the values lie.
-double Quantile(std::vector<double> values, double share) {
-  const std::size_t index =
-      std::min(values.size() - 1, static_cast<std::size_t>(share * (values.size() - 1) + 0.5));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
-                   values.end());
-  return values[index];
-}
 
 // The scene's extent in the gravity frame: the points' 2-98 % range (a few far outliers
 // must not shrink the map to a dot) joined with everything else.
@@ -81,13 +70,6 @@ void AddFrustum(LineBatch& batch, const SE3& T_wc, double size) {
     AddSegment(batch, centre, corners[i]);
     AddSegment(batch, corners[i], corners[(i + 1) % 4]);
   }
-}
-
-void DrawLabel(cv::Mat& image, const std::string& text, const cv::Point& at) {
-  const int font = cv::FONT_HERSHEY_SIMPLEX;
-  const double scale = 0.45;
-  cv::putText(image, text, at, font, scale, cv::Scalar(255, 255, 255), 3, cv::LINE_AA);
-  cv::putText(image, text, at, font, scale, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 }
 
 void DrawLegend(cv::Mat& image) {

@@ -62,7 +62,6 @@ struct LoopEvent {
 };
 
 struct LoopClosingStats {
-  int keyframes = 0;
   int candidates_checked = 0;  // consistent candidates that reached Sim(3) estimation
   std::vector<LoopEvent> loops;
 };

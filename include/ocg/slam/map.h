@@ -75,6 +75,9 @@ struct KeyFrame {
 
   Eigen::Vector3d Centre() const { return T_cw.Inverse().translation(); }
   int TrackedPoints(int min_observations) const;
+  // Per feature: whether it holds a map point that is not bad (the features BoW matching
+  // may use).
+  std::vector<bool> GoodPointMask() const;
 };
 
 // Where a map point falls in a camera, if it can be seen there: in front, inside the

@@ -10,6 +10,11 @@
 
 namespace ocg {
 
+// Where to look for a point seen at projection: radius_pixels times the scale of the
+// pyramid level its distance predicts, on that level or one either side.
+ProjectedPoint SearchWindow(const PointProjection& projection, const MapPoint& point,
+                            const ScalePyramid& pyramid, double radius_pixels);
+
 // Projects points into target (its current pose) and matches them to its features
 // within radius_pixels x the predicted level's scale: an unmatched feature gains the
 // point as an observation; a feature that already has another point merges the two
