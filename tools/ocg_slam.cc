@@ -278,9 +278,11 @@ class ObjectLayer {
   }
 
   void Follow(const ocg::System& system) {
-    mapper_->FollowSlamMap(
-        {system.FramePoses(), system.MapPointPositions(), system.KeyFrameRotations()},
-        settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
+    ocg::SlamMapView view;
+    view.frame_poses = system.FramePoses();
+    view.map_points = system.MapPointPositions(&view.map_point_ids);
+    view.camera_rotations = system.KeyFrameRotations();
+    mapper_->FollowSlamMap(view, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
   }
 
   const ocg::Settings& settings_;

@@ -11,18 +11,27 @@
 namespace ocg {
 namespace {
 
-// Least-squares plane through the points: the normal is the direction of least spread.
-SupportingPlane FitPlane(const std::vector<Eigen::Vector3d>& points) {
+Eigen::Vector3d Mean(const std::vector<Eigen::Vector3d>& points) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
+  return mean / static_cast<double>(points.size());
+}
+
+Eigen::Matrix3d Covariance(const std::vector<Eigen::Vector3d>& points) {
+  const Eigen::Vector3d mean = Mean(points);
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3d& p : points) scatter += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  return scatter / static_cast<double>(points.size());
+}
+
+// Least-squares plane through the points: the normal is the direction of least spread.
+SupportingPlane FitPlane(const std::vector<Eigen::Vector3d>& points) {
   SupportingPlane plane;
   plane.valid = true;
+  plane.inlier_covariance = Covariance(points);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(plane.inlier_covariance);
   plane.normal = solver.eigenvectors().col(0);
-  plane.offset = -plane.normal.dot(mean);
+  plane.offset = -plane.normal.dot(Mean(points));
   plane.inliers = static_cast<int>(points.size());
   return plane;
 }
@@ -145,6 +154,36 @@ SupportingPlane FindSupportingPlane(const std::vector<Eigen::Vector3d>& points,
     best.offset = best_offset;
   }
   return best;
+}
+
+Eigen::Vector3d RefineUpWithBottoms(const SupportingPlane& plane,
+                                    const std::vector<Eigen::Vector3d>& bottoms,
+                                    double level_tolerance) {
+  if (!plane.valid) return plane.normal;
+  std::vector<std::pair<double, Eigen::Vector3d>> by_height;
+  for (const Eigen::Vector3d& bottom : bottoms)
+    by_height.emplace_back(plane.normal.dot(bottom), bottom);
+  std::sort(by_height.begin(), by_height.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  Eigen::Matrix3d total = plane.inlier_covariance;
+  int levels = 0;
+  for (std::size_t start = 0; start < by_height.size();) {
+    std::size_t end = start + 1;
+    while (end < by_height.size() &&
+           by_height[end].first - by_height[end - 1].first <= level_tolerance)
+      ++end;
+    if (end - start >= 3) {
+      std::vector<Eigen::Vector3d> level;
+      for (std::size_t i = start; i < end; ++i) level.push_back(by_height[i].second);
+      total += Covariance(level);
+      ++levels;
+    }
+    start = end;
+  }
+  if (levels == 0) return plane.normal;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(total);
+  const Eigen::Vector3d up = solver.eigenvectors().col(0);
+  return up.dot(plane.normal) < 0 ? -up : up;
 }
 
 }  // namespace ocg

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -95,7 +96,8 @@ RayIntersection IntersectRays(const std::vector<Ray>& rays, double min_sigma,
 }
 
 Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>& views,
-                      const PinholeCamera& camera, const Eigen::Matrix3d& R_wg) {
+                      const PinholeCamera& camera, const Eigen::Matrix3d& R_wg,
+                      std::optional<double> known_yaw) {
   Cuboid cuboid;
   cuboid.centre = centre;
   // Per view: metric width and height at the centre's depth, the azimuth of the viewing
@@ -120,32 +122,48 @@ Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>&
   for (std::size_t i = 1; i < sorted.size(); ++i)
     widest_gap = std::max(widest_gap, sorted[i] - sorted[i - 1]);
   const double spread = 2 * kPi - widest_gap;
+  // Least-squares sides at yaw psi and their squared error.
+  const auto fit_sides = [&](double psi, double* error) {
+    Eigen::MatrixXd design(static_cast<Eigen::Index>(widths.size()), 2);
+    Eigen::VectorXd target(static_cast<Eigen::Index>(widths.size()));
+    for (std::size_t i = 0; i < widths.size(); ++i) {
+      const auto row = static_cast<Eigen::Index>(i);
+      design(row, 0) = std::abs(std::sin(psi - azimuths[i]));
+      design(row, 1) = std::abs(std::cos(psi - azimuths[i]));
+      target(row) = widths[i];
+    }
+    const Eigen::Vector2d fit = design.colPivHouseholderQr().solve(target).cwiseMax(0.0);
+    *error = (design * fit - target).squaredNorm();
+    return fit;
+  };
   double a = Median(widths), b = a, yaw = 0.0;
   if (spread > 30.0 * kPi / 180.0 && widths.size() >= 3) {
     double best_error = std::numeric_limits<double>::infinity();
     for (int step = 0; step < 30; ++step) {  // yaw in [0, 90) degrees: a and b swap beyond
-      const double psi = step * (kPi / 2) / 30;
-      Eigen::MatrixXd design(static_cast<Eigen::Index>(widths.size()), 2);
-      Eigen::VectorXd target(static_cast<Eigen::Index>(widths.size()));
-      for (std::size_t i = 0; i < widths.size(); ++i) {
-        const auto row = static_cast<Eigen::Index>(i);
-        design(row, 0) = std::abs(std::sin(psi - azimuths[i]));
-        design(row, 1) = std::abs(std::cos(psi - azimuths[i]));
-        target(row) = widths[i];
-      }
-      Eigen::Vector2d fit = design.colPivHouseholderQr().solve(target);
-      fit = fit.cwiseMax(0.0);
-      const double error = (design * fit - target).squaredNorm();
+      const double psi = known_yaw ? *known_yaw : step * (kPi / 2) / 30;
+      double error = 0.0;
+      const Eigen::Vector2d fit = fit_sides(psi, &error);
       if (error < best_error) {
         best_error = error;
         a = fit(0);
         b = fit(1);
         yaw = psi;
       }
+      if (known_yaw) break;
     }
     const double floor = 0.2 * std::max(a, b);  // a side fitted to ~0 is unobserved, not flat
     a = std::max(a, floor);
     b = std::max(b, floor);
+  } else if (known_yaw) {
+    // Too narrow a range of views for two sides: a square turned to the known yaw, whose
+    // side each width gives.
+    std::vector<double> sides;
+    for (std::size_t i = 0; i < widths.size(); ++i) {
+      sides.push_back(widths[i] / (std::abs(std::sin(*known_yaw - azimuths[i])) +
+                                   std::abs(std::cos(*known_yaw - azimuths[i]))));
+    }
+    a = b = Median(sides);
+    yaw = *known_yaw;
   }
   // Seen from elevation e, the box height spans h cos(e) plus the footprint's depth along
   // the ray times sin(e).
@@ -161,6 +179,64 @@ Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>&
   cuboid.size = Eigen::Vector3d(a, b, std::max(height, 0.1 * std::max(a, b)));
   cuboid.yaw = yaw;
   return cuboid;
+}
+
+Rectangle2 MinAreaRectangle(const std::vector<Eigen::Vector2d>& points) {
+  Rectangle2 best;
+  if (points.size() < 3) return best;
+  // Convex hull, counter-clockwise (Andrew's monotone chain).
+  std::vector<Eigen::Vector2d> sorted = points;
+  std::sort(sorted.begin(), sorted.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+    return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
+  });
+  const auto turn = [](const Eigen::Vector2d& o, const Eigen::Vector2d& p,
+                       const Eigen::Vector2d& q) {
+    return (p.x() - o.x()) * (q.y() - o.y()) - (p.y() - o.y()) * (q.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull(2 * sorted.size());
+  std::size_t size = 0;
+  for (std::size_t i = 0; i < sorted.size(); ++i) {  // lower hull
+    while (size >= 2 && turn(hull[size - 2], hull[size - 1], sorted[i]) <= 0) --size;
+    hull[size++] = sorted[i];
+  }
+  for (std::size_t i = sorted.size() - 1, lower = size + 1; i-- > 0;) {  // upper hull
+    while (size >= lower && turn(hull[size - 2], hull[size - 1], sorted[i]) <= 0) --size;
+    hull[size++] = sorted[i];
+  }
+  hull.resize(size - 1);  // the last point is the first
+  if (hull.size() < 3) return best;
+  // The smallest rectangle has a side on a hull edge: try each edge's direction.
+  double best_area = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d edge = hull[(i + 1) % hull.size()] - hull[i];
+    if (edge.norm() < 1e-12) continue;
+    const Eigen::Vector2d along = edge.normalized();
+    const Eigen::Vector2d across(-along.y(), along.x());
+    double low_u = 1e300, high_u = -1e300, low_v = 1e300, high_v = -1e300;
+    for (const Eigen::Vector2d& p : hull) {
+      low_u = std::min(low_u, p.dot(along));
+      high_u = std::max(high_u, p.dot(along));
+      low_v = std::min(low_v, p.dot(across));
+      high_v = std::max(high_v, p.dot(across));
+    }
+    const double area = (high_u - low_u) * (high_v - low_v);
+    if (area >= best_area) continue;
+    best_area = area;
+    best.valid = true;
+    best.centre = 0.5 * (low_u + high_u) * along + 0.5 * (low_v + high_v) * across;
+    // Yaw in [0, 90) degrees: a quarter turn swaps the sides.
+    double yaw = std::atan2(along.y(), along.x());
+    double length = high_u - low_u, width = high_v - low_v;
+    yaw = std::fmod(yaw + 2 * kPi, kPi);
+    if (yaw >= kPi / 2) {
+      yaw -= kPi / 2;
+      std::swap(length, width);
+    }
+    best.yaw = yaw;
+    best.length = length;
+    best.width = width;
+  }
+  return best;
 }
 
 }  // namespace ocg

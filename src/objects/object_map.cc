@@ -270,12 +270,22 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
 
 void ObjectMap::SetUp(const Eigen::Vector3d& up) { R_wg_ = GravityFrame(up); }
 
-void ObjectMap::UpdatePoses(
-    const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame) {
+void ObjectMap::FollowMap(
+    const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
+    const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point) {
   for (auto* entities : {&objects_, &candidates_}) {
     for (auto& [id, entity] : *entities) {
       for (ObjectSighting& sighting : entity.sightings) {
         if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
+      }
+      for (auto point = entity.points.begin(); point != entity.points.end();) {
+        const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
+        if (!position) {
+          point = entity.points.erase(point);
+          continue;
+        }
+        point->second.position = *position;
+        ++point;
       }
     }
   }
@@ -288,6 +298,19 @@ void ObjectMap::UpdatePoses(
       geometry_changed_[id] = true;
     }
   }
+}
+
+std::optional<double> ObjectMap::PointSetYaw(const MapObject& object) const {
+  const std::vector<Eigen::Vector3d> point_set = ObjectPointSet(object, options_.min_point_votes);
+  if (static_cast<int>(point_set.size()) < options_.yaw_min_points) return std::nullopt;
+  std::vector<Eigen::Vector2d> footprint;
+  for (const Eigen::Vector3d& point : point_set)
+    footprint.push_back((R_wg_.transpose() * point).head<2>());
+  const Rectangle2 rectangle = MinAreaRectangle(footprint);
+  const double long_side = std::max(rectangle.length, rectangle.width);
+  const double short_side = std::min(rectangle.length, rectangle.width);
+  if (!rectangle.valid || long_side < options_.yaw_min_elongation * short_side) return std::nullopt;
+  return rectangle.yaw;
 }
 
 bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
@@ -315,7 +338,9 @@ bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
   for (std::size_t i = 0; i < used.size(); ++i) {
     if (intersection.inliers[i]) views.push_back({used[i]->T_cw, used[i]->box});
   }
-  object.cuboid = EstimateCuboid(intersection.point, views, camera_, R_wg_);
+  const std::optional<double> yaw = PointSetYaw(object);
+  object.cuboid = EstimateCuboid(intersection.point, views, camera_, R_wg_, yaw);
+  object.yaw_from_points = yaw.has_value();
   object.has_cuboid = true;
   return true;
 }
@@ -460,6 +485,7 @@ std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& s
         {"class_id", object.class_id},
         {"class", CocoClassName(object.class_id)},
         {"cuboid", CuboidJson(object.cuboid)},
+        {"yaw_from", object.yaw_from_points ? "map points" : "boxes"},
         {"observations", object.sightings.size()},
         {"map_points", ObjectPointSet(object, map.options().min_point_votes).size()},
         {"first_seen", object.first_timestamp},

@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "ocg/core/statistics.h"
 #include "ocg/ocg/replay_format.h"
 
 namespace ocg {
@@ -47,15 +48,38 @@ void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
   const SupportingPlane plane =
       FindSupportingPlane(view.map_points, prior, options.plane_max_tilt_deg,
                           options.plane_inlier_share, options.plane_iterations, seed);
-  const Eigen::Vector3d up = plane.valid ? plane.normal : prior;
+  std::map<std::uint64_t, Eigen::Vector3d> positions;
+  for (std::size_t i = 0; i < view.map_point_ids.size() && i < view.map_points.size(); ++i)
+    positions.emplace(view.map_point_ids[i], view.map_points[i]);
   std::lock_guard<std::mutex> lock(map_mutex_);
+  Eigen::Vector3d up = prior;
+  if (plane.valid) {
+    // Objects stand on the plane or on surfaces parallel to it: their bottoms (in the
+    // current gravity frame) refine its tilt. Levels: within half an object's height.
+    std::vector<Eigen::Vector3d> bottoms;
+    std::vector<double> heights;
+    const Eigen::Vector3d current_up = map_.gravity_frame().col(2);
+    for (const auto& [id, object] : map_.objects()) {
+      if (!object.has_cuboid) continue;
+      bottoms.push_back(object.cuboid.centre - 0.5 * object.cuboid.size.z() * current_up);
+      heights.push_back(object.cuboid.size.z());
+    }
+    up =
+        heights.empty() ? plane.normal : RefineUpWithBottoms(plane, bottoms, 0.5 * Median(heights));
+  }
   stats_.plane_inliers = plane.valid ? plane.inliers : 0;
   stats_.up = up;
   map_.SetUp(up);
-  map_.UpdatePoses([&view](std::int64_t frame) -> std::optional<SE3> {
-    if (frame < 0 || frame >= static_cast<std::int64_t>(view.frame_poses.size())) return {};
-    return view.frame_poses[static_cast<std::size_t>(frame)];
-  });
+  map_.FollowMap(
+      [&view](std::int64_t frame) -> std::optional<SE3> {
+        if (frame < 0 || frame >= static_cast<std::int64_t>(view.frame_poses.size())) return {};
+        return view.frame_poses[static_cast<std::size_t>(frame)];
+      },
+      [&positions](std::uint64_t point) -> std::optional<Eigen::Vector3d> {
+        const auto found = positions.find(point);
+        if (found == positions.end()) return {};
+        return found->second;
+      });
 }
 
 void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw) {

@@ -45,6 +45,8 @@ void ObjectsOptions::Check() const {
   RequireOption(point_box_shrink >= 0 && point_box_shrink < 0.5, "Objects.point_box_shrink",
                 "must be in [0, 0.5)");
   RequireOption(min_point_votes >= 1, "Objects.min_point_votes", "must be at least 1");
+  RequireOption(yaw_min_points >= 3, "Objects.yaw_min_points", "must be at least 3");
+  RequireOption(yaw_min_elongation >= 1, "Objects.yaw_min_elongation", "must be at least 1");
   RequireOption(plane_max_tilt_deg > 0 && plane_max_tilt_deg < 90, "Objects.plane_max_tilt_deg",
                 "must be in (0, 90)");
   RequireOption(plane_inlier_share > 0, "Objects.plane_inlier_share", "must be positive");
@@ -83,6 +85,8 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   }
   file.Read("Objects.point_box_shrink", &options->point_box_shrink);
   file.Read("Objects.min_point_votes", &options->min_point_votes);
+  file.Read("Objects.yaw_min_points", &options->yaw_min_points);
+  file.Read("Objects.yaw_min_elongation", &options->yaw_min_elongation);
   file.Read("Objects.plane_max_tilt_deg", &options->plane_max_tilt_deg);
   file.Read("Objects.plane_inlier_share", &options->plane_inlier_share);
   file.Read("Objects.plane_iterations", &options->plane_iterations);

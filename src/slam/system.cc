@@ -162,12 +162,15 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   return poses;
 }
 
-std::vector<Eigen::Vector3d> System::MapPointPositions() const {
+std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* ids) const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<Eigen::Vector3d> positions;
   positions.reserve(map_.points().size());
+  if (ids != nullptr) ids->clear();
   for (const auto& [id, point] : map_.points()) {
-    if (!point->bad) positions.push_back(point->position);
+    if (point->bad) continue;
+    positions.push_back(point->position);
+    if (ids != nullptr) ids->push_back(id);
   }
   return positions;
 }

@@ -91,11 +91,17 @@ TEST(IntersectRays, ParallelRaysHaveNoIntersection) {
   EXPECT_FALSE(IntersectRays({rays[0]}).valid);
 }
 
+// A box of the given size on a table, turned by 0.5 rad.
+Cuboid TurnedBox(const Eigen::Vector3d& size) {
+  Cuboid box;
+  box.centre = Eigen::Vector3d(0, 0, 0.8);
+  box.size = size;
+  box.yaw = 0.5;
+  return box;
+}
+
 TEST(EstimateCuboid, SizeAndYawFromBoxesAllAround) {
-  Cuboid truth;
-  truth.centre = Eigen::Vector3d(0, 0, 0.8);
-  truth.size = Eigen::Vector3d(0.4, 0.2, 0.15);
-  truth.yaw = 0.5;
+  const Cuboid truth = TurnedBox(Eigen::Vector3d(0.4, 0.2, 0.15));
   const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
   std::vector<BoxView> views;
   for (int i = 0; i < 24; ++i) {
@@ -301,25 +307,106 @@ TEST_F(TwoObjectScene, MapPointsFormEachObjectsPointSetWithoutTheBackground) {
   EXPECT_GT(wall_votes, 0);  // the boxes did catch the background
 }
 
-TEST_F(TwoObjectScene, ObjectsFollowTheCamerasWhenTheirPosesAreOptimized) {
+TEST_F(TwoObjectScene, ObjectsFollowTheirCamerasAndPointsWhenTheMapIsOptimized) {
   ObjectsOptions options;
   ObjectMap map(options, Camera());
-  Watch(map, options, 0, 40);
+  const auto points = ScenePoints();
+  Watch(map, options, 0, 40, true, &points);
   std::map<ObjectId, Eigen::Vector3d> before;
   for (const auto& [id, object] : map.objects()) before[id] = object.cuboid.centre;
-  // Bundle adjustment moved the whole map by 0.3 m along x: every camera moved with it.
+  // Bundle adjustment moved the whole map by 0.3 m along x: every camera and point moved
+  // with it; point 100 (on the cup) was fused into another and is gone.
   const Eigen::Vector3d shift(0.3, 0, 0);
-  map.UpdatePoses([&](std::int64_t frame) -> std::optional<SE3> {
-    return OrbitPose(0.02 * frame) * SE3(Eigen::Matrix3d::Identity(), -shift);
-  });
+  std::map<std::uint64_t, Eigen::Vector3d> moved;
+  for (const auto& [id, position] : points) moved[id] = position + shift;
+  moved.erase(100);
+  map.FollowMap(
+      [&](std::int64_t frame) -> std::optional<SE3> {
+        return OrbitPose(0.02 * frame) * SE3(Eigen::Matrix3d::Identity(), -shift);
+      },
+      [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> {
+        const auto found = moved.find(id);
+        if (found == moved.end()) return {};
+        return found->second;
+      });
+  int points_checked = 0;
   for (const auto& [id, object] : map.objects()) {
     EXPECT_LT((object.cuboid.centre - (before[id] + shift)).norm(), 1e-6) << id;
+    EXPECT_EQ(object.points.count(100), 0u);
+    for (const auto& [point_id, point] : object.points) {
+      EXPECT_LT((point.position - moved.at(point_id)).norm(), 1e-12) << point_id;
+      ++points_checked;
+    }
   }
+  EXPECT_GT(points_checked, 20);
   // The OCG hears of the new centroids at the next keyframe.
   std::vector<ObjectChange> merges;
   const KeyframeObservation observation =
       map.MakeKeyframeObservation(0, 1.0, OrbitPose(0.78), &merges);
   EXPECT_EQ(observation.updates.size(), 2u);
+}
+
+TEST(MinAreaRectangle, FindsTheRectangleOfRotatedPoints) {
+  const double yaw = 0.5;
+  const Eigen::Rotation2Dd rotation(yaw);
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < 40; ++i) {  // a 0.4 x 0.1 rectangle's outline and inside, at (1, 2)
+    const double u = 0.4 * ((i % 8) / 7.0 - 0.5), v = 0.1 * ((i / 8) / 4.0 - 0.5);
+    points.push_back(Eigen::Vector2d(1, 2) + rotation * Eigen::Vector2d(u, v));
+  }
+  const Rectangle2 rectangle = MinAreaRectangle(points);
+  ASSERT_TRUE(rectangle.valid);
+  EXPECT_NEAR(rectangle.yaw, yaw, 1e-9);
+  EXPECT_NEAR(rectangle.length, 0.4, 1e-9);
+  EXPECT_NEAR(rectangle.width, 0.1, 1e-9);
+  EXPECT_LT((rectangle.centre - Eigen::Vector2d(1, 2)).norm(), 1e-9);
+  // A quarter turn more is the same rectangle, its sides swapped, yaw kept in [0, 90).
+  for (Eigen::Vector2d& p : points) p = Eigen::Rotation2Dd(kPi / 2) * p;
+  const Rectangle2 turned = MinAreaRectangle(points);
+  EXPECT_NEAR(turned.yaw, yaw, 1e-9);
+  EXPECT_NEAR(turned.length, 0.1, 1e-9);
+  EXPECT_NEAR(turned.width, 0.4, 1e-9);
+  EXPECT_FALSE(MinAreaRectangle({{0, 0}, {1, 1}, {2, 2}}).valid);  // one line
+}
+
+// A long box seen from a narrow range of azimuths: the boxes alone cannot tell its yaw;
+// the map points on its top face can.
+TEST(ObjectMap, YawFromThePointSetWhenTheViewsAreNarrow) {
+  const Cuboid truth = TurnedBox(Eigen::Vector3d(0.4, 0.15, 0.2));
+  const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
+  std::vector<std::pair<std::uint64_t, Eigen::Vector3d>> points;
+  for (int i = 0; i < 25; ++i) {
+    const Eigen::Vector3d local(0.9 * truth.size.x() * ((i % 5) / 4.0 - 0.5),
+                                0.9 * truth.size.y() * ((i / 5) / 4.0 - 0.5), 0.5 * truth.size.z());
+    points.push_back(
+        {static_cast<std::uint64_t>(i),
+         truth.centre + Eigen::AngleAxisd(truth.yaw, Eigen::Vector3d::UnitZ()) * local});
+  }
+  ObjectsOptions options;
+  options.classes = {73};
+  const auto watch = [&](bool with_points) {
+    ObjectMap map(options, Camera());
+    for (int frame = 0; frame < 20; ++frame) {  // 23 degrees of azimuth
+      const SE3 T_cw = OrbitPose(0.02 * frame, truth.centre);
+      const Box2 box = *ProjectCuboid(truth, R_wg, T_cw, Camera());
+      std::vector<PointObservation> tracked;
+      for (const auto& [id, position] : points)
+        tracked.push_back({id, Camera().ProjectUndistorted(T_cw * position), position});
+      map.AddFrame(frame, frame / 30.0, T_cw,
+                   FilterDetections({{73, box.x0, box.y0, box.Width(), box.Height(), 0.9}}, options,
+                                    Camera()),
+                   with_points ? &tracked : nullptr);
+    }
+    return map.objects();
+  };
+  const auto without = watch(false);
+  ASSERT_EQ(without.size(), 1u);
+  EXPECT_EQ(without.begin()->second.cuboid.yaw, 0.0);  // square footprint, no yaw
+  const auto with = watch(true);
+  ASSERT_EQ(with.size(), 1u);
+  const Cuboid& estimate = with.begin()->second.cuboid;
+  EXPECT_LT(std::abs(std::remainder(estimate.yaw - truth.yaw, kPi / 2)), 2 * kPi / 180);
+  EXPECT_LT((estimate.centre - truth.centre).norm(), 0.15 * truth.size.maxCoeff());
 }
 
 TEST(RobustPointBounds, LeaveOutliersOut) {
@@ -394,6 +481,37 @@ TEST(SupportingPlane, FindsTheFloorNotTheWallFromTheCamerasUp) {
   EXPECT_EQ(again.normal, plane.normal);  // deterministic for a seed
   EXPECT_FALSE(
       FindSupportingPlane({points.begin(), points.begin() + 20}, tilted, 40, 0.02, 300, 42).valid);
+}
+
+// The floor points cover a small patch, noisily: their plane is tilted. The bottoms of
+// objects standing on the floor and on a table top, spread over the room, level it.
+TEST(SupportingPlane, ObjectBottomsRefineTheTilt) {
+  std::vector<Eigen::Vector3d> points;
+  std::uint32_t state = 11;
+  const auto noise = [&state] {  // deterministic, +-1 cm
+    state = state * 1664525u + 1013904223u;
+    return 0.02 * (state / 4294967296.0 - 0.5);
+  };
+  const Eigen::Matrix3d tilt =
+      Eigen::AngleAxisd(3 * kPi / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  for (int i = 0; i < 100; ++i)  // a 0.3 m patch, tilted 3 degrees (a biased estimate)
+    points.push_back(tilt * Eigen::Vector3d(0.03 * (i % 10), 0.03 * (i / 10), noise()));
+  const SupportingPlane plane =
+      FindSupportingPlane(points, Eigen::Vector3d::UnitZ(), 40, 0.05, 200, 3);
+  ASSERT_TRUE(plane.valid);
+  const double tilt_before = std::acos(std::min(1.0, plane.normal.z()));
+  EXPECT_GT(tilt_before, 2 * kPi / 180);
+  std::vector<Eigen::Vector3d> bottoms;
+  for (int i = 0; i < 5; ++i) {
+    bottoms.emplace_back(-2.0 + i, 1.5 * std::sin(i), 0.0);            // on the floor
+    bottoms.emplace_back(0.2 * i, 0.3 * std::cos(i), 0.75 + noise());  // on the table
+  }
+  const Eigen::Vector3d up = RefineUpWithBottoms(plane, bottoms, 0.1);
+  const double tilt_after = std::acos(std::min(1.0, up.z()));
+  EXPECT_LT(tilt_after, 0.5 * tilt_before);
+  // Two bottoms a level are not enough: the plane stays as it was.
+  EXPECT_EQ(RefineUpWithBottoms(plane, {bottoms[0], bottoms[1], bottoms[2], bottoms[3]}, 0.1),
+            plane.normal);
 }
 
 // Real data: 58 keyframes of TUM fr3/cabinet with ground-truth poses and YOLO boxes of the

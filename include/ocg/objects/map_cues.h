@@ -46,6 +46,7 @@ struct SupportingPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, on the prior's side
   double offset = 0.0;                                // normal . x + offset = 0
   int inliers = 0;
+  Eigen::Matrix3d inlier_covariance = Eigen::Matrix3d::Zero();  // about their mean
 };
 
 // The plane holding most map points among those within max_tilt_deg of prior_up (floor or
@@ -55,5 +56,15 @@ struct SupportingPlane {
 SupportingPlane FindSupportingPlane(const std::vector<Eigen::Vector3d>& points,
                                     const Eigen::Vector3d& prior_up, double max_tilt_deg,
                                     double inlier_share, int iterations, std::uint64_t seed);
+
+// Up refined by the objects standing on surfaces parallel to the plane (the floor, a
+// table top, shelves): their bottoms are grouped into levels whose heights along the
+// plane's normal agree within level_tolerance, and up is the direction of least spread of
+// the plane's inliers and of every level of at least 3 bottoms, each about its own mean
+// and weighing as much as the inliers (a few bottoms spread over a room say as much about
+// the tilt as many points on a patch of floor). The plane's normal when no level has 3.
+Eigen::Vector3d RefineUpWithBottoms(const SupportingPlane& plane,
+                                    const std::vector<Eigen::Vector3d>& bottoms,
+                                    double level_tolerance);
 
 }  // namespace ocg

@@ -3,6 +3,7 @@
 // the rays through the box centres (robust multi-view triangulation), extents and yaw
 // from the box sizes and the depth.
 
+#include <optional>
 #include <vector>
 
 #include "ocg/core/camera.h"
@@ -47,7 +48,21 @@ struct BoxView {
 // (a, b, yaw) is fitted to the widths seen from every azimuth, the height to the heights
 // once the footprint's share (seen from above) is taken out. With views from too narrow a
 // range of azimuths the footprint is taken square, yaw 0. Needs at least one view.
+// known_yaw (from the object's map points, see MinAreaRectangle) fixes the yaw: only the
+// sides are fitted, and a square footprint from narrow views is turned to it.
 Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>& views,
-                      const PinholeCamera& camera, const Eigen::Matrix3d& R_wg);
+                      const PinholeCamera& camera, const Eigen::Matrix3d& R_wg,
+                      std::optional<double> known_yaw = std::nullopt);
+
+// The smallest-area rectangle holding 2-D points (rotating calipers on their convex hull):
+// yaw of its first side in [0, 90) degrees, the side lengths along yaw and across it.
+struct Rectangle2 {
+  bool valid = false;  // at least 3 points not on one line
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double yaw = 0.0;
+  double length = 0.0;  // along yaw
+  double width = 0.0;   // across
+};
+Rectangle2 MinAreaRectangle(const std::vector<Eigen::Vector2d>& points);
 
 }  // namespace ocg

@@ -43,6 +43,7 @@ struct MapObject {
   std::vector<ObjectSighting> sightings;  // every one, in frame order
   Cuboid cuboid;
   bool has_cuboid = false;
+  bool yaw_from_points = false;  // else from the boxes' widths
   std::int64_t first_frame = 0;
   std::int64_t last_frame = 0;
   double first_timestamp = 0.0;
@@ -102,9 +103,13 @@ class ObjectMap {
   // A new up direction (the supporting plane's normal): cuboids are re-estimated at
   // the next UpdatePoses() or sighting.
   void SetUp(const Eigen::Vector3d& up);
-  // Bundle adjustment moved the cameras: every sighting takes its frame's current pose
-  // (frames without one keep theirs) and the objects are re-estimated.
-  void UpdatePoses(const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame);
+  // Bundle adjustment or a loop correction moved the cameras and the points: every
+  // sighting takes its frame's current pose (frames without one keep theirs), every
+  // object point its map point's position (points gone from the map, culled or fused
+  // into another, leave the object), and the objects are re-estimated.
+  void FollowMap(
+      const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
+      const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point);
 
   // The OCG's input for a keyframe at the last added frame: the map objects detected in
   // any frame since the previous keyframe, with the geometry of those that changed.
@@ -124,8 +129,10 @@ class ObjectMap {
   const Eigen::Matrix3d& gravity_frame() const { return R_wg_; }
 
  private:
-  // Re-estimates centre and cuboid from the sightings; false when they do not meet.
+  // Re-estimates centre and cuboid from the sightings (yaw from the point set when it
+  // tells one); false when they do not meet.
   bool Reestimate(MapObject& object, bool candidate) const;
+  std::optional<double> PointSetYaw(const MapObject& object) const;
   void Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
              std::vector<ObjectChange>* merges);
   struct PointCue;

@@ -23,6 +23,7 @@ namespace ocg {
 struct SlamMapView {
   std::vector<std::optional<SE3>> frame_poses;    // by the frame numbers given to AddFrame
   std::vector<Eigen::Vector3d> map_points;        // world
+  std::vector<std::uint64_t> map_point_ids;       // of map_points, one each
   std::vector<Eigen::Matrix3d> camera_rotations;  // keyframes', camera to world
 };
 
@@ -51,7 +52,8 @@ class ObjectMapper {
                             const std::vector<Detection>& detections,
                             const std::vector<PointObservation>* points = nullptr);
   // SLAM runs, before each AddKeyframe(): up from the supporting plane of the map points
-  // (RANSAC seeded with seed), and the sightings moved to their frames' optimized poses.
+  // (RANSAC seeded with seed) refined by the objects' bottoms, the sightings moved to their
+  // frames' optimized poses and the objects' points to their optimized positions.
   void FollowSlamMap(const SlamMapView& view, std::uint64_t seed);
   // Hands the OCG this keyframe (at the last added frame's pose).
   void AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw);

@@ -73,6 +73,12 @@ struct ObjectsOptions {
   // many of its boxes; the object's point set is those points within 3 robust sigmas.
   double point_box_shrink = 0.1;
   int min_point_votes = 3;
+  // Yaw from the map: once an object's point set has Objects.yaw_min_points points whose
+  // footprint's smallest rectangle is Objects.yaw_min_elongation times longer than wide,
+  // that rectangle's yaw is the cuboid's (the boxes' widths only fit the sides); rounder
+  // footprints say nothing about yaw and leave it to the boxes.
+  int yaw_min_points = 10;
+  double yaw_min_elongation = 1.5;
   // Up from the map: the supporting plane (RANSAC on the map points) whose normal is within
   // Objects.plane_max_tilt_deg of the cameras' up; inliers within
   // Objects.plane_inlier_share of the map's robust spread; Objects.plane_iterations tries.

@@ -71,8 +71,9 @@ class System {
   // The current pose (after bundle adjustment) of every frame given to TrackImage, in
   // call order; none for frames not tracked or whose map was reset.
   std::vector<std::optional<SE3>> FramePoses() const;
-  // The positions of every map point (for the object layer's supporting plane).
-  std::vector<Eigen::Vector3d> MapPointPositions() const;
+  // The positions of every map point (for the object layer's supporting plane and point
+  // sets), with their ids in the same order when ids is given.
+  std::vector<Eigen::Vector3d> MapPointPositions(std::vector<MapPointId>* ids = nullptr) const;
   // The camera-to-world rotations of the keyframes in the map.
   std::vector<Eigen::Matrix3d> KeyFrameRotations() const;
   const std::vector<FrameRecord>& Frames() const { return frames_; }
