@@ -619,9 +619,13 @@ int main(int argc, char** argv) {
                        {"points_fused", loop.points_fused},
                        {"seconds", loop.seconds}});
     }
-    report["loop_closing"] = {{"enabled", settings.loop_closing.enabled},
-                              {"candidates_checked", system.LoopStats().candidates_checked},
-                              {"loops", loops}};
+    report["loop_closing"] = {
+        {"enabled", settings.loop_closing.enabled},
+        {"candidates_checked", system.LoopStats().candidates_checked},
+        {"loops", loops},
+        {"global_adjustments", system.LoopStats().global_adjustments},
+        {"global_adjustment_seconds", system.LoopStats().global_adjustment_seconds},
+        {"followed_global_adjustment", system.LoopStats().followed_global_adjustment}};
     if (objects_layer.Enabled()) report["objects"] = objects_layer.Write(output);
     report["snapshots"] = run_snapshots.Finish(system, objects_layer);
     ocg::WriteFileAtomically(output + "/run.json", report.dump(2) + "\n");

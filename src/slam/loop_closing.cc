@@ -86,13 +86,37 @@ LoopClosing::LoopClosing(const PinholeCamera& camera, const ScalePyramid& pyrami
   options_.Check();
 }
 
+LoopClosing::~LoopClosing() {
+  try {
+    worker_.Stop();
+  } catch (...) {
+    // Reported by an explicit Stop(); a destructor must not throw.
+  }
+  JoinGlobalAdjustment();
+}
+
+void LoopClosing::Start() {
+  threaded_ = true;
+  worker_.Start();
+}
+
+void LoopClosing::Stop() {
+  worker_.Stop();
+  JoinGlobalAdjustment();
+}
+
+void LoopClosing::JoinGlobalAdjustment() {
+  if (global_adjustment_thread_.joinable()) global_adjustment_thread_.join();
+}
+
 void LoopClosing::Reset() {
   groups_.clear();
   last_loop_keyframe_ = 0;
 }
 
 bool LoopClosing::ProcessKeyFrame(const KeyFramePtr& keyframe) {
-  if (!options_.enabled) return false;
+  if (!options_.enabled || global_adjustment_running_) return false;
+  JoinGlobalAdjustment();  // a finished one
   const auto start = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(map_->mutex());
   if (keyframe->bad) return false;
@@ -100,14 +124,7 @@ bool LoopClosing::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   if (candidates.empty()) return false;
   Loop loop;
   if (!ComputeSim3(keyframe, candidates, &loop)) return false;
-  LoopEvent event;
-  event.keyframe = keyframe->id;
-  event.matched = loop.matched->id;
-  event.timestamp = keyframe->timestamp;
-  event.sim3_inliers = loop.sim3_inliers;
-  event.loop_matches = loop.loop_matches;
-  event.scale = loop.S_cw.scale();
-  event.correction = (ToSE3(loop.S_cw).Inverse().translation() - keyframe->Centre()).norm();
+  LoopEvent event = Describe(keyframe, loop);
   event.points_fused = Correct(keyframe, loop);
   event.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spdlog::info(
@@ -117,6 +134,26 @@ bool LoopClosing::ProcessKeyFrame(const KeyFramePtr& keyframe) {
       event.correction, event.seconds);
   stats_.loops.push_back(event);
   return true;
+}
+
+std::optional<LoopEvent> LoopClosing::Recognize(const KeyFramePtr& keyframe,
+                                                const std::vector<KeyFramePtr>& candidates) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  Loop loop;
+  if (!ComputeSim3(keyframe, candidates, &loop)) return std::nullopt;
+  return Describe(keyframe, loop);
+}
+
+LoopEvent LoopClosing::Describe(const KeyFramePtr& keyframe, const Loop& loop) {
+  LoopEvent event;
+  event.keyframe = keyframe->id;
+  event.matched = loop.matched->id;
+  event.timestamp = keyframe->timestamp;
+  event.sim3_inliers = loop.sim3_inliers;
+  event.loop_matches = loop.loop_matches;
+  event.scale = loop.S_cw.scale();
+  event.correction = (ToSE3(loop.S_cw).Inverse().translation() - keyframe->Centre()).norm();
+  return event;
 }
 
 std::vector<KeyFramePtr> LoopClosing::DetectCandidates(const KeyFramePtr& keyframe) {
@@ -415,16 +452,56 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop) {
     spdlog::warn("loop closing: the pose graph found no usable solution: {}", report.message);
   }
 
-  // 5. Global bundle adjustment.
-  if (options_.global_ba_iterations > 0) {
-    std::vector<KeyFramePtr> keyframes;
-    for (const auto& [id, k] : map_->keyframes()) {
-      if (!k->bad) keyframes.push_back(k);
-    }
-    AdjustKeyFrames(*map_, camera_, pyramid_, keyframes, options_.global_ba_iterations);
-  }
+  map_->CountCorrection();
+  AdjustGlobally();
   last_loop_keyframe_ = keyframe->id;
   return fused;
+}
+
+void LoopClosing::AdjustGlobally() {
+  if (options_.global_ba_iterations <= 0) return;
+  std::vector<KeyFramePtr> keyframes;
+  for (const auto& [id, k] : map_->keyframes()) {
+    if (!k->bad) keyframes.push_back(k);
+  }
+  const auto adjust = [this](KeyFrameAdjustment& adjustment, bool take_lock) {
+    const auto start = std::chrono::steady_clock::now();
+    if (!SolveAdjustment(&adjustment, options_.global_ba_iterations)) {
+      spdlog::warn("loop closing: the global bundle adjustment found no usable solution: {}",
+                   adjustment.report.message);
+      return;
+    }
+    std::unique_lock<std::mutex> lock(map_->mutex(), std::defer_lock);
+    if (take_lock) lock.lock();
+    const int followed = ApplyAdjustment(*map_, pyramid_, adjustment);
+    map_->CountCorrection();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++stats_.global_adjustments;
+    stats_.followed_global_adjustment += followed;
+    stats_.global_adjustment_seconds += seconds;
+    if (take_lock) {
+      spdlog::info(
+          "global bundle adjustment of {} keyframes merged after {:.2f} s; {} keyframes and "
+          "points added meanwhile followed it",
+          adjustment.keyframes.size(), seconds, followed);
+    }
+  };
+  KeyFrameAdjustment adjustment = PrepareAdjustment(*map_, camera_, pyramid_, keyframes);
+  if (!threaded_) {
+    adjust(adjustment, false);  // the caller holds the lock
+    return;
+  }
+  global_adjustment_running_ = true;
+  global_adjustment_thread_ =
+      std::thread([this, adjust, adjustment = std::move(adjustment)]() mutable {
+        try {
+          adjust(adjustment, true);
+        } catch (const std::exception& error) {
+          spdlog::error("loop closing: the global bundle adjustment failed: {}", error.what());
+        }
+        global_adjustment_running_ = false;
+      });
 }
 
 }  // namespace ocg

@@ -230,4 +230,16 @@ void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
   keyframe->ordered_covisible.clear();
 }
 
+std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
+                                     const SE3& T_c_reference) {
+  KeyFramePtr keyframe = map.GetKeyFrame(reference);
+  SE3 relative = T_c_reference;
+  while (keyframe && keyframe->bad && keyframe->has_parent) {
+    relative = relative * keyframe->T_c_parent;
+    keyframe = map.GetKeyFrame(keyframe->parent);
+  }
+  if (!keyframe) return std::nullopt;
+  return relative * keyframe->T_cw;
+}
+
 }  // namespace ocg

@@ -54,19 +54,24 @@ int FusePoints(Map& map, const PinholeCamera& camera, const ScalePyramid& pyrami
   return fused;
 }
 
-bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
-                     const std::vector<KeyFramePtr>& keyframes, int iterations) {
-  if (map.keyframes().empty()) return false;
-  std::vector<KeyFramePtr> local = keyframes;
+KeyFrameAdjustment PrepareAdjustment(const Map& map, const PinholeCamera& camera,
+                                     const ScalePyramid& pyramid,
+                                     const std::vector<KeyFramePtr>& keyframes) {
+  KeyFrameAdjustment adjustment;
+  if (map.keyframes().empty()) return adjustment;
+  adjustment.first_new_keyframe = map.keyframes().rbegin()->first + 1;
+  adjustment.first_new_point = map.points().empty() ? 0 : map.points().rbegin()->first + 1;
+  BundleAdjustmentProblem& problem = adjustment.problem;
+  std::vector<KeyFramePtr>& local = adjustment.keyframes;
+  local = keyframes;
   std::map<KeyFrameId, int> keyframe_index;
-  BundleAdjustmentProblem problem;
   problem.camera = camera;
   const KeyFrameId first_id = map.keyframes().begin()->first;
   for (const KeyFramePtr& k : local) {
     keyframe_index[k->id] = static_cast<int>(problem.keyframes.size());
     problem.keyframes.push_back({k->T_cw, k->id == first_id});
   }
-  std::vector<MapPointPtr> points;
+  std::vector<MapPointPtr>& points = adjustment.points;
   std::map<MapPointId, int> point_index;
   for (const KeyFramePtr& k : keyframes) {
     for (const MapPointPtr& point : k->points) {
@@ -77,7 +82,6 @@ bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& 
     }
   }
   // Keyframes outside the set that see its points hold the gauge, fixed.
-  std::vector<std::pair<MapPointPtr, KeyFramePtr>> observation_owner;
   for (std::size_t p = 0; p < points.size(); ++p) {
     for (const auto& [keyframe_id, feature] : points[p]->observations) {
       const KeyFramePtr k = map.GetKeyFrame(keyframe_id);
@@ -93,25 +97,73 @@ bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& 
       problem.observations.push_back({found->second, static_cast<int>(p),
                                       k->features.undistorted[static_cast<std::size_t>(feature)],
                                       pyramid.inverse_sigma2[static_cast<std::size_t>(kp.octave)]});
-      observation_owner.emplace_back(points[p], k);
+      adjustment.observation_owner.emplace_back(points[p], k);
     }
   }
+  return adjustment;
+}
+
+bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations) {
+  if (adjustment->keyframes.empty()) return false;
   BundleAdjustmentOptions options;
   options.max_iterations = iterations;
-  const BundleAdjustmentReport report = BundleAdjust(&problem, options);
-  if (!report.solved) return false;
-  for (std::size_t i = 0; i < local.size(); ++i) {
-    if (!problem.keyframes[i].fixed) local[i]->T_cw = problem.keyframes[i].T_cw;
+  adjustment->report = BundleAdjust(&adjustment->problem, options);
+  return adjustment->report.solved;
+}
+
+int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustment& adjustment) {
+  const BundleAdjustmentProblem& problem = adjustment.problem;
+  // Each keyframe's pose before and after, for what hangs from it.
+  std::map<KeyFrameId, std::pair<SE3, SE3>> moved;
+  for (std::size_t i = 0; i < adjustment.keyframes.size(); ++i) {
+    const KeyFramePtr& k = adjustment.keyframes[i];
+    if (problem.keyframes[i].fixed || k->bad) continue;
+    moved.emplace(k->id, std::make_pair(k->T_cw, problem.keyframes[i].T_cw));
+    k->T_cw = problem.keyframes[i].T_cw;
   }
-  for (std::size_t p = 0; p < points.size(); ++p) points[p]->position = problem.points[p].position;
-  for (std::size_t i = 0; i < report.outlier.size(); ++i) {
-    if (!report.outlier[i]) continue;
-    const auto& [point, owner] = observation_owner[i];
-    if (!point->bad) map.EraseObservation(owner, point);
+  for (std::size_t p = 0; p < adjustment.points.size(); ++p) {
+    if (!adjustment.points[p]->bad) adjustment.points[p]->position = problem.points[p].position;
   }
-  for (const MapPointPtr& point : points) {
+  for (std::size_t i = 0; i < adjustment.report.outlier.size(); ++i) {
+    if (!adjustment.report.outlier[i]) continue;
+    const auto& [point, owner] = adjustment.observation_owner[i];
+    if (!point->bad && !owner->bad) map.EraseObservation(owner, point);
+  }
+  for (const MapPointPtr& point : adjustment.points) {
     if (!point->bad) map.UpdatePointGeometry(point, pyramid);
   }
+  // Added meanwhile (only when the adjustment ran without the map): parents come before
+  // their children in id order.
+  int followed = 0;
+  for (auto it = map.keyframes().lower_bound(adjustment.first_new_keyframe);
+       it != map.keyframes().end(); ++it) {
+    const KeyFramePtr& k = it->second;
+    if (k->bad || !k->has_parent) continue;
+    const auto parent = moved.find(k->parent);
+    if (parent == moved.end()) continue;
+    const SE3 before = k->T_cw;
+    k->T_cw = k->T_cw * parent->second.first.Inverse() * parent->second.second;
+    moved.emplace(k->id, std::make_pair(before, k->T_cw));
+    ++followed;
+  }
+  for (auto it = map.points().lower_bound(adjustment.first_new_point); it != map.points().end();
+       ++it) {
+    const MapPointPtr& point = it->second;
+    const auto reference = moved.find(point->reference);
+    if (point->bad || reference == moved.end()) continue;
+    point->position =
+        reference->second.second.Inverse() * (reference->second.first * point->position);
+    map.UpdatePointGeometry(point, pyramid);
+    ++followed;
+  }
+  return followed;
+}
+
+bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
+                     const std::vector<KeyFramePtr>& keyframes, int iterations) {
+  KeyFrameAdjustment adjustment = PrepareAdjustment(map, camera, pyramid, keyframes);
+  if (!SolveAdjustment(&adjustment, iterations)) return false;
+  ApplyAdjustment(map, pyramid, adjustment);
   return true;
 }
 

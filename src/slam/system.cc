@@ -149,15 +149,7 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const FrameRecord& record = frames_[i];
     if (!record.tracked) continue;
-    // A culled reference hands the frame on to its parent (ORB-SLAM2's way), so frames
-    // follow the bundle adjustments and loop corrections that come after the culling.
-    KeyFramePtr reference = map_.GetKeyFrame(record.reference);
-    SE3 T_c_reference = record.T_c_reference;
-    while (reference && reference->bad && reference->has_parent) {
-      T_c_reference = T_c_reference * reference->T_c_parent;
-      reference = map_.GetKeyFrame(reference->parent);
-    }
-    if (reference) poses[i] = T_c_reference * reference->T_cw;
+    poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
   }
   return poses;
 }
@@ -173,6 +165,28 @@ std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* 
     if (ids != nullptr) ids->push_back(id);
   }
   return positions;
+}
+
+std::vector<KeyFramePtr> System::KeyFrames() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<KeyFramePtr> keyframes;
+  for (const auto& [id, keyframe] : map_.keyframes()) {
+    if (!keyframe->bad) keyframes.push_back(keyframe);
+  }
+  return keyframes;
+}
+
+std::optional<LoopEvent> System::RecognizePlace(const KeyFramePtr& keyframe,
+                                                std::size_t max_candidates) const {
+  std::vector<KeyFramePtr> candidates;
+  {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    for (const BowQueryResult& result : database_.Query(keyframe->bow, max_candidates, 1, {})) {
+      const KeyFramePtr candidate = map_.GetKeyFrame(static_cast<KeyFrameId>(result.id));
+      if (candidate && !candidate->bad) candidates.push_back(candidate);
+    }
+  }
+  return loop_closing_->Recognize(keyframe, candidates);
 }
 
 std::vector<Eigen::Matrix3d> System::KeyFrameRotations() const {

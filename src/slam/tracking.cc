@@ -144,6 +144,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
     int inliers = 0;
     {
       std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+      ReanchorLastFrame();
       UpdateLastFramePoints();
       if (state_ == TrackingState::kOk) {
         ok = TrackWithMotionModel(frame) || TrackReferenceKeyFrame(frame);
@@ -161,6 +162,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
                 : options_.min_local_map_inliers;
         ok = inliers >= needed;
       }
+      if (ok) Anchor(frame, reference_);
     }
     result.inliers = inliers;
     if (ok) {
@@ -171,12 +173,14 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
         {
           std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
           keyframe = CreateKeyFrame(frame);
+          Anchor(frame, keyframe);
         }
         result.new_keyframe = true;
         if (keyframe_sink_(keyframe)) {
           // A loop moved the map under this frame: it stands where its keyframe now does.
           std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
           frame.T_cw = keyframe->T_cw;
+          Anchor(frame, keyframe);
         }
       }
     } else {
@@ -297,6 +301,10 @@ bool Tracking::Initialize(Frame& frame) {
   keyframe_sink_(first);
   keyframe_sink_(second);
   reference_ = second;
+  {
+    std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+    Anchor(frame, second);
+  }
   initial_frame_.reset();
   return true;
 }
@@ -593,6 +601,26 @@ bool Tracking::Relocalize(Frame& frame) {
   }
   frame.T_cw.reset();
   return false;
+}
+
+void Tracking::Anchor(const Frame& frame, const KeyFramePtr& keyframe) {
+  if (!frame.T_cw || !keyframe) return;
+  anchor_keyframe_ = keyframe->id;
+  T_last_anchor_ = *frame.T_cw * keyframe->T_cw.Inverse();
+  anchored_corrections_ = dependencies_.map->corrections();
+}
+
+void Tracking::ReanchorLastFrame() {
+  const std::uint64_t corrections = dependencies_.map->corrections();
+  if (corrections == anchored_corrections_) return;
+  anchored_corrections_ = corrections;
+  if (!last_frame_ || !last_frame_->T_cw) return;
+  if (const std::optional<SE3> pose =
+          PoseFromReference(*dependencies_.map, anchor_keyframe_, T_last_anchor_)) {
+    last_frame_->T_cw = *pose;
+    spdlog::debug("frame {}: the map was corrected; re-anchored on keyframe {}", last_frame_->id,
+                  anchor_keyframe_);
+  }
 }
 
 void Tracking::Reset() {

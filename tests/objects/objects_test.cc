@@ -19,15 +19,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-PinholeCamera Camera() {
-  PinholeCamera camera;
-  camera.fx = camera.fy = 525.0;
-  camera.cx = 319.5;
-  camera.cy = 239.5;
-  camera.width = 640;
-  camera.height = 480;
-  return camera;
-}
+PinholeCamera Camera() { return testing::TestCamera(525.0, 319.5, 239.5); }
 
 // A camera at the given azimuth on a circle of radius 1.5 m, 0.5 m above the target,
 // looking at the target (world z up).

@@ -5,18 +5,9 @@
 #include <vector>
 
 #include "ocg/ocg/observation.h"
+#include "test_support.h"
 
 namespace ocg::testing {
-
-inline PinholeCamera TestCamera() {
-  PinholeCamera camera;
-  camera.fx = camera.fy = 500.0;
-  camera.cx = 320.0;
-  camera.cy = 240.0;
-  camera.width = 640;
-  camera.height = 480;
-  return camera;
-}
 
 using ::ocg::LookAt;
 

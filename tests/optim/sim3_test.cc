@@ -7,19 +7,14 @@
 
 #include "ocg/optim/pose_graph.h"
 #include "ocg/optim/sim3_estimation.h"
+#include "test_support.h"
 
 namespace ocg {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-PinholeCamera Camera() {
-  PinholeCamera camera;
-  camera.fx = camera.fy = 525.0;
-  camera.cx = 319.5;
-  camera.cy = 239.5;
-  return camera;
-}
+PinholeCamera Camera() { return testing::TestCamera(525.0, 319.5, 239.5); }
 
 double RotationDegrees(const Sim3& a, const Sim3& b) {
   return a.quaternion().angularDistance(b.quaternion()) * 180.0 / kPi;

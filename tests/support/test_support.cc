@@ -99,4 +99,14 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
   return removed;
 }
 
+PinholeCamera TestCamera(double focal, double cx, double cy) {
+  PinholeCamera camera;
+  camera.fx = camera.fy = focal;
+  camera.cx = cx;
+  camera.cy = cy;
+  camera.width = 640;
+  camera.height = 480;
+  return camera;
+}
+
 }  // namespace ocg::testing

@@ -20,6 +20,8 @@ std::optional<std::string> SharedDataDir();
 std::string SharedDataSkipMessage();
 // A fresh empty folder under the system temp folder.
 std::string MakeTempDir(const std::string& name);
+// A 640 x 480 ideal pinhole camera.
+PinholeCamera TestCamera(double focal = 500.0, double cx = 320.0, double cy = 240.0);
 
 // Brute-force reference for the OCG: keeps every edge in one ordered map and recomputes
 // every object's sums, degree and state from scratch at every keyframe. Slow, obviously

@@ -73,7 +73,10 @@ awk -v r="$rmse" 'BEGIN { exit !(r < 0.02) }' || fail "threaded ATE RMSE $rmse m
 [ -s "$WORK/t/objects.json" ] || fail "the threaded run wrote no objects.json"
 loops=$(python3 -c "import json,sys; print(len(json.load(open(sys.argv[1]))['loop_closing']['loops']))" "$WORK/t/run.json")
 [ "$loops" -ge 1 ] || fail "the threaded run closed no loop"
-echo "passed: threaded mode, ATE RMSE $rmse m, $loops loop(s) closed"
+# Its global bundle adjustment ran on a thread of its own and was merged into the map.
+merged=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['loop_closing']['global_adjustments'])" "$WORK/t/run.json")
+[ "$merged" -ge 1 ] || fail "the threaded run merged no global bundle adjustment"
+echo "passed: threaded mode, ATE RMSE $rmse m, $loops loop(s) closed, $merged global adjustment(s) merged"
 
 # The first 200 frames do not come back to the start: no loop may be closed.
 "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/smoke" \

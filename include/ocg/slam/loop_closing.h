@@ -6,14 +6,21 @@
 // global bundle adjustment.
 //
 // Threading: in sequential mode the caller runs ProcessKeyFrame on each keyframe local
-// mapping has finished. In threaded mode Start() runs a worker fed by Insert() (called
-// by the local mapping thread; a bounded queue), Stop() drains and joins, and Stats() is
-// for after Stop(). ProcessKeyFrame takes Map::mutex() itself and holds it while it
-// corrects the map and runs the global bundle adjustment, so nothing is added to the map
-// meanwhile: tracking and local mapping wait for a correction to finish.
+// mapping has finished, and the global bundle adjustment runs inside it. In threaded mode
+// Start() runs a worker fed by Insert() (called by the local mapping thread; a bounded
+// queue), Stop() drains it and joins it and the global adjustment, and Stats() is for
+// after Stop(). ProcessKeyFrame takes Map::mutex() itself and holds it while it corrects
+// the map (tracking and local mapping wait for the correction, a fraction of a second);
+// the global adjustment then runs on a thread of its own without the lock, on a copy of
+// the map's keyframes and points, and is merged back under the lock: what was added
+// meanwhile follows the correction of what it hangs from (ApplyAdjustment). No loop is
+// looked for while a global adjustment runs.
 
+#include <atomic>
 #include <cstdint>
+#include <optional>
 #include <set>
+#include <thread>
 #include <vector>
 
 #include "ocg/features/bow_database.h"
@@ -64,6 +71,10 @@ struct LoopEvent {
 struct LoopClosingStats {
   int candidates_checked = 0;  // consistent candidates that reached Sim(3) estimation
   std::vector<LoopEvent> loops;
+  int global_adjustments = 0;  // merged into the map
+  double global_adjustment_seconds = 0.0;
+  // Keyframes and points added while a global adjustment ran, that followed it.
+  int followed_global_adjustment = 0;
 };
 
 class LoopClosing {
@@ -73,15 +84,25 @@ class LoopClosing {
               const MatcherOptions& matcher, const LoopClosingOptions& options, Map* map,
               BowDatabase* database, std::uint64_t seed);
 
+  ~LoopClosing();
+  LoopClosing(const LoopClosing&) = delete;
+  LoopClosing& operator=(const LoopClosing&) = delete;
+
   // True when this keyframe closed a loop (the map has been corrected).
   bool ProcessKeyFrame(const KeyFramePtr& keyframe);
   // Threaded use (see above).
-  void Start() { worker_.Start(); }
+  void Start();
   void Insert(const KeyFramePtr& keyframe) { worker_.Insert(keyframe); }
-  bool Idle() const { return worker_.Idle(); }
-  void Stop() { worker_.Stop(); }
+  bool Idle() const { return worker_.Idle() && !global_adjustment_running_; }
+  void Stop();
   // Forgets the consistency history (after a map reset).
   void Reset();
+  // Recognition alone: whether keyframe (of this map or any other) shows the place of one
+  // of candidates (this map's), verified as a loop is (BoW matches, Sim(3) RANSAC, guided
+  // matching, the thresholds of LoopClosingOptions), without the consistency check and
+  // without changing the map. For tests and diagnostics; takes Map::mutex().
+  std::optional<LoopEvent> Recognize(const KeyFramePtr& keyframe,
+                                     const std::vector<KeyFramePtr>& candidates);
   const LoopClosingStats& Stats() const { return stats_; }
 
  private:
@@ -93,8 +114,14 @@ class LoopClosing {
   std::vector<KeyFramePtr> DetectCandidates(const KeyFramePtr& keyframe);
   bool ComputeSim3(const KeyFramePtr& keyframe, const std::vector<KeyFramePtr>& candidates,
                    Loop* loop);
+  // The event's fields known before the correction.
+  static LoopEvent Describe(const KeyFramePtr& keyframe, const Loop& loop);
   // Returns the number of points fused.
   int Correct(const KeyFramePtr& keyframe, Loop& loop);
+  // Global bundle adjustment after a correction (map lock held): in place in sequential
+  // mode, else started on global_adjustment_thread_.
+  void AdjustGlobally();
+  void JoinGlobalAdjustment();
 
   PinholeCamera camera_;
   ScalePyramid pyramid_;
@@ -106,6 +133,9 @@ class LoopClosing {
   std::vector<ConsistentGroup> groups_;
   KeyFrameId last_loop_keyframe_ = 0;
   LoopClosingStats stats_;
+  bool threaded_ = false;
+  std::thread global_adjustment_thread_;
+  std::atomic<bool> global_adjustment_running_{false};
   KeyFrameWorker worker_;  // last: stopped before the members it uses go
 };
 

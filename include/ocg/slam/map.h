@@ -92,6 +92,14 @@ std::optional<PointProjection> ProjectPoint(const PinholeCamera& camera, const I
                                             const SE3& T_cw, const MapPoint& point,
                                             bool check_scale);
 
+class Map;
+
+// The pose now of a frame placed relative to a keyframe (T_c_reference), following a
+// culled keyframe to its parent with the relative pose kept at culling (ORB-SLAM2's way),
+// so the frame takes every correction that came later. None when the keyframe is gone.
+std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
+                                     const SE3& T_c_reference);
+
 class Map {
  public:
   static constexpr int kCovisibilityThreshold = 15;
@@ -123,11 +131,16 @@ class Map {
   // Marks the keyframe bad, removes its observations and edges, and hands its children
   // to its parent.
   void EraseKeyFrame(const KeyFramePtr& keyframe);
+  // Loop corrections and global bundle adjustments move the whole map; a tracker whose
+  // last frame was placed before the count changed re-anchors it on its keyframe.
+  std::uint64_t corrections() const { return corrections_; }
+  void CountCorrection() { ++corrections_; }
 
  private:
   mutable std::mutex mutex_;
   KeyFrameId next_keyframe_id_ = 0;
   MapPointId next_point_id_ = 0;
+  std::uint64_t corrections_ = 0;
   std::map<KeyFrameId, KeyFramePtr> keyframes_;
   std::map<MapPointId, MapPointPtr> points_;
 };

@@ -30,4 +30,27 @@ int FusePoints(Map& map, const PinholeCamera& camera, const ScalePyramid& pyrami
 bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
                      const std::vector<KeyFramePtr>& keyframes, int iterations);
 
+// The same in three steps, so that a long (global) adjustment need not hold the map:
+// prepare under Map::mutex(), solve without it, apply under it again.
+struct KeyFrameAdjustment {
+  BundleAdjustmentProblem problem;
+  std::vector<KeyFramePtr> keyframes;                                  // one per problem keyframe
+  std::vector<MapPointPtr> points;                                     // one per problem point
+  std::vector<std::pair<MapPointPtr, KeyFramePtr>> observation_owner;  // per observation
+  KeyFrameId first_new_keyframe = 0;  // ids from here on were added after preparing
+  MapPointId first_new_point = 0;
+  BundleAdjustmentReport report;
+};
+KeyFrameAdjustment PrepareAdjustment(const Map& map, const PinholeCamera& camera,
+                                     const ScalePyramid& pyramid,
+                                     const std::vector<KeyFramePtr>& keyframes);
+// Needs no lock: touches the adjustment only. False when Ceres gave no usable solution.
+bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations);
+// Writes a solved adjustment into the map: poses and positions of what is still there,
+// outlier observations removed. What was added since it was prepared follows the
+// correction of what it hangs from: a keyframe that of its spanning-tree parent, a point
+// that of its reference keyframe. Returns the number of keyframes and points that
+// followed.
+int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustment& adjustment);
+
 }  // namespace ocg

@@ -74,6 +74,14 @@ class System {
   // The positions of every map point (for the object layer's supporting plane and point
   // sets), with their ids in the same order when ids is given.
   std::vector<Eigen::Vector3d> MapPointPositions(std::vector<MapPointId>* ids = nullptr) const;
+  // The keyframes in the map (for tests and diagnostics; read them while the system is
+  // idle: after Shutdown(), or between TrackImage calls in sequential mode).
+  std::vector<KeyFramePtr> KeyFrames() const;
+  // Whether this map holds the place a keyframe (of any map) shows: its database's
+  // max_candidates best BoW matches verified as loop closing verifies a loop; nothing
+  // in the map changes. Same conditions as KeyFrames().
+  std::optional<LoopEvent> RecognizePlace(const KeyFramePtr& keyframe,
+                                          std::size_t max_candidates) const;
   // The camera-to-world rotations of the keyframes in the map.
   std::vector<Eigen::Matrix3d> KeyFrameRotations() const;
   const std::vector<FrameRecord>& Frames() const { return frames_; }

@@ -115,6 +115,12 @@ class Tracking {
   KeyFramePtr CreateKeyFrame(Frame& frame);
   void ComputeBow(Frame& frame) const;
   void UpdateLastFramePoints();
+  // Remembers where the frame stands relative to keyframe (call under the map lock).
+  void Anchor(const Frame& frame, const KeyFramePtr& keyframe);
+  // A loop correction or global adjustment (another thread's, in threaded mode) moved the
+  // map since the last frame was placed: the last frame moves with its keyframe, or the
+  // motion model would predict from where the map no longer is. Under the map lock.
+  void ReanchorLastFrame();
 
   PinholeCamera camera_;
   double fps_;
@@ -136,6 +142,9 @@ class Tracking {
   std::unique_ptr<Frame> last_frame_;
   std::optional<SE3> velocity_;  // T_current_last
   KeyFramePtr reference_;
+  KeyFrameId anchor_keyframe_ = 0;  // the last frame's, with its pose relative to it
+  SE3 T_last_anchor_;
+  std::uint64_t anchored_corrections_ = 0;  // Map::corrections() when it was placed
   std::uint64_t last_keyframe_frame_id_ = 0;
   std::uint64_t last_relocalization_frame_id_ = 0;
 };

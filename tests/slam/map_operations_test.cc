@@ -1,0 +1,117 @@
+// Bundle adjustment in three steps (prepare, solve, apply), as the global adjustment after
+// a loop runs it: on a copy, while the map goes on growing.
+
+#include "ocg/slam/map_operations.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_support.h"
+
+namespace ocg {
+namespace {
+
+PinholeCamera Camera() { return testing::TestCamera(); }
+
+// Cameras on the x axis looking along +z at points 3-5 m away; every keyframe sees every
+// point, at its exact projection.
+class GrowingMap : public ::testing::Test {
+ protected:
+  static constexpr int kPoints = 60;
+
+  GrowingMap() : pyramid_(MakeScalePyramid(8, 1.2)) {
+    for (int i = 0; i < kPoints; ++i) {
+      truth_points_.emplace_back(-1.0 + 0.05 * i, 0.5 * std::sin(i), 3.0 + (i % 5) * 0.5);
+    }
+    for (int k = 0; k < 4; ++k) AddKeyFrame(TruePose(k));
+    for (int i = 0; i < kPoints; ++i) {
+      auto point = std::make_shared<MapPoint>();
+      point->id = map_.NextMapPointId();
+      point->position = truth_points_[static_cast<std::size_t>(i)];
+      point->reference = 0;
+      map_.Add(point);
+      for (const auto& [id, keyframe] : map_.keyframes()) map_.AddObservation(keyframe, i, point);
+    }
+    for (const auto& [id, keyframe] : map_.keyframes()) map_.UpdateConnections(keyframe);
+  }
+
+  static SE3 TruePose(int k) {
+    return SE3(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.3 * k, 0, 0));
+  }
+
+  KeyFramePtr AddKeyFrame(const SE3& T_cw) {
+    auto keyframe = std::make_shared<KeyFrame>();
+    keyframe->id = map_.NextKeyFrameId();
+    keyframe->T_cw = T_cw;
+    for (const Eigen::Vector3d& point : truth_points_) {
+      const Eigen::Vector2d pixel = Camera().ProjectUndistorted(TruePose(0) * point);
+      keyframe->features.keypoints.emplace_back(static_cast<float>(pixel.x()),
+                                                static_cast<float>(pixel.y()), 31.0f);
+      keyframe->features.undistorted.push_back(
+          Camera().ProjectUndistorted(TruePose(static_cast<int>(keyframe->id)) * point));
+    }
+    keyframe->features.descriptors.assign(truth_points_.size(), Descriptor{});
+    keyframe->points.assign(truth_points_.size(), nullptr);
+    map_.Add(keyframe);
+    return keyframe;
+  }
+
+  Map map_;
+  ScalePyramid pyramid_;
+  std::vector<Eigen::Vector3d> truth_points_;
+};
+
+TEST_F(GrowingMap, WhatWasAddedDuringAnAdjustmentFollowsItsCorrection) {
+  // Drift: the last two keyframes stand 5 cm off, the points 2 cm off.
+  const Eigen::Vector3d drift(0.05, -0.02, 0.03);
+  for (KeyFrameId id : {2, 3}) {
+    const KeyFramePtr k = map_.GetKeyFrame(id);
+    k->T_cw = SE3(Eigen::Matrix3d::Identity(), k->T_cw.translation() - drift);
+  }
+  for (const auto& [id, point] : map_.points()) point->position += Eigen::Vector3d(0, 0.02, 0);
+  std::vector<KeyFramePtr> all;
+  for (const auto& [id, keyframe] : map_.keyframes()) all.push_back(keyframe);
+  KeyFrameAdjustment adjustment = PrepareAdjustment(map_, Camera(), pyramid_, all);
+
+  // Meanwhile tracking adds a keyframe (a child of keyframe 3, 0.2 m further) and local
+  // mapping a point it made.
+  const KeyFramePtr k3 = map_.GetKeyFrame(3);
+  const SE3 T_4_3(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.2, 0, 0));
+  const KeyFramePtr k4 = AddKeyFrame(T_4_3 * k3->T_cw);
+  k4->parent = 3;
+  k4->has_parent = true;
+  auto fresh = std::make_shared<MapPoint>();
+  fresh->id = map_.NextMapPointId();
+  fresh->position = k4->T_cw.Inverse() * Eigen::Vector3d(0.1, 0.2, 4.0);
+  fresh->reference = k4->id;
+  map_.Add(fresh);
+  map_.AddObservation(k4, 0, fresh);
+  const SE3 k3_before = k3->T_cw;
+
+  ASSERT_TRUE(SolveAdjustment(&adjustment, 30));
+  EXPECT_EQ(ApplyAdjustment(map_, pyramid_, adjustment), 2);  // k4 and the fresh point
+
+  // Nothing was lost: five keyframes, every point.
+  EXPECT_EQ(map_.keyframes().size(), 5u);
+  EXPECT_EQ(map_.points().size(), static_cast<std::size_t>(kPoints + 1));
+  EXPECT_FALSE(k4->bad);
+  EXPECT_FALSE(fresh->bad);
+  // The adjusted keyframes are back where they belong (the first holds the gauge).
+  for (KeyFrameId id : {1, 2, 3}) {
+    EXPECT_LT(
+        (map_.GetKeyFrame(id)->Centre() - TruePose(static_cast<int>(id)).Inverse().translation())
+            .norm(),
+        0.01)
+        << id;
+  }
+  EXPECT_GT((k3->T_cw.translation() - k3_before.translation()).norm(), 0.03);  // it did move
+  // The new keyframe moved with its parent: same relative pose as when it was added.
+  const SE3 relative = k4->T_cw * k3->T_cw.Inverse();
+  EXPECT_LT((relative.translation() - T_4_3.translation()).norm(), 1e-9);
+  // The fresh point moved with its reference keyframe: same place in its camera.
+  EXPECT_LT((k4->T_cw * fresh->position - Eigen::Vector3d(0.1, 0.2, 4.0)).norm(), 1e-9);
+}
+
+}  // namespace
+}  // namespace ocg
