@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
 #include <set>
 
 #include <unistd.h>
@@ -30,13 +31,40 @@ std::string SharedDataSkipMessage() {
          " (set OCG_SHARED_DATA to its location to run this test)";
 }
 
+namespace {
+
+// The folders MakeTempDir made, removed when the test program exits (kept with
+// OCG_KEEP_TEST_FILES set, to look at a failure's files).
+class TempDirs {
+ public:
+  ~TempDirs() {
+    if (std::getenv("OCG_KEEP_TEST_FILES") != nullptr) return;
+    for (const fs::path& path : paths_) {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  }
+  void Add(const fs::path& path) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    paths_.push_back(path);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<fs::path> paths_;
+};
+
+}  // namespace
+
 std::string MakeTempDir(const std::string& name) {
   static std::atomic<int> counter{0};
+  static TempDirs made;
   const fs::path path =
       fs::temp_directory_path() /
       ("ocg_test_" + name + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
   fs::remove_all(path);
   fs::create_directories(path);
+  made.Add(path);
   return path.string();
 }
 

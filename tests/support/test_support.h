@@ -18,7 +18,8 @@ std::string SourceDir();
 // caller skips with a message saying where it looked.
 std::optional<std::string> SharedDataDir();
 std::string SharedDataSkipMessage();
-// A fresh empty folder under the system temp folder.
+// A fresh empty folder under the system temp folder, removed when the program exits
+// (unless OCG_KEEP_TEST_FILES is set).
 std::string MakeTempDir(const std::string& name);
 // A 640 x 480 ideal pinhole camera.
 PinholeCamera TestCamera(double focal = 500.0, double cx = 320.0, double cy = 240.0);
