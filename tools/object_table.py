@@ -35,6 +35,15 @@ def run(command):
     return result.stdout
 
 
+def write_table(out, name, lines):
+    """Writes the table's lines to OUT/name and prints it, and where the runs are."""
+    table = "\n".join(lines) + "\n"
+    with open(os.path.join(out, name), "w") as handle:
+        handle.write(table)
+    print(table)
+    print("runs and %s in %s" % (name, out), file=sys.stderr)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("sequences", nargs="+", help="sequence folders written by ocg_synth")
@@ -99,11 +108,7 @@ def main():
                 m["prec"], m["recall"]))
         lines.append("| %s | GT | %d | 0 | 0 | %d | 0 | 0 | - | - | - |" % (
             name, truth["gt_static"], truth["gt_outdated"]))
-    table = "\n".join(lines) + "\n"
-    with open(os.path.join(out, "table.md"), "w") as handle:
-        handle.write(table)
-    print(table)
-    print("runs and table.md in %s" % out, file=sys.stderr)
+    write_table(out, "table.md", lines)
 
 
 if __name__ == "__main__":

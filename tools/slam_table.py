@@ -18,7 +18,7 @@ import os
 import sys
 import tempfile
 
-from object_table import run  # tools/ is on the path: the script's own folder
+from object_table import run, write_table  # tools/ is on the path: the script's own folder
 
 
 def ate(tools, groundtruth, trajectory):
@@ -71,11 +71,7 @@ def main():
                 timing["tracking_per_frame"]["median_ms"],
                 timing["local_mapping_per_keyframe"]["median_ms"],
                 timing["local_mapping_per_keyframe"]["p95_ms"]))
-    table = "\n".join(lines) + "\n"
-    with open(os.path.join(out, "slam_table.md"), "w") as handle:
-        handle.write(table)
-    print(table)
-    print("runs and slam_table.md in %s" % out, file=sys.stderr)
+    write_table(out, "slam_table.md", lines)
 
 
 if __name__ == "__main__":

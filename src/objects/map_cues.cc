@@ -17,8 +17,8 @@ Eigen::Vector3d Mean(const std::vector<Eigen::Vector3d>& points) {
   return mean / static_cast<double>(points.size());
 }
 
-Eigen::Matrix3d Covariance(const std::vector<Eigen::Vector3d>& points) {
-  const Eigen::Vector3d mean = Mean(points);
+Eigen::Matrix3d Covariance(const std::vector<Eigen::Vector3d>& points,
+                           const Eigen::Vector3d& mean) {
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3d& p : points) scatter += (p - mean) * (p - mean).transpose();
   return scatter / static_cast<double>(points.size());
@@ -28,10 +28,11 @@ Eigen::Matrix3d Covariance(const std::vector<Eigen::Vector3d>& points) {
 SupportingPlane FitPlane(const std::vector<Eigen::Vector3d>& points) {
   SupportingPlane plane;
   plane.valid = true;
-  plane.inlier_covariance = Covariance(points);
+  const Eigen::Vector3d mean = Mean(points);
+  plane.inlier_covariance = Covariance(points, mean);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(plane.inlier_covariance);
   plane.normal = solver.eigenvectors().col(0);
-  plane.offset = -plane.normal.dot(Mean(points));
+  plane.offset = -plane.normal.dot(mean);
   plane.inliers = static_cast<int>(points.size());
   return plane;
 }
@@ -175,7 +176,7 @@ Eigen::Vector3d RefineUpWithBottoms(const SupportingPlane& plane,
     if (end - start >= 3) {
       std::vector<Eigen::Vector3d> level;
       for (std::size_t i = start; i < end; ++i) level.push_back(by_height[i].second);
-      total += Covariance(level);
+      total += Covariance(level, Mean(level));
       ++levels;
     }
     start = end;

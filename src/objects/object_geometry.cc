@@ -138,19 +138,23 @@ Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>&
   };
   double a = Median(widths), b = a, yaw = 0.0;
   if (spread > 30.0 * kPi / 180.0 && widths.size() >= 3) {
-    double best_error = std::numeric_limits<double>::infinity();
-    for (int step = 0; step < 30; ++step) {  // yaw in [0, 90) degrees: a and b swap beyond
-      const double psi = known_yaw ? *known_yaw : step * (kPi / 2) / 30;
-      double error = 0.0;
-      const Eigen::Vector2d fit = fit_sides(psi, &error);
-      if (error < best_error) {
-        best_error = error;
-        a = fit(0);
-        b = fit(1);
-        yaw = psi;
+    double error = 0.0;
+    if (known_yaw) {
+      yaw = *known_yaw;
+    } else {
+      double best_error = std::numeric_limits<double>::infinity();
+      for (int step = 0; step < 30; ++step) {  // yaw in [0, 90) degrees: a and b swap beyond
+        const double psi = step * (kPi / 2) / 30;
+        fit_sides(psi, &error);
+        if (error < best_error) {
+          best_error = error;
+          yaw = psi;
+        }
       }
-      if (known_yaw) break;
     }
+    const Eigen::Vector2d fit = fit_sides(yaw, &error);
+    a = fit(0);
+    b = fit(1);
     const double floor = 0.2 * std::max(a, b);  // a side fitted to ~0 is unobserved, not flat
     a = std::max(a, floor);
     b = std::max(b, floor);

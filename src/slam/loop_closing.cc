@@ -49,11 +49,7 @@ void ReadSettings(const SettingsFile& file, LoopClosingOptions* options) {
   file.Read("LoopClosing.strongCovisibility", &options->strong_covisibility);
   file.Read("LoopClosing.poseGraphIterations", &options->pose_graph_iterations);
   file.Read("LoopClosing.globalBAIterations", &options->global_ba_iterations);
-  int queue_capacity = static_cast<int>(options->queue_capacity);
-  if (file.Read("LoopClosing.queueCapacity", &queue_capacity)) {
-    RequireOption(queue_capacity >= 1, "LoopClosing.queueCapacity", "must be at least 1");
-    options->queue_capacity = static_cast<std::size_t>(queue_capacity);
-  }
+  file.Read("LoopClosing.queueCapacity", &options->queue_capacity);  // Check(): at least 1
   file.Read("LoopClosing.sim3Iterations", &options->sim3.iterations);
   file.Read("LoopClosing.sim3MinInliers", &options->sim3.min_inliers);
   file.Read("LoopClosing.sim3Chi2", &options->sim3.chi2);
@@ -464,44 +460,49 @@ void LoopClosing::AdjustGlobally() {
   for (const auto& [id, k] : map_->keyframes()) {
     if (!k->bad) keyframes.push_back(k);
   }
-  const auto adjust = [this](KeyFrameAdjustment& adjustment, bool take_lock) {
-    const auto start = std::chrono::steady_clock::now();
-    if (!SolveAdjustment(&adjustment, options_.global_ba_iterations)) {
-      spdlog::warn("loop closing: the global bundle adjustment found no usable solution: {}",
-                   adjustment.report.message);
-      return;
-    }
-    std::unique_lock<std::mutex> lock(map_->mutex(), std::defer_lock);
-    if (take_lock) lock.lock();
-    const int followed = ApplyAdjustment(*map_, pyramid_, adjustment);
-    map_->CountCorrection();
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    ++stats_.global_adjustments;
-    stats_.followed_global_adjustment += followed;
-    stats_.global_adjustment_seconds += seconds;
-    if (take_lock) {
-      spdlog::info(
-          "global bundle adjustment of {} keyframes merged after {:.2f} s; {} keyframes and "
-          "points added meanwhile followed it",
-          adjustment.keyframes.size(), seconds, followed);
-    }
-  };
   KeyFrameAdjustment adjustment = PrepareAdjustment(*map_, camera_, pyramid_, keyframes);
-  if (!threaded_) {
-    adjust(adjustment, false);  // the caller holds the lock
+  if (!threaded_) {  // the caller holds the lock
+    const auto start = std::chrono::steady_clock::now();
+    if (SolveGlobally(adjustment)) MergeGlobalAdjustment(adjustment, start);
     return;
   }
   global_adjustment_running_ = true;
-  global_adjustment_thread_ =
-      std::thread([this, adjust, adjustment = std::move(adjustment)]() mutable {
-        try {
-          adjust(adjustment, true);
-        } catch (const std::exception& error) {
-          spdlog::error("loop closing: the global bundle adjustment failed: {}", error.what());
-        }
-        global_adjustment_running_ = false;
-      });
+  global_adjustment_thread_ = std::thread([this, adjustment = std::move(adjustment)]() mutable {
+    try {
+      const auto start = std::chrono::steady_clock::now();
+      if (SolveGlobally(adjustment)) {
+        std::lock_guard<std::mutex> lock(map_->mutex());
+        MergeGlobalAdjustment(adjustment, start);
+      }
+    } catch (const std::exception& error) {
+      spdlog::error("loop closing: the global bundle adjustment failed: {}", error.what());
+    }
+    global_adjustment_running_ = false;
+  });
+}
+
+bool LoopClosing::SolveGlobally(KeyFrameAdjustment& adjustment) const {
+  if (SolveAdjustment(&adjustment, options_.global_ba_iterations)) return true;
+  spdlog::warn("loop closing: the global bundle adjustment found no usable solution: {}",
+               adjustment.report.message);
+  return false;
+}
+
+void LoopClosing::MergeGlobalAdjustment(const KeyFrameAdjustment& adjustment,
+                                        std::chrono::steady_clock::time_point start) {
+  const int followed = ApplyAdjustment(*map_, pyramid_, adjustment);
+  map_->CountCorrection();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ++stats_.global_adjustments;
+  stats_.followed_global_adjustment += followed;
+  stats_.global_adjustment_seconds += seconds;
+  if (threaded_) {
+    spdlog::info(
+        "global bundle adjustment of {} keyframes merged after {:.2f} s; {} keyframes and "
+        "points added meanwhile followed it",
+        adjustment.keyframes.size(), seconds, followed);
+  }
 }
 
 }  // namespace ocg

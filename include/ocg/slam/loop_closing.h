@@ -17,6 +17,7 @@
 // looked for while a global adjustment runs.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <set>
@@ -33,6 +34,7 @@
 namespace ocg {
 
 class SettingsFile;
+struct KeyFrameAdjustment;
 
 // LoopClosing.* settings.
 struct LoopClosingOptions {
@@ -121,6 +123,11 @@ class LoopClosing {
   // Global bundle adjustment after a correction (map lock held): in place in sequential
   // mode, else started on global_adjustment_thread_.
   void AdjustGlobally();
+  // Solves without the map lock; false (warned) when Ceres found no usable solution.
+  bool SolveGlobally(KeyFrameAdjustment& adjustment) const;
+  // Writes a solved global adjustment into the map (lock held) and counts it.
+  void MergeGlobalAdjustment(const KeyFrameAdjustment& adjustment,
+                             std::chrono::steady_clock::time_point start);
   void JoinGlobalAdjustment();
 
   PinholeCamera camera_;
