@@ -92,7 +92,8 @@ std::vector<std::pair<std::string, double>> FrameTimestamps(const ObjectsCommand
 }
 
 void RunObjects(const ObjectsCommand& command) {
-  const ocg::LoadedSettings loaded = ocg::LoadSettings(command.settings);
+  const ocg::LoadedSettings loaded =
+      ocg::LoadSettings(command.settings, ocg::CameraNeed::kIntrinsicsAndImageSize);
   ocg::Settings settings = loaded.settings;
   if (!command.mode.empty()) {
     settings.ocg.mode = command.mode;
@@ -481,7 +482,8 @@ int main(int argc, char** argv) {
       RunObjects(objects_command);
       return;
     }
-    const ocg::LoadedSettings loaded = ocg::LoadSettings(settings_path);
+    const ocg::LoadedSettings loaded =
+        ocg::LoadSettings(settings_path, ocg::CameraNeed::kIntrinsics);
     ocg::Settings settings = loaded.settings;
     if (!run_mode.empty()) {
       settings.ocg.mode = run_mode;

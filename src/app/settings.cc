@@ -9,9 +9,11 @@
 namespace ocg {
 namespace {
 
-// ORB-SLAM2 keys we read nowhere but that its settings files carry: no warning for them.
+// ORB-SLAM2/3 keys we read nowhere but that their settings files carry and that do not
+// change what a monocular run computes: no warning for them.
 bool IsKnownForeignKey(const std::string& key) {
-  return key == "Camera.bf" || key == "ThDepth" || key == "DepthMapFactor";
+  return key == "Camera.bf" || key == "ThDepth" || key == "DepthMapFactor" ||
+         key == "Viewer.imageViewScale";
 }
 
 void CheckAll(const Settings& settings) {
@@ -29,7 +31,7 @@ void CheckAll(const Settings& settings) {
   settings.viewer.Check();
 }
 
-LoadedSettings ReadAll(const SettingsFile& file) {
+LoadedSettings ReadAll(const SettingsFile& file, CameraNeed camera_need) {
   LoadedSettings loaded;
   Settings& settings = loaded.settings;
   settings.source = file.name();
@@ -48,8 +50,10 @@ LoadedSettings ReadAll(const SettingsFile& file) {
   try {
     CheckAll(settings);
   } catch (const OptionError& error) {
-    throw SettingsError(file.Describe(error.key(), error.message()));
+    throw SettingsError(file.Describe(CameraKeyInFile(file, error.key()), error.message()));
   }
+  // After the values: a wrong value is reported where it is, even when keys are missing.
+  RequireCamera(file, camera_need);
   for (const std::string& key : file.UnreadKeys()) {
     if (IsKnownForeignKey(key)) continue;
     loaded.warnings.push_back(FileLocation(file.name(), file.LineOf(key)) + ": unknown key '" +
@@ -69,10 +73,13 @@ void Settings::Check() const {
   }
 }
 
-LoadedSettings LoadSettings(const std::string& path) { return ReadAll(SettingsFile::Load(path)); }
+LoadedSettings LoadSettings(const std::string& path, CameraNeed camera_need) {
+  return ReadAll(SettingsFile::Load(path), camera_need);
+}
 
-LoadedSettings ParseSettings(const std::string& text, const std::string& name) {
-  return ReadAll(SettingsFile::Parse(text, name));
+LoadedSettings ParseSettings(const std::string& text, const std::string& name,
+                             CameraNeed camera_need) {
+  return ReadAll(SettingsFile::Parse(text, name), camera_need);
 }
 
 }  // namespace ocg

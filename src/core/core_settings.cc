@@ -1,11 +1,96 @@
 #include "ocg/core/core_settings.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
 
 namespace ocg {
+namespace {
+
+// Per-camera parameters: "Camera.<name>" in ORB-SLAM2 files, "Camera1.<name>" in
+// ORB-SLAM3 File.version "1.0" files.
+const std::vector<std::string> kIntrinsics = {"fx", "fy", "cx", "cy"};
+// Radial-tangential distortion; k3 may be left out (ORB-SLAM3 reads 4 or 5 coefficients).
+const std::vector<std::string> kDistortion = {"k1", "k2", "p1", "p2"};
+// Keys of the "Camera." group in both layouts, besides the per-camera parameters.
+const std::vector<std::string> kImageKeys = {"width", "height", "fps", "RGB", "type"};
+// ORB-SLAM2's stereo and RGB-D baseline times fx: meaningless for a monocular run.
+const char* const kStereoBaseline = "bf";
+
+bool Contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+bool IsCameraParameter(const std::string& name) {
+  return Contains(kIntrinsics, name) || Contains(kDistortion, name) || name == "k3";
+}
+
+// True for an ORB-SLAM3 File.version "1.0" file, false for ORB-SLAM2's layout (no
+// File.version); another version is an error rather than a guess.
+bool IsVersion1(const SettingsFile& file) {
+  std::string version;
+  if (!file.Read("File.version", &version)) return false;
+  if (version != "1.0") {
+    throw SettingsError(
+        file.Describe("File.version",
+                      "unknown settings file version '" + version +
+                          "': ORB-SLAM3 files say \"1.0\", ORB-SLAM2 files have no File.version"));
+  }
+  return true;
+}
+
+std::string ParameterPrefix(bool version1) { return version1 ? "Camera1." : "Camera."; }
+
+// Why a key of the "Camera." or "Camera1." group cannot be read, or "" when it can. Keys we
+// do not understand there are errors, not warnings: a fisheye coefficient, a resize or a
+// parameter of the other layout changes what every pixel means.
+std::string CameraKeyProblem(const std::string& key, bool version1) {
+  const bool in_camera1 = key.rfind("Camera1.", 0) == 0;
+  const std::string name = key.substr(in_camera1 ? 8 : 7);
+  if (in_camera1 && !version1) {
+    return "Camera1.* keys are ORB-SLAM3's File.version \"1.0\" layout: add the line "
+           "'File.version: \"1.0\"', or write Camera." +
+           name + " as in ORB-SLAM2 files";
+  }
+  if (IsCameraParameter(name)) {
+    if (!in_camera1 && version1) {
+      return "this file says File.version \"1.0\", whose camera parameters are Camera1.* "
+             "(write Camera1." +
+             name + ", or remove File.version for ORB-SLAM2's layout)";
+    }
+    return "";
+  }
+  if (!in_camera1 && (Contains(kImageKeys, name) || name == kStereoBaseline)) return "";
+  if (name == "newWidth" || name == "newHeight") {
+    return "resizing the images is not supported: resize them beforehand and give the "
+           "camera of the resized images";
+  }
+  return "not a parameter of the pinhole camera with radial-tangential distortion (fx, fy, "
+         "cx, cy, k1, k2, p1, p2, k3; width, height, fps, RGB); k4 and the like belong to "
+         "other camera models, which are not supported";
+}
+
+// Throws when some but not all keys of a group are given: the defaults would fill the gap
+// with another camera's values.
+void RequireWholeGroup(const SettingsFile& file, const std::string& prefix,
+                       const std::vector<std::string>& group, const std::string& what) {
+  std::string first_given, missing;
+  for (const std::string& name : group) {
+    if (file.Has(prefix + name)) {
+      if (first_given.empty()) first_given = prefix + name;
+    } else {
+      missing += (missing.empty() ? "" : ", ") + prefix + name;
+    }
+  }
+  if (!first_given.empty() && !missing.empty()) {
+    throw SettingsError(file.Describe(first_given, "given without " + missing + ": " + what));
+  }
+}
+
+}  // namespace
 
 void CameraSettings::Check() const {
   model.Check();
@@ -20,20 +105,72 @@ void SystemOptions::Check() const {
 }
 
 void ReadSettings(const SettingsFile& file, CameraSettings* settings) {
+  const bool version1 = IsVersion1(file);
+  std::string type;
+  if (file.Read("Camera.type", &type) && type != "PinHole") {
+    throw SettingsError(file.Describe(
+        "Camera.type", "camera model '" + type +
+                           "' is not supported: only \"PinHole\" (radial-tangential "
+                           "distortion k1, k2, p1, p2, k3); calibrate the camera with that "
+                           "model or undistort the images first"));
+  }
+  for (const char* group : {"Camera.", "Camera1."}) {
+    for (const std::string& key : file.KeysUnder(group)) {
+      const std::string problem = CameraKeyProblem(key, version1);
+      if (!problem.empty()) throw SettingsError(file.Describe(key, problem));
+    }
+  }
+  const std::string prefix = ParameterPrefix(version1);
   PinholeCamera& model = settings->model;
-  file.Read("Camera.fx", &model.fx);
-  file.Read("Camera.fy", &model.fy);
-  file.Read("Camera.cx", &model.cx);
-  file.Read("Camera.cy", &model.cy);
-  file.Read("Camera.k1", &model.k1);
-  file.Read("Camera.k2", &model.k2);
-  file.Read("Camera.k3", &model.k3);
-  file.Read("Camera.p1", &model.p1);
-  file.Read("Camera.p2", &model.p2);
+  file.Read(prefix + "fx", &model.fx);
+  file.Read(prefix + "fy", &model.fy);
+  file.Read(prefix + "cx", &model.cx);
+  file.Read(prefix + "cy", &model.cy);
+  file.Read(prefix + "k1", &model.k1);
+  file.Read(prefix + "k2", &model.k2);
+  file.Read(prefix + "k3", &model.k3);
+  file.Read(prefix + "p1", &model.p1);
+  file.Read(prefix + "p2", &model.p2);
+  RequireWholeGroup(file, prefix, kIntrinsics, "a camera needs all four intrinsics");
+  RequireWholeGroup(file, prefix, kDistortion,
+                    "radial-tangential distortion needs k1, k2, p1 and p2 (k3 optional)");
+  if (file.Has(prefix + "k3") && !file.Has(prefix + "k1")) {
+    throw SettingsError(file.Describe(
+        prefix + "k3", "given without " + prefix + "k1, " + prefix + "k2, " + prefix + "p1, " +
+                           prefix + "p2: radial-tangential distortion needs them all"));
+  }
   file.Read("Camera.width", &model.width);
   file.Read("Camera.height", &model.height);
   file.Read("Camera.fps", &settings->fps);
   file.Read("Camera.RGB", &settings->rgb);
+}
+
+void RequireCamera(const SettingsFile& file, CameraNeed need) {
+  if (need == CameraNeed::kNone) return;
+  const std::string prefix = ParameterPrefix(IsVersion1(file));
+  std::vector<std::string> keys;
+  for (const std::string& name : kIntrinsics) keys.push_back(prefix + name);
+  if (need == CameraNeed::kIntrinsicsAndImageSize) {
+    keys.push_back("Camera.width");
+    keys.push_back("Camera.height");
+  }
+  std::string missing;
+  for (const std::string& key : keys) {
+    if (!file.Has(key)) missing += (missing.empty() ? "" : ", ") + key;
+  }
+  if (missing.empty()) return;
+  std::string message = file.name() + ": camera keys missing: this command needs " + missing;
+  if (need == CameraNeed::kIntrinsicsAndImageSize &&
+      (!file.Has("Camera.width") || !file.Has("Camera.height"))) {
+    message += " (it reads no image to take the size from)";
+  }
+  throw SettingsError(message + "; see docs/settings.md");
+}
+
+std::string CameraKeyInFile(const SettingsFile& file, const std::string& key) {
+  const std::string prefix = "Camera.";
+  if (key.rfind(prefix, 0) != 0 || !IsCameraParameter(key.substr(prefix.size()))) return key;
+  return ParameterPrefix(IsVersion1(file)) + key.substr(prefix.size());
 }
 
 void ReadSettings(const SettingsFile& file, SystemOptions* options) {

@@ -62,6 +62,13 @@ bool ParseInteger(const std::string& text, long long* value) {
   return true;
 }
 
+SettingsError KeySetTwice(const std::string& name, const std::string& key, int first_line,
+                          int second_line) {
+  return SettingsError(FileLocation(name, second_line) + ": key '" + key +
+                       "' is set a second time; first set at " + FileLocation(name, first_line) +
+                       " (keep one of the two)");
+}
+
 struct FlatEntry {
   std::string key;
   std::vector<std::string> items;
@@ -71,10 +78,16 @@ struct FlatEntry {
 
 void FlattenNode(const YAML::Node& node, const std::string& prefix, const std::string& name,
                  std::vector<FlatEntry>* entries) {
+  std::map<std::string, int> lines;  // of this map's keys, to report a key given twice
   for (const auto& child : node) {
     FlatEntry entry;
     entry.key = prefix + child.first.as<std::string>();
-    entry.line = child.second.Mark().line + 1;
+    // The key's line, not the value's: a null value has no mark, a block list starts below.
+    entry.line = child.first.Mark().line + 1;
+    // Checked here too, not only after flattening: "Camera: {fx: 1}" given twice with
+    // different keys flattens without a clash, yet most YAML readers keep the last map only.
+    const auto [seen, first_time] = lines.emplace(entry.key, entry.line);
+    if (!first_time) throw KeySetTwice(name, entry.key, seen->second, entry.line);
     const YAML::Node& value = child.second;
     if (value.IsMap()) {
       FlattenNode(value, entry.key + ".", name, entries);
@@ -124,7 +137,12 @@ SettingsFile SettingsFile::Parse(const std::string& text, const std::string& nam
   std::vector<FlatEntry> entries;
   FlattenNode(root, "", name, &entries);
   for (FlatEntry& entry : entries) {
-    Value& value = file.values_[entry.key];
+    // "Camera: {fx: 1}" and "Camera.fx: 2" flatten to one key; so do two equal keys in one
+    // map, which YAML parsers resolve differently (first or last wins). Either way one of
+    // the two values would be dropped without a word.
+    const auto [it, inserted] = file.values_.try_emplace(entry.key);
+    if (!inserted) throw KeySetTwice(name, entry.key, it->second.line, entry.line);
+    Value& value = it->second;
     value.items = std::move(entry.items);
     value.is_sequence = entry.is_sequence;
     value.line = entry.line;
@@ -220,6 +238,18 @@ bool SettingsFile::Read(const std::string& key, std::vector<double>* value) cons
   }
   *value = std::move(parsed);
   return true;
+}
+
+std::vector<std::string> SettingsFile::KeysUnder(const std::string& prefix) const {
+  std::vector<std::pair<int, std::string>> found;
+  for (auto it = values_.lower_bound(prefix); it != values_.end(); ++it) {
+    if (it->first.compare(0, prefix.size(), prefix) != 0) break;
+    found.emplace_back(it->second.line, it->first);
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<std::string> keys;
+  for (auto& entry : found) keys.push_back(std::move(entry.second));
+  return keys;
 }
 
 std::vector<std::string> SettingsFile::UnreadKeys() const {

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "ocg/app/settings.h"
+#include "ocg/core/file_io.h"
 #include "ocg/core/settings_file.h"
 #include "test_support.h"
 
@@ -11,13 +12,27 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ErrorOf(const std::string& text) {
+// The error message of loading text as "fixture.yaml", or "" when it loads.
+std::string ErrorOf(const std::string& text, CameraNeed need = CameraNeed::kNone) {
   try {
-    ParseSettings(text, "fixture.yaml");
+    ParseSettings(text, "fixture.yaml", need);
   } catch (const SettingsError& error) {
     return error.what();
   }
   return "";
+}
+
+// The published calibration of the TUM RGB-D freiburg1 RGB camera.
+void ExpectTum1Calibration(const PinholeCamera& camera) {
+  EXPECT_DOUBLE_EQ(camera.fx, 517.306408);
+  EXPECT_DOUBLE_EQ(camera.fy, 516.469215);
+  EXPECT_DOUBLE_EQ(camera.cx, 318.643040);
+  EXPECT_DOUBLE_EQ(camera.cy, 255.313989);
+  EXPECT_DOUBLE_EQ(camera.k1, 0.262383);
+  EXPECT_DOUBLE_EQ(camera.k2, -0.953104);
+  EXPECT_DOUBLE_EQ(camera.p1, -0.005358);
+  EXPECT_DOUBLE_EQ(camera.p2, 0.002628);
+  EXPECT_DOUBLE_EQ(camera.k3, 1.163314);
 }
 
 TEST(Settings, ReadsOrbSlam2SettingsFilesUnchanged) {
@@ -41,20 +56,209 @@ TEST(Settings, ReadsOrbSlam2SettingsFilesUnchanged) {
     EXPECT_DOUBLE_EQ(loaded.settings.viewer.viewpoint_f, 500.0);
     EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
   }
-  const LoadedSettings tum1 = LoadSettings(*data + "/orbslam2_settings/Monocular_TUM1.yaml");
-  EXPECT_DOUBLE_EQ(tum1.settings.camera.model.k3, 1.163314);
+  // Every camera value of TUM1, read as ocg_slam run reads it (the camera required).
+  const LoadedSettings tum1 =
+      LoadSettings(*data + "/orbslam2_settings/Monocular_TUM1.yaml", CameraNeed::kIntrinsics);
+  ExpectTum1Calibration(tum1.settings.camera.model);
+  EXPECT_EQ(tum1.settings.camera.model.height, 480);
+  EXPECT_DOUBLE_EQ(tum1.settings.camera.fps, 30.0);
+  // ORB-SLAM2 files take the image size from the images: ocg_slam objects reads none.
+  const std::string no_size =
+      ErrorOf(ReadTextFile(*data + "/orbslam2_settings/Monocular_TUM1.yaml"),
+              CameraNeed::kIntrinsicsAndImageSize);
+  EXPECT_NE(no_size.find("Camera.width, Camera.height"), std::string::npos) << no_size;
+}
+
+TEST(Settings, ReadsTheOrbSlam2KittiFileUnchanged) {
+  const auto data = testing::SharedDataDir();
+  if (!data) GTEST_SKIP() << testing::SharedDataSkipMessage();
+  const LoadedSettings kitti = LoadSettings(*data + "/kitti_07_first160/orbslam2_KITTI04-12.yaml",
+                                            CameraNeed::kIntrinsicsAndImageSize);
+  const PinholeCamera& camera = kitti.settings.camera.model;
+  EXPECT_DOUBLE_EQ(camera.fx, 707.0912);
+  EXPECT_DOUBLE_EQ(camera.fy, 707.0912);
+  EXPECT_DOUBLE_EQ(camera.cx, 601.8873);
+  EXPECT_DOUBLE_EQ(camera.cy, 183.1104);
+  EXPECT_FALSE(camera.HasDistortion());
+  EXPECT_EQ(camera.width, 1226);
+  EXPECT_EQ(camera.height, 370);
+  EXPECT_DOUBLE_EQ(kitti.settings.camera.fps, 10.0);
+  EXPECT_EQ(kitti.settings.orb.features, 2000);
+  EXPECT_TRUE(kitti.warnings.empty()) << kitti.warnings.front();
+}
+
+// ORB-SLAM3's Examples/Monocular/TUM1.yaml layout, with the values that equal our defaults
+// (640x480, 30 fps, RGB, ORB-SLAM2's ORB settings) changed so that reading them shows.
+const char* const kOrbSlam3Tum1Like = R"(%YAML:1.0
+File.version: "1.0"
+
+Camera.type: "PinHole"
+
+Camera1.fx: 517.306408
+Camera1.fy: 516.469215
+Camera1.cx: 318.643040
+Camera1.cy: 255.313989
+
+Camera1.k1: 0.262383
+Camera1.k2: -0.953104
+Camera1.p1: -0.005358
+Camera1.p2: 0.002628
+Camera1.k3: 1.163314
+
+Camera.fps: 20
+Camera.RGB: 0
+
+Camera.width: 752
+Camera.height: 500
+
+ORBextractor.nFeatures: 1500
+ORBextractor.scaleFactor: 1.25
+ORBextractor.nLevels: 6
+ORBextractor.iniThFAST: 18
+ORBextractor.minThFAST: 6
+
+Viewer.KeyFrameSize: 0.05
+Viewer.KeyFrameLineWidth: 1.0
+Viewer.GraphLineWidth: 0.9
+Viewer.PointSize: 3.0
+Viewer.CameraSize: 0.08
+Viewer.CameraLineWidth: 3.0
+Viewer.ViewpointX: 0.0
+Viewer.ViewpointY: -0.7
+Viewer.ViewpointZ: -1.8
+Viewer.ViewpointF: 400.0
+)";
+
+TEST(Settings, ReadsOrbSlam3Version1PinholeFiles) {
+  const LoadedSettings loaded =
+      ParseSettings(kOrbSlam3Tum1Like, "TUM1.yaml", CameraNeed::kIntrinsicsAndImageSize);
+  ExpectTum1Calibration(loaded.settings.camera.model);
+  EXPECT_EQ(loaded.settings.camera.model.width, 752);
+  EXPECT_EQ(loaded.settings.camera.model.height, 500);
+  EXPECT_DOUBLE_EQ(loaded.settings.camera.fps, 20.0);
+  EXPECT_FALSE(loaded.settings.camera.rgb);
+  EXPECT_EQ(loaded.settings.orb.features, 1500);
+  EXPECT_DOUBLE_EQ(loaded.settings.orb.scale_factor, 1.25);
+  EXPECT_EQ(loaded.settings.orb.levels, 6);
+  EXPECT_EQ(loaded.settings.orb.initial_fast_threshold, 18);
+  EXPECT_EQ(loaded.settings.orb.minimum_fast_threshold, 6);
+  EXPECT_DOUBLE_EQ(loaded.settings.viewer.point_size, 3.0);
+  EXPECT_DOUBLE_EQ(loaded.settings.viewer.viewpoint_f, 400.0);
+  EXPECT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
+
+  // Four distortion coefficients (no k3), as ORB-SLAM3 allows.
+  std::string four = kOrbSlam3Tum1Like;
+  four.erase(four.find("Camera1.k3"), std::string("Camera1.k3: 1.163314\n").size());
+  EXPECT_DOUBLE_EQ(ParseSettings(four, "four.yaml").settings.camera.model.k3, 0.0);
+  // Values are checked under the key the file uses.
+  std::string negative = kOrbSlam3Tum1Like;
+  negative.replace(negative.find("517.306408"), 10, "-517.3");
+  const std::string error = ErrorOf(negative);
+  EXPECT_NE(error.find("fixture.yaml:6: key 'Camera1.fx': must be positive"), std::string::npos)
+      << error;
+}
+
+TEST(Settings, OtherCameraModelsAreErrorsNamingKeyAndValue) {
+  // ORB-SLAM3's pre-1.0 fisheye layout: k1..k4 are Kannala-Brandt coefficients.
+  const std::string fisheye = ErrorOf(
+      "Camera.type: \"KannalaBrandt8\"\nCamera.fx: 190.97\nCamera.fy: 190.97\nCamera.cx: 254.93\n"
+      "Camera.cy: 256.89\nCamera.k1: 0.0034\nCamera.k2: 0.0007\nCamera.k3: -0.0020\n"
+      "Camera.k4: 0.0002\n");
+  EXPECT_NE(fisheye.find("fixture.yaml:1: key 'Camera.type': camera model 'KannalaBrandt8'"),
+            std::string::npos)
+      << fisheye;
+  std::string version1 = kOrbSlam3Tum1Like;
+  version1.replace(version1.find("PinHole"), 7, "KannalaBrandt8");
+  EXPECT_NE(ErrorOf(version1).find("fixture.yaml:4: key 'Camera.type': camera model "
+                                   "'KannalaBrandt8' is not supported"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("Camera.type: Rectified\n").find("'Rectified'"), std::string::npos);
+  // Without Camera.type, a fourth radial coefficient still says "not a pinhole camera".
+  const std::string k4 =
+      ErrorOf("Camera.fx: 1\nCamera.fy: 1\nCamera.cx: 1\nCamera.cy: 1\nCamera.k4: 0.1\n");
+  EXPECT_NE(k4.find("fixture.yaml:5: key 'Camera.k4': not a parameter"), std::string::npos) << k4;
+  std::string k4_version1 = kOrbSlam3Tum1Like;
+  k4_version1 += "Camera1.k4: 0.0002\n";
+  EXPECT_NE(ErrorOf(k4_version1).find("key 'Camera1.k4': not a parameter"), std::string::npos);
+  EXPECT_NE(ErrorOf("Camera:\n  newWidth: 600\n").find("key 'Camera.newWidth': resizing"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("File.version: \"2.0\"\n")
+                .find("key 'File.version': unknown settings file "
+                      "version '2.0'"),
+            std::string::npos);
+}
+
+TEST(Settings, CameraKeysOfTheOtherLayoutAreErrors) {
+  // ORB-SLAM3 keys without File.version: ORB-SLAM3 itself would not read them either.
+  const std::string camera1 = ErrorOf("Camera1.fx: 500\n");
+  EXPECT_NE(camera1.find("fixture.yaml:1: key 'Camera1.fx'"), std::string::npos) << camera1;
+  EXPECT_NE(camera1.find("File.version"), std::string::npos) << camera1;
+  const std::string camera = ErrorOf(std::string(kOrbSlam3Tum1Like) + "Camera.k1: 0.1\n");
+  EXPECT_NE(camera.find("key 'Camera.k1': this file says File.version \"1.0\""), std::string::npos)
+      << camera;
+}
+
+TEST(Settings, IncompleteCameraGroupsAreErrorsNamingTheMissingKeys) {
+  const std::string intrinsics = ErrorOf("OCG.tau_doubt: 40\nCamera.fx: 535.4\n");
+  EXPECT_NE(intrinsics.find("fixture.yaml:2: key 'Camera.fx': given without Camera.fy, "
+                            "Camera.cx, Camera.cy"),
+            std::string::npos)
+      << intrinsics;
+  const std::string distortion = ErrorOf(
+      "Camera: {fx: 1, fy: 1, cx: 1, cy: 1}\nCamera.k1: 0.2\nCamera.k2: -0.9\nCamera.p1: 0.01\n");
+  EXPECT_NE(distortion.find("key 'Camera.k1': given without Camera.p2"), std::string::npos)
+      << distortion;
+  EXPECT_NE(ErrorOf("Camera.k3: 0.5\n").find("key 'Camera.k3': given without Camera.k1"),
+            std::string::npos);
+  const std::string version1 = ErrorOf("File.version: \"1.0\"\nCamera1.fy: 500\n");
+  EXPECT_NE(version1.find("key 'Camera1.fy': given without Camera1.fx, Camera1.cx, Camera1.cy"),
+            std::string::npos)
+      << version1;
+}
+
+TEST(Settings, CommandsThatNeedACameraRequireItsKeys) {
+  const std::string no_camera = "OCG.tau_doubt: 40\n";
+  EXPECT_DOUBLE_EQ(ParseSettings(no_camera, "a.yaml").settings.camera.model.fx, 525.0)
+      << "tools without a camera keep the defaults";
+  const std::string run = ErrorOf(no_camera, CameraNeed::kIntrinsics);
+  EXPECT_NE(run.find("fixture.yaml: camera keys missing: this command needs Camera.fx, "
+                     "Camera.fy, Camera.cx, Camera.cy;"),
+            std::string::npos)
+      << run;
+  const std::string intrinsics = "Camera: {fx: 500, fy: 500, cx: 320, cy: 240}\n";
+  EXPECT_NO_THROW(ParseSettings(intrinsics, "a.yaml", CameraNeed::kIntrinsics));
+  const std::string objects = ErrorOf(intrinsics, CameraNeed::kIntrinsicsAndImageSize);
+  EXPECT_NE(objects.find("needs Camera.width, Camera.height (it reads no image"), std::string::npos)
+      << objects;
+  EXPECT_NE(ErrorOf("File.version: \"1.0\"\n", CameraNeed::kIntrinsics)
+                .find("needs Camera1.fx, Camera1.fy, Camera1.cx, Camera1.cy"),
+            std::string::npos);
+}
+
+TEST(Settings, NonNumericCameraValuesNameTheKey) {
+  std::string text = kOrbSlam3Tum1Like;
+  text.replace(text.find("516.469215"), 10, "516,469215");
+  const std::string error = ErrorOf(text);
+  EXPECT_NE(error.find("fixture.yaml:7: key 'Camera1.fy': expected a number, got '516,469215'"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(ErrorOf("Camera.width: 640px\n").find("key 'Camera.width': expected an integer"),
+            std::string::npos);
 }
 
 TEST(Settings, ShippedConfigsLoadWithoutWarnings) {
   for (const char* name : {"TUM1.yaml", "TUM2.yaml", "TUM3.yaml", "EuRoC.yaml"}) {
     const std::string path = testing::SourceDir() + "/config/" + name;
     ASSERT_TRUE(fs::exists(path)) << path;
-    const LoadedSettings loaded = LoadSettings(path);
+    // As ocg_slam objects reads them: intrinsics and image size required.
+    const LoadedSettings loaded = LoadSettings(path, CameraNeed::kIntrinsicsAndImageSize);
     EXPECT_TRUE(loaded.warnings.empty()) << name << ": " << loaded.warnings.front();
     EXPECT_GT(loaded.settings.camera.model.fx, 400) << name;
   }
   EXPECT_EQ(LoadSettings(testing::SourceDir() + "/config/EuRoC.yaml").settings.camera.model.width,
             752);
+  ExpectTum1Calibration(
+      LoadSettings(testing::SourceDir() + "/config/TUM1.yaml").settings.camera.model);
 }
 
 TEST(Settings, NestedAndDottedKeysAreTheSame) {
@@ -78,7 +282,7 @@ TEST(Settings, DefaultsMatchTheSpec) {
 }
 
 TEST(Settings, UnknownKeyWarnsWithItsNameAndLine) {
-  const LoadedSettings loaded = ParseSettings("Camera.fx: 500\nOCG.tau_dobut: 3\n", "typo.yaml");
+  const LoadedSettings loaded = ParseSettings("System.seed: 7\nOCG.tau_dobut: 3\n", "typo.yaml");
   ASSERT_EQ(loaded.warnings.size(), 1u);
   EXPECT_NE(loaded.warnings[0].find("typo.yaml:2"), std::string::npos) << loaded.warnings[0];
   EXPECT_NE(loaded.warnings[0].find("OCG.tau_dobut"), std::string::npos);
@@ -95,7 +299,7 @@ TEST(Settings, WrongTypeNamesFileLineAndKey) {
 }
 
 TEST(Settings, ImpossibleValueNamesFileLineAndKey) {
-  const std::string error = ErrorOf("Camera.fx: 500\nOCG.tau_observable: 1.5\n");
+  const std::string error = ErrorOf("System.seed: 7\nOCG.tau_observable: 1.5\n");
   EXPECT_NE(error.find("fixture.yaml:2"), std::string::npos) << error;
   EXPECT_NE(error.find("OCG.tau_observable"), std::string::npos) << error;
   EXPECT_NE(ErrorOf("OCG.mode: magic\n").find("unknown mode 'magic'"), std::string::npos);
@@ -113,6 +317,33 @@ TEST(Settings, MissingFileAndBrokenYamlNameTheFile) {
   }
   const std::string error = ErrorOf("Camera.fx: 500\nCamera: [unclosed\n");
   EXPECT_NE(error.find("fixture.yaml:"), std::string::npos) << error;
+}
+
+TEST(SettingsFile, KeySetTwiceNamesBothLines) {
+  const auto error_of = [](const std::string& text) {
+    try {
+      SettingsFile::Parse(text, "twice.yaml");
+    } catch (const SettingsError& error) {
+      return std::string(error.what());
+    }
+    return std::string();
+  };
+  const std::pair<const char*, const char*> cases[] = {
+      {"Camera: {fx: 535.4}\nOCG.tau_doubt: 40\nCamera.fx: 100\n",
+       "twice.yaml:3: key 'Camera.fx' is set a second time; first set at twice.yaml:1"},
+      {"%YAML:1.0\nCamera.fx: 535.4\nCamera.fx:100\n",
+       "twice.yaml:3: key 'Camera.fx' is set a second time; first set at twice.yaml:2"},
+      {"Camera:\n  fx: 535.4\n  fy: 539.2\n  fx: 100\n",
+       "twice.yaml:4: key 'Camera.fx' is set a second time; first set at twice.yaml:2"},
+      // The same map twice with different keys: most YAML readers keep only the last.
+      {"Camera:\n  fx: 535.4\nOCG:\n  mode: paper\nCamera:\n  fy: 1\n",
+       "twice.yaml:5: key 'Camera' is set a second time; first set at twice.yaml:1"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string error = error_of(text);
+    EXPECT_NE(error.find(expected), std::string::npos) << text << "gave: " << error;
+  }
+  EXPECT_EQ(error_of("Camera:\n  fx: 1\nCamera.fy: 2\nCamera1:\n  fx: 3\n"), "");
 }
 
 TEST(SettingsFile, TracksUnreadKeysInFileOrder) {

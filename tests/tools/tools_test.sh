@@ -101,6 +101,9 @@ fails_with "missing image named" "missing.png" "$BIN/ocg_vocab" train --images "
 # ocg_slam: errors name what is wrong.
 mkdir -p "$WORK/empty_sequence"
 fails_with "ocg_slam names the missing rgb.txt" "empty_sequence/rgb.txt' is missing" "$BIN/ocg_slam" run --settings "$SRC/config/TUM1.yaml" --sequence "$WORK/empty_sequence" --out "$WORK/slam"
+printf 'OCG:\n  mode: paper\n' >"$WORK/no_camera.yaml"
+fails_with "ocg_slam run names the missing camera keys" "no_camera.yaml: camera keys missing: this command needs Camera.fx, Camera.fy, Camera.cx, Camera.cy" "$BIN/ocg_slam" run --settings "$WORK/no_camera.yaml" --sequence "$WORK/frames" --out "$WORK/never_slam"
+check "nothing written without a camera" test ! -e "$WORK/never_slam"
 fails_with "ocg_slam names a missing vocabulary" "cannot open vocabulary" "$BIN/ocg_slam" run --settings "$SRC/config/TUM1.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --vocabulary "$WORK/none.ocgvoc"
 check "ocg_slam on six frames" "$BIN/ocg_slam" run --settings "$WORK/frames/camera.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --log-level warn
 check "run.json written" grep -q '"frames": 6' "$WORK/slam/run.json"
@@ -126,6 +129,8 @@ check "no removal in mode off" bash -c "! grep -q '\"removed\"' '$WORK/objects_o
 printf 'Objects:\n  min_confidence: 2\n' >"$WORK/bad_objects.yaml"
 fails_with "bad Objects key named" "Objects.min_confidence" objects_run "$WORK/never_objects" "$WORK/bad_objects.yaml"
 check "nothing written on failure" test ! -e "$WORK/never_objects/objects.json"
+grep -v -e width -e height "$WORK/objseq/camera.yaml" >"$WORK/no_size.yaml"
+fails_with "ocg_slam objects needs the image size" "this command needs Camera.width, Camera.height" objects_run "$WORK/never_objects" "$WORK/no_size.yaml"
 fails_with "unknown OCG mode named" "OCG.mode" objects_run "$WORK/never_objects" "$WORK/objseq/camera.yaml" --mode sometimes
 
 echo "$passed passed, $failed failed"

@@ -43,9 +43,12 @@ struct LoadedSettings {
   std::vector<std::string> warnings;  // one per unknown key, also logged
 };
 
-// Throws SettingsError naming the file, line and key on a missing file, invalid YAML,
-// a wrong type or an impossible value.
-LoadedSettings LoadSettings(const std::string& path);
-LoadedSettings ParseSettings(const std::string& text, const std::string& name);
+// Throws SettingsError naming the file, line and key on a missing file, invalid YAML, a key
+// set twice, a wrong type, an impossible value or a camera we cannot model; and naming the
+// missing keys when the file lacks the camera keys camera_need asks for (the commands that
+// project points: ocg_slam run and objects).
+LoadedSettings LoadSettings(const std::string& path, CameraNeed camera_need = CameraNeed::kNone);
+LoadedSettings ParseSettings(const std::string& text, const std::string& name,
+                             CameraNeed camera_need = CameraNeed::kNone);
 
 }  // namespace ocg

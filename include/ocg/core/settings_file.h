@@ -4,7 +4,8 @@
 //
 // Nested maps are flattened to dotted keys, so "OCG: {tau_doubt: 50}" and
 // "OCG.tau_doubt: 50" are the same key. The file remembers which keys were read, so the
-// loader can warn about the rest (typos, options of another program).
+// loader can warn about the rest (typos, options of another program). A key set twice
+// (twice in one map, or nested and dotted) is an error naming both lines.
 
 #include <cstdint>
 #include <map>
@@ -22,7 +23,8 @@ class SettingsError : public std::runtime_error {
 
 class SettingsFile {
  public:
-  // Throws SettingsError naming the file (and line) when it is missing or not YAML.
+  // Throws SettingsError naming the file (and line) when it is missing, not YAML, or sets
+  // a key twice.
   static SettingsFile Load(const std::string& path);
   // Parses text; name stands for the file in messages.
   static SettingsFile Parse(const std::string& text, const std::string& name);
@@ -41,6 +43,8 @@ class SettingsFile {
   bool Read(const std::string& key, std::string* value) const;
   bool Read(const std::string& key, std::vector<double>* value) const;
 
+  // Keys that start with prefix (e.g. "Camera."), in file order.
+  std::vector<std::string> KeysUnder(const std::string& prefix) const;
   // Keys present in the file that no Read asked for, in file order.
   std::vector<std::string> UnreadKeys() const;
   // "file:line: key 'K': message".
