@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "ocg/core/options.h"
@@ -94,6 +95,14 @@ void RequireWholeGroup(const SettingsFile& file, const std::string& prefix,
 
 void CameraSettings::Check() const {
   model.Check();
+  // A principal point off the image means intrinsics of another image size (a file whose
+  // Camera.width/height were left at the defaults, or a calibration of a resized image).
+  RequireOption(model.cx >= 0 && model.cx <= model.width, "Camera.cx",
+                "must lie inside the image (0 to Camera.width = " + std::to_string(model.width) +
+                    "): are the intrinsics and the image size of the same camera?");
+  RequireOption(model.cy >= 0 && model.cy <= model.height, "Camera.cy",
+                "must lie inside the image (0 to Camera.height = " + std::to_string(model.height) +
+                    "): are the intrinsics and the image size of the same camera?");
   RequireOption(std::isfinite(fps) && fps > 0, "Camera.fps", "must be positive");
 }
 

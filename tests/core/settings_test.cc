@@ -235,6 +235,20 @@ TEST(Settings, CommandsThatNeedACameraRequireItsKeys) {
             std::string::npos);
 }
 
+TEST(Settings, PrincipalPointOffTheImageIsAnError) {
+  // KITTI's intrinsics with width and height swapped.
+  const std::string swapped = ErrorOf(
+      "Camera: {fx: 707.09, fy: 707.09, cx: 601.89, cy: 183.11, width: 370, height: 1226}\n");
+  EXPECT_NE(swapped.find("fixture.yaml:1: key 'Camera.cx': must lie inside the image (0 to "
+                         "Camera.width = 370)"),
+            std::string::npos)
+      << swapped;
+  std::string version1 = kOrbSlam3Tum1Like;
+  version1.replace(version1.find("Camera.width: 752"), 17, "Camera.width: 300");
+  EXPECT_NE(ErrorOf(version1).find("fixture.yaml:8: key 'Camera1.cx': must lie inside the image"),
+            std::string::npos);
+}
+
 TEST(Settings, NonNumericCameraValuesNameTheKey) {
   std::string text = kOrbSlam3Tum1Like;
   text.replace(text.find("516.469215"), 10, "516,469215");
