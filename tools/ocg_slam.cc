@@ -23,6 +23,7 @@
 #include "ocg/io/trajectory.h"
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/object_mapper.h"
+#include "ocg/slam/initialization_report.h"
 #include "ocg/slam/system.h"
 #include "ocg/viewer/frame_view.h"
 #include "ocg/viewer/snapshots.h"
@@ -500,7 +501,10 @@ int main(int argc, char** argv) {
                                                         : ocg::ReadEurocSequence(sequence_path);
     std::size_t frames = sequence.images.size();
     if (max_frames > 0) frames = std::min(frames, static_cast<std::size_t>(max_frames));
-    if (frames == 0) throw std::invalid_argument("no images in '" + sequence_path + "'");
+    if (frames == 0) {
+      throw std::invalid_argument("no frames to process: '" + sequence.list +
+                                  "' lists no image (only comments or blank lines)");
+    }
     ocg::SystemConfig config;
     config.camera = settings.camera.model;
     config.fps = settings.camera.fps;
@@ -621,6 +625,17 @@ int main(int argc, char** argv) {
                        {"points_fused", loop.points_fused},
                        {"seconds", loop.seconds}});
     }
+    // A run without a map writes empty trajectories: say why, there and in run.json.
+    const ocg::InitializationAttempts& initialization = system.Initialization();
+    report["initialized"] = first_tracked >= 0;
+    nlohmann::json failures = nlohmann::json::object();
+    for (const auto& [reason, count] : initialization.reasons) failures[reason] = count;
+    report["initialization"] = {{"frames_tried", initialization.frames},
+                                {"most_frequent_failure", initialization.MostFrequentReason()},
+                                {"failures", failures}};
+    const std::string never_initialized =
+        first_tracked < 0 ? ocg::NeverInitializedMessage(initialization) : "";
+    if (!never_initialized.empty()) report["initialization"]["message"] = never_initialized;
     report["loop_closing"] = {
         {"enabled", settings.loop_closing.enabled},
         {"candidates_checked", system.LoopStats().candidates_checked},
@@ -643,5 +658,6 @@ int main(int argc, char** argv) {
                       ? ", objects.json, changes.json, ocg.json, ocg_observations.jsonl"
                       : "")
               << "\n";
+    if (!never_initialized.empty()) spdlog::warn("{}", never_initialized);
   });
 }

@@ -11,7 +11,38 @@
 
 namespace ocg {
 
+void RequireRegularFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (status.type() == fs::file_type::regular) return;
+  std::string what;
+  switch (status.type()) {
+    case fs::file_type::not_found:
+      what = "does not exist";
+      break;
+    case fs::file_type::directory:
+      what = "is a directory, not a file";
+      break;
+    case fs::file_type::fifo:
+      what = "is a named pipe (FIFO), not a file";
+      break;
+    case fs::file_type::socket:
+      what = "is a socket, not a file";
+      break;
+    case fs::file_type::block:
+    case fs::file_type::character:
+      what = "is a device, not a file";
+      break;
+    default:
+      what = error ? "cannot be examined: " + error.message() : "is not a regular file";
+  }
+  throw FileError("cannot read '" + path + "': it " + what);
+}
+
 std::string ReadTextFile(const std::string& path) {
+  // A directory opens as a stream that reads nothing: it would pass as an empty file.
+  RequireRegularFile(path);
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
   std::ostringstream buffer;

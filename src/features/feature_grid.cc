@@ -37,11 +37,16 @@ FeatureGrid::FeatureGrid(const std::vector<Eigen::Vector2d>& positions,
       positions_(positions),
       levels_(levels) {
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    const int column =
-        static_cast<int>(std::floor((positions[i].x() - bounds.min_x) * cells_per_pixel_x_));
-    const int row =
-        static_cast<int>(std::floor((positions[i].y() - bounds.min_y) * cells_per_pixel_y_));
-    if (column < 0 || column >= columns || row < 0 || row >= rows) continue;
+    if (!bounds.Contains(positions[i])) continue;
+    // Clamped: just below max_x, (x - min_x) * columns / width can round up to columns
+    // (341 pixels in 48 rows: y = 340.99999999999994 gives row 48), which would drop a
+    // keypoint that lies inside the image.
+    const int column = std::min(
+        columns - 1,
+        static_cast<int>(std::floor((positions[i].x() - bounds.min_x) * cells_per_pixel_x_)));
+    const int row = std::min(
+        rows - 1,
+        static_cast<int>(std::floor((positions[i].y() - bounds.min_y) * cells_per_pixel_y_)));
     cells_[static_cast<std::size_t>(row * columns + column)].push_back(static_cast<int>(i));
   }
 }

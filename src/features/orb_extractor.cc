@@ -5,6 +5,7 @@
 #include <numeric>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <queue>
 #include <stdexcept>
 #include <string>
@@ -187,46 +188,70 @@ OrbExtractor::OrbExtractor(const OrbExtractorOptions& options)
 
 OrbExtractor::~OrbExtractor() = default;
 
+std::vector<cv::Size> PyramidLevelSizes(const cv::Size& image, const ScalePyramid& pyramid) {
+  std::vector<cv::Size> sizes;
+  for (const double scale : pyramid.scale) {
+    sizes.emplace_back(static_cast<int>(std::lround(image.width / scale)),
+                       static_cast<int>(std::lround(image.height / scale)));
+  }
+  return sizes;
+}
+
+std::optional<FastCellLayout> FastCells(const cv::Size& level_size) {
+  const int border = kEdgeThreshold - kFastBorder;
+  FastCellLayout layout;
+  layout.region =
+      cv::Rect(border, border, level_size.width - 2 * border, level_size.height - 2 * border);
+  if (layout.region.width <= 2 * kFastBorder || layout.region.height <= 2 * kFastBorder) {
+    return std::nullopt;
+  }
+  layout.columns = SplitIntoCells(layout.region.width, kFastCellSize);
+  layout.rows = SplitIntoCells(layout.region.height, kFastCellSize);
+  return layout;
+}
+
+cv::Rect FastCellLayout::Cell(int column, int row) const {
+  return {columns.Start(column), rows.Start(row), columns.Size(column), rows.Size(row)};
+}
+
 void OrbExtractor::BuildPyramid(const cv::Mat& gray) {
+  const std::vector<cv::Size> sizes = PyramidLevelSizes(gray.size(), pyramid_);
   levels_[0] = gray;
   for (int level = 1; level < options_.levels; ++level) {
-    const double scale = pyramid_.scale[static_cast<std::size_t>(level)];
-    const cv::Size size(static_cast<int>(std::lround(gray.cols / scale)),
-                        static_cast<int>(std::lround(gray.rows / scale)));
     cv::resize(levels_[static_cast<std::size_t>(level - 1)],
-               levels_[static_cast<std::size_t>(level)], size, 0, 0, cv::INTER_LINEAR);
+               levels_[static_cast<std::size_t>(level)], sizes[static_cast<std::size_t>(level)], 0,
+               0, cv::INTER_LINEAR);
   }
 }
 
 void OrbExtractor::DetectLevel(int level, int wanted, std::vector<cv::KeyPoint>* keypoints) const {
   const cv::Mat& image = levels_[static_cast<std::size_t>(level)];
-  const int border = kEdgeThreshold - kFastBorder;
-  const cv::Rect region(border, border, image.cols - 2 * border, image.rows - 2 * border);
-  if (region.width <= 2 * kFastBorder || region.height <= 2 * kFastBorder || wanted <= 0) return;
+  const std::optional<FastCellLayout> layout = FastCells(image.size());
+  if (!layout || wanted <= 0) return;
+  const cv::Rect& region = layout->region;
+  const cv::Mat detection_area = image(region);
   std::vector<cv::KeyPoint> candidates;
-  cv::FAST(image(region), candidates, options_.initial_fast_threshold, true);
+  cv::FAST(detection_area, candidates, options_.initial_fast_threshold, true);
   // Cells where the strict threshold found nothing get a second chance with the lenient
   // one, so that low-contrast parts of the image still get corners.
-  const int columns = std::max(1, static_cast<int>(region.width / kFastCellSize));
-  const int rows = std::max(1, static_cast<int>(region.height / kFastCellSize));
-  const int cell_width = (region.width + columns - 1) / columns;
-  const int cell_height = (region.height + rows - 1) / rows;
+  const int columns = layout->columns.count;
+  const int rows = layout->rows.count;
   std::vector<char> occupied(static_cast<std::size_t>(columns * rows), 0);
   for (const cv::KeyPoint& k : candidates) {
-    const int column = std::min(columns - 1, static_cast<int>(k.pt.x) / cell_width);
-    const int row = std::min(rows - 1, static_cast<int>(k.pt.y) / cell_height);
+    const int column = layout->columns.CellOf(static_cast<int>(k.pt.x));
+    const int row = layout->rows.CellOf(static_cast<int>(k.pt.y));
     occupied[static_cast<std::size_t>(row * columns + column)] = 1;
   }
   std::vector<cv::KeyPoint> found;
   for (int row = 0; row < rows; ++row) {
     for (int column = 0; column < columns; ++column) {
       if (occupied[static_cast<std::size_t>(row * columns + column)]) continue;
-      const cv::Rect cell(column * cell_width, row * cell_height, cell_width, cell_height);
+      const cv::Rect cell = layout->Cell(column, row);
       const cv::Rect padded = (cell + cv::Size(2 * kFastBorder, 2 * kFastBorder) -
                                cv::Point(kFastBorder, kFastBorder)) &
                               cv::Rect(0, 0, region.width, region.height);
       found.clear();
-      cv::FAST(image(region)(padded), found, options_.minimum_fast_threshold, true);
+      cv::FAST(detection_area(padded), found, options_.minimum_fast_threshold, true);
       for (cv::KeyPoint k : found) {
         k.pt += cv::Point2f(static_cast<float>(padded.x), static_cast<float>(padded.y));
         if (cell.contains(cv::Point(static_cast<int>(k.pt.x), static_cast<int>(k.pt.y)))) {
@@ -241,7 +266,7 @@ void OrbExtractor::DetectLevel(int level, int wanted, std::vector<cv::KeyPoint>*
   const float scale = static_cast<float>(pyramid_.scale[static_cast<std::size_t>(level)]);
   for (const int index : kept) {
     cv::KeyPoint k = candidates[static_cast<std::size_t>(index)];
-    k.pt += cv::Point2f(static_cast<float>(border), static_cast<float>(border));
+    k.pt += cv::Point2f(static_cast<float>(region.x), static_cast<float>(region.y));
     k.angle = IntensityCentroidAngle(image, k.pt, circle_half_width_);
     k.pt *= scale;
     k.octave = level;

@@ -5,6 +5,7 @@
 #include "ocg/core/file_io.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/io/text_lines.h"
+#include "ocg/io/time_order.h"
 
 namespace ocg {
 namespace {
@@ -71,6 +72,7 @@ void ReadEurocSensor(const std::string& path, ImageSequence* sequence) {
 
 std::vector<StampedPose> ReadEurocGroundtruth(const std::string& path) {
   std::vector<StampedPose> poses;
+  TimeOrderCheck order(path, "pose");
   ForEachDataLine(path, true, [&](int line, const std::vector<std::string>& fields) {
     if (fields.size() < 8) {
       ThrowParseError(path, line, "expected at least 8 fields 'timestamp px py pz qw qx qy qz'");
@@ -80,6 +82,7 @@ std::vector<StampedPose> ReadEurocGroundtruth(const std::string& path) {
     StampedPose pose;
     pose.timestamp = NanosecondsToSeconds(fields[0], path, line);
     pose.timestamp_text = SecondsText(fields[0]);
+    order.Add(pose.timestamp, fields[0], line);
     pose.T_wc = SE3(Eigen::Quaterniond(values[3], values[4], values[5], values[6]),
                     Eigen::Vector3d(values[0], values[1], values[2]));
     poses.push_back(pose);
@@ -91,6 +94,7 @@ std::vector<StampedPose> ReadEurocGroundtruth(const std::string& path) {
 
 std::vector<TimedImage> ReadTumImageList(const std::string& path, const std::string& base_dir) {
   std::vector<TimedImage> images;
+  TimeOrderCheck order(path, "frame");
   ForEachDataLine(path, false, [&](int line, const std::vector<std::string>& fields) {
     if (fields.size() != 2) {
       ThrowParseError(
@@ -100,6 +104,7 @@ std::vector<TimedImage> ReadTumImageList(const std::string& path, const std::str
     TimedImage image;
     image.timestamp_text = fields[0];
     image.timestamp = ParseNumberField(fields[0], "timestamp", path, line);
+    order.Add(image.timestamp, fields[0], line);
     image.path = JoinPath(base_dir, fields[1]);
     images.push_back(std::move(image));
   });
@@ -113,6 +118,7 @@ ImageSequence ReadTumSequence(const std::string& root) {
   }
   ImageSequence sequence;
   sequence.root = root;
+  sequence.list = list;
   sequence.images = ReadTumImageList(list, root);
   const std::string groundtruth = JoinPath(root, "groundtruth.txt");
   if (fs::exists(groundtruth)) sequence.groundtruth = ReadTumTrajectory(groundtruth);
@@ -127,6 +133,8 @@ ImageSequence ReadEurocSequence(const std::string& root) {
   }
   ImageSequence sequence;
   sequence.root = root;
+  sequence.list = list;
+  TimeOrderCheck order(list, "frame");
   ForEachDataLine(list, true, [&](int line, const std::vector<std::string>& fields) {
     if (fields.size() != 2) {
       ThrowParseError(list, line, "expected 2 fields 'timestamp [ns],filename'");
@@ -134,6 +142,7 @@ ImageSequence ReadEurocSequence(const std::string& root) {
     TimedImage image;
     image.timestamp = NanosecondsToSeconds(fields[0], list, line);
     image.timestamp_text = fields[0];
+    order.Add(image.timestamp, fields[0], line);
     image.path = JoinPath(camera_dir, "data/" + fields[1]);
     sequence.images.push_back(std::move(image));
   });

@@ -6,11 +6,13 @@
 
 #include "ocg/core/file_io.h"
 #include "ocg/io/text_lines.h"
+#include "ocg/io/time_order.h"
 
 namespace ocg {
 
 std::vector<StampedPose> ReadTumTrajectory(const std::string& path) {
   std::vector<StampedPose> poses;
+  TimeOrderCheck order(path, "pose");
   ForEachDataLine(path, false, [&](int line, const std::vector<std::string>& fields) {
     if (fields.size() != 8) {
       ThrowParseError(path, line,
@@ -28,6 +30,7 @@ std::vector<StampedPose> ReadTumTrajectory(const std::string& path) {
           "quaternion (qx qy qz qw) must have unit length, has " + std::to_string(norm));
     }
     StampedPose pose;
+    order.Add(values[0], fields[0], line);
     pose.timestamp = values[0];
     pose.timestamp_text = fields[0];
     pose.T_wc = SE3(rotation, Eigen::Vector3d(values[1], values[2], values[3]));

@@ -210,4 +210,8 @@ std::size_t System::MapPointCount() const {
   return map_.points().size();
 }
 
+const InitializationAttempts& System::Initialization() const {
+  return tracking_->initialization_attempts();
+}
+
 }  // namespace ocg

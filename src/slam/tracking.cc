@@ -135,6 +135,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
   const TrackingState previous = state_;
   if (state_ == TrackingState::kNoImages) state_ = TrackingState::kNotInitialized;
   if (state_ == TrackingState::kNotInitialized) {
+    ++initialization_.frames;
     if (Initialize(frame)) {
       state_ = TrackingState::kOk;
       result.new_keyframe = true;
@@ -218,21 +219,33 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
   return result;
 }
 
+void Tracking::RecordTooFewFeatures(const Frame& frame) {
+  initialization_.Record(
+      "too few features (" + std::to_string(frame.features.size()) +
+      ", Tracking.minInitFeatures = " + std::to_string(options_.min_initialization_features) + ")");
+}
+
 bool Tracking::Initialize(Frame& frame) {
   if (!initial_frame_) {
     if (static_cast<int>(frame.features.size()) > options_.min_initialization_features) {
       initial_frame_ = std::make_unique<Frame>(frame);
       initial_predicted_ = frame.features.undistorted;
+    } else {
+      RecordTooFewFeatures(frame);
     }
     return false;
   }
   if (static_cast<int>(frame.features.size()) <= options_.min_initialization_features) {
+    RecordTooFewFeatures(frame);
     initial_frame_.reset();
     return false;
   }
   const std::vector<int> matches =
       MatchInWindow(initial_frame_->features, frame.features, initial_predicted_, matcher_);
   if (CountMatches(matches) < options_.min_initialization_matches) {
+    initialization_.Record(
+        "too few matches with the first view (" + std::to_string(CountMatches(matches)) +
+        ", Tracking.minInitMatches = " + std::to_string(options_.min_initialization_matches) + ")");
     spdlog::debug("frame {}: {} matches with the first view: choosing a new first view", frame.id,
                   CountMatches(matches));
     initial_frame_ = std::make_unique<Frame>(frame);
@@ -258,6 +271,7 @@ bool Tracking::Initialize(Frame& frame) {
   }
   const InitialMap initial = InitializeFromTwoViews(p1, p2, camera_, initializer_, &weights);
   if (!initial.success) {
+    initialization_.Record(initial.failure);
     spdlog::debug("frame {}: initialization failed: {}", frame.id, initial.failure);
     if (initial.failure.rfind("weak initial map", 0) == 0) initial_frame_.reset();
     return false;

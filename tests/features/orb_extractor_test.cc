@@ -124,6 +124,33 @@ TEST(OrbExtractor, TexturedImageGivesTheRequestedCountSpreadOverTheImage) {
   for (const int count : per_level) EXPECT_GT(count, 0);
 }
 
+// Images larger than the 640 x 480 the extractor was first written for: before the FAST
+// cells tiled each level exactly, every one of these aborted in cv::FAST at frame 0.
+TEST(OrbExtractor, ExtractsFromLargeImagesOnEveryLevel) {
+  OrbExtractor extractor{OrbExtractorOptions{}};
+  const cv::Mat tile = testing::TexturedImage(11);
+  for (const cv::Size size : {cv::Size(1920, 1080), cv::Size(1600, 1200), cv::Size(2560, 1920),
+                              cv::Size(4000, 3000), cv::Size(1888, 1061)}) {
+    SCOPED_TRACE(::testing::Message() << size);
+    cv::Mat image;
+    cv::repeat(tile, (size.height + tile.rows - 1) / tile.rows,
+               (size.width + tile.cols - 1) / tile.cols, image);
+    image = image(cv::Rect({0, 0}, size)).clone();
+    PinholeCamera camera;
+    camera.width = size.width;
+    camera.height = size.height;
+    camera.cx = size.width / 2.0;
+    camera.cy = size.height / 2.0;
+    const ExtractedFeatures f = extractor.Extract(image, camera);
+    ExpectWellFormed(f, extractor, image.size());
+    EXPECT_NEAR(static_cast<double>(f.size()), 1000.0, 50.0);
+    std::vector<int> per_level(8, 0);
+    for (const cv::KeyPoint& k : f.keypoints) per_level[static_cast<std::size_t>(k.octave)]++;
+    for (const int count : per_level) EXPECT_GT(count, 0);
+    EXPECT_GE(OccupiedShare(f, camera), 0.8);
+  }
+}
+
 TEST(OrbExtractor, IsDeterministic) {
   OrbExtractor first{OrbExtractorOptions{}};
   OrbExtractor second{OrbExtractorOptions{}};

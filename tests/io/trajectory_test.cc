@@ -19,13 +19,13 @@ TEST(TumTrajectory, RoundTripKeepsTimestampTextAndPose) {
   poses[0].timestamp = 1341847980.722988;
   poses[0].timestamp_text = "1341847980.722988";
   poses[0].T_wc = SE3::Exp((Vector6d() << 1, 2, 3, 0.1, 0.2, 0.3).finished());
-  poses[1].timestamp = 2.5;  // no text: written with 6 decimals
+  poses[1].timestamp = 1341847982.5;  // no text: written with 6 decimals
   const std::string path = WriteFixture("");
   WriteTumTrajectory(path, poses);
   const auto read = ReadTumTrajectory(path);
   ASSERT_EQ(read.size(), 2u);
   EXPECT_EQ(read[0].timestamp_text, "1341847980.722988");
-  EXPECT_EQ(read[1].timestamp_text, "2.500000");
+  EXPECT_EQ(read[1].timestamp_text, "1341847982.500000");
   EXPECT_TRUE(read[0].T_wc.Matrix().isApprox(poses[0].T_wc.Matrix(), 1e-8));
 }
 

@@ -11,7 +11,12 @@ class FileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Whole file as text. Throws FileError naming the path when it cannot be read.
+// Throws FileError naming the path and saying what it is when it is not a regular file
+// (missing, a directory, a FIFO, a device, ...); symbolic links are followed.
+void RequireRegularFile(const std::string& path);
+
+// Whole file as text. Throws FileError naming the path when it is not a regular file
+// (RequireRegularFile) or cannot be read.
 std::string ReadTextFile(const std::string& path);
 
 // Writes content to a temporary file beside path, then renames it over path, so readers

@@ -7,9 +7,11 @@
 #include <Eigen/Core>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "ocg/core/camera.h"
+#include "ocg/features/cell_split.h"
 #include "ocg/features/descriptor.h"
 #include "ocg/features/feature_grid.h"
 #include "ocg/features/orb_options.h"
@@ -73,6 +75,23 @@ class OrbExtractor {
 // there are wanted nodes, in the rectangle [min, max). Returns indices into candidates.
 std::vector<int> DistributeByQuadtree(const std::vector<cv::KeyPoint>& candidates,
                                       const cv::Point2f& min, const cv::Point2f& max, int wanted);
+
+// Level l of the pyramid of an image: the image shrunk to lround(size / scale[l]) pixels.
+std::vector<cv::Size> PyramidLevelSizes(const cv::Size& image, const ScalePyramid& pyramid);
+
+// Where DetectLevel looks for FAST corners on one pyramid level (exposed for tests):
+// region is the level less a 16-pixel border (level pixels), split into cells of about
+// 30 x 30 pixels that tile it exactly; a cell where the strict threshold finds no corner
+// is searched again with the lenient one.
+struct FastCellLayout {
+  cv::Rect region;
+  CellSplit columns;  // over region.width
+  CellSplit rows;     // over region.height
+  // Cell (column, row) in region pixels.
+  cv::Rect Cell(int column, int row) const;
+};
+// std::nullopt for a level too small to hold a corner.
+std::optional<FastCellLayout> FastCells(const cv::Size& level_size);
 
 // Intensity-centroid angle in degrees of the patch of radius 15 around (x, y).
 float IntensityCentroidAngle(const cv::Mat& gray, const cv::Point2f& point,

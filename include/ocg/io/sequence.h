@@ -19,6 +19,7 @@ struct TimedImage {
 
 struct ImageSequence {
   std::string root;
+  std::string list;  // the frame list read: root/rgb.txt or root/mav0/cam0/data.csv
   std::vector<TimedImage> images;
   std::vector<StampedPose> groundtruth;  // camera poses T_wc; empty when not provided
   // EuRoC only: the calibration from sensor.yaml and the body-from-camera transform.
@@ -27,6 +28,9 @@ struct ImageSequence {
 };
 
 // "timestamp path" lines (TUM rgb.txt). Paths are made relative to base_dir.
+// Frame lists must list frames in strictly increasing time (io/time_order.h): a frame out
+// of order or a repeated time throws ParseError naming both lines. Throws FileError when
+// path is not a readable regular file.
 std::vector<TimedImage> ReadTumImageList(const std::string& path, const std::string& base_dir);
 
 // A TUM RGB-D folder: rgb.txt, optional groundtruth.txt (camera-to-world).
@@ -35,7 +39,8 @@ ImageSequence ReadTumSequence(const std::string& root);
 // A EuRoC MAV folder (the one holding mav0/): mav0/cam0/data.csv, mav0/cam0/sensor.yaml
 // (intrinsics, radial-tangential distortion, resolution, T_BS), and the ground truth of
 // mav0/state_groundtruth_estimate0/data.csv when present, turned into camera poses
-// T_wc = T_wb * T_BS. Timestamps in nanoseconds become seconds.
+// T_wc = T_wb * T_BS. Timestamps in nanoseconds become seconds; data.csv and the ground
+// truth must increase strictly in time, as rgb.txt.
 ImageSequence ReadEurocSequence(const std::string& root);
 
 // Camera poses from body poses: T_wc = T_wb * T_body_camera.

@@ -16,7 +16,8 @@ struct StampedPose {
   SE3 T_wc;
 };
 
-// Throws FileError when missing, ParseError naming file and line when malformed.
+// Throws FileError when missing, ParseError naming file and line when malformed or when
+// the poses are not in strictly increasing time (naming the earlier line too).
 std::vector<StampedPose> ReadTumTrajectory(const std::string& path);
 // Writes atomically; timestamps as their text when known, else with 6 decimals.
 void WriteTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);

@@ -91,6 +91,8 @@ class System {
   // Call after Shutdown() in threaded mode (the worker writes it).
   const LoopClosingStats& LoopStats() const { return loop_closing_->Stats(); }
   int Resets() const { return resets_; }
+  // The frames given before a map existed and why they did not initialize one.
+  const InitializationAttempts& Initialization() const;
 
  private:
   SystemConfig config_;

@@ -15,6 +15,7 @@
 #include "ocg/features/orb_extractor.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/optim/bundle_adjustment.h"
+#include "ocg/slam/initialization_report.h"
 #include "ocg/slam/initializer.h"
 #include "ocg/slam/map.h"
 
@@ -99,6 +100,8 @@ class Tracking {
 
   TrackingResult Track(const cv::Mat& image, double timestamp, const std::string& timestamp_text);
   TrackingState state() const { return state_; }
+  // Every frame given while not initialized, and why it did not initialize.
+  const InitializationAttempts& initialization_attempts() const { return initialization_; }
   // Forgets the map and starts over (clears the map and the database too). Call with
   // local mapping stopped or idle.
   void Reset();
@@ -106,6 +109,7 @@ class Tracking {
 
  private:
   bool Initialize(Frame& frame);
+  void RecordTooFewFeatures(const Frame& frame);
   bool TrackWithMotionModel(Frame& frame);
   bool TrackReferenceKeyFrame(Frame& frame);
   bool Relocalize(Frame& frame);
@@ -137,6 +141,7 @@ class Tracking {
   TrackingState state_ = TrackingState::kNoImages;
   std::uint64_t next_frame_id_ = 0;
   std::unique_ptr<Frame> initial_frame_;
+  InitializationAttempts initialization_;
   std::vector<Eigen::Vector2d>
       initial_predicted_;  // where the first view's features were last seen
   std::unique_ptr<Frame> last_frame_;
