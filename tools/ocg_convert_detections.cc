@@ -29,9 +29,9 @@ int main(int argc, char** argv) {
 
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
     namespace fs = std::filesystem;
+    ocg::DetectionReadOptions options;
+    options.lenient = lenient;
     if (fs::is_directory(input)) {
-      ocg::DetectionReadOptions options;
-      options.lenient = lenient;
       std::vector<ocg::DetectionFrame> frames = ocg::ReadEaoDetectionDir(input, options);
       std::size_t count = 0;
       for (ocg::DetectionFrame& frame : frames) {
@@ -43,14 +43,14 @@ int main(int argc, char** argv) {
                 << output << "\n";
       return;
     }
-    const std::vector<ocg::DetectionFrame> frames = ocg::ReadJsonDetections(input);
+    const std::vector<ocg::DetectionFrame> frames = ocg::ReadJsonDetections(input, options);
     // Validate every name before writing anything, so a failure leaves no partial folder.
     for (const ocg::DetectionFrame& frame : frames) {
       if (fs::path(frame.file_name).stem().empty()) {
         throw ocg::FileError(input + ": an image has an empty file_name");
       }
     }
-    ocg::EnsureDirectory(output);
+    ocg::CheckWritableFolder(output);
     std::size_t count = 0;
     for (const ocg::DetectionFrame& frame : frames) {
       const std::string stem = fs::path(frame.file_name).stem().string();

@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
         }
       }
     }
+    ocg::CheckWritableFolder(output);
     ocg::OcgManager manager(settings.ocg, /*sequential=*/true);
     std::vector<ocg::RemovalEvent> removed;  // this keyframe's
     manager.SetRemovalCallback(

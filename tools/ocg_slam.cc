@@ -104,9 +104,28 @@ void RunObjects(const ObjectsCommand& command) {
   if (trajectory.empty()) throw std::invalid_argument("'" + command.trajectory + "' holds no pose");
   const auto frames = FrameTimestamps(command);
   if (frames.empty()) throw std::invalid_argument("no frames to process");
+  // Every input is read and checked before the first frame, so a bad line in the last
+  // file or a frame list that matches no pose fails now, not after the whole sequence.
   ocg::DetectionReadOptions read_options;
   read_options.lenient = command.lenient;
-  ocg::EnsureDirectory(command.output);
+  std::vector<std::string> frame_names;
+  frame_names.reserve(frames.size());
+  for (const auto& frame : frames) frame_names.push_back(frame.first);
+  const ocg::EaoDetectionFolder detections(command.detections, frame_names, read_options);
+  std::vector<std::optional<ocg::SE3>> poses;
+  poses.reserve(frames.size());
+  for (const auto& frame : frames) poses.push_back(ocg::PoseAtTime(trajectory, frame.second));
+  if (std::none_of(poses.begin(), poses.end(), [](const auto& pose) { return pose.has_value(); })) {
+    throw std::invalid_argument(
+        "no frame has a pose in '" + command.trajectory + "': its poses span " +
+        trajectory.front().timestamp_text + " .. " + trajectory.back().timestamp_text +
+        ", the frames (" +
+        (command.frames.empty() ? "from the detection files' names"
+                                : "from '" + command.frames + "'") +
+        ") span " + frames.front().first + " .. " + frames.back().first +
+        " (timestamps must match within 20 ms or lie between two poses at most 0.1 s apart)");
+  }
+  ocg::CheckWritableFolder(command.output);
   std::cout << "ocg_slam objects: " << frames.size() << " frames, " << trajectory.size()
             << " poses, OCG mode " << settings.ocg.mode << ", a keyframe every "
             << settings.objects.keyframe_interval << " frames\n";
@@ -119,14 +138,13 @@ void RunObjects(const ObjectsCommand& command) {
   std::vector<double> frame_seconds;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const auto& [text, timestamp] = frames[i];
-    const std::optional<ocg::SE3> T_cw = ocg::PoseAtTime(trajectory, timestamp);
+    const std::optional<ocg::SE3>& T_cw = poses[i];
     if (!T_cw) {
       ++without_pose;
       continue;
     }
     const auto frame_start = std::chrono::steady_clock::now();
-    mapper.AddFrame(used, timestamp, *T_cw,
-                    ocg::ReadEaoDetectionsForImage(command.detections, text, read_options));
+    mapper.AddFrame(used, timestamp, *T_cw, detections.ForFrame(text));
     if (used % settings.objects.keyframe_interval == 0)
       mapper.AddKeyframe(keyframes++, timestamp, *T_cw);
     frame_seconds.push_back(
@@ -136,17 +154,13 @@ void RunObjects(const ObjectsCommand& command) {
   }
   progress.Finish();
   mapper.Finish();
-  if (used == 0) {
-    throw std::invalid_argument("no frame has a pose in '" + command.trajectory +
-                                "' (timestamps must match within 20 ms or lie between two poses "
-                                "at most 0.1 s apart)");
-  }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const ocg::ObjectLayerStats stats = mapper.Stats();
   nlohmann::json report = {{"command", "objects"},
                            {"trajectory", command.trajectory},
                            {"detections", command.detections},
+                           {"detection_files_matched", detections.FilesMatched()},
                            {"settings", command.settings},
                            {"ocg_mode", settings.ocg.mode},
                            {"frames", frames.size()},
@@ -176,16 +190,18 @@ class ObjectLayer {
   // keep_first_removal: keep the objects as they were just before the OCG's first removal
   // (for the before/after snapshots; a copy of the object list at every OCG keyframe
   // until then).
-  ObjectLayer(const ocg::Settings& settings, std::string detections, bool sequential, bool lenient,
+  // folder: the run's detections, read before the first frame (none: no object layer).
+  ObjectLayer(const ocg::Settings& settings, std::string detections,
+              std::optional<ocg::EaoDetectionFolder> folder, bool sequential,
               bool keep_first_removal)
       : settings_(settings),
         detections_(std::move(detections)),
+        folder_(std::move(folder)),
         sequential_(sequential),
         keep_first_removal_(keep_first_removal) {
-    read_options_.lenient = lenient;
     if (Enabled()) Start();
   }
-  bool Enabled() const { return !detections_.empty(); }
+  bool Enabled() const { return folder_.has_value(); }
 
   void AddFrame(const ocg::System& system, const ocg::TrackingResult& result, std::int64_t frame,
                 const ocg::TimedImage& image) {
@@ -202,9 +218,8 @@ class ObjectLayer {
     points.reserve(result.points.size());
     for (const ocg::TrackedPoint& point : result.points)
       points.push_back({point.id, point.pixel, point.position});
-    last_association_ = mapper_->AddFrame(
-        frame, image.timestamp, *result.T_cw,
-        ocg::ReadEaoDetectionsForImage(detections_, image.timestamp_text, read_options_), &points);
+    last_association_ = mapper_->AddFrame(frame, image.timestamp, *result.T_cw,
+                                          folder_->ForFrame(image.timestamp_text), &points);
     if (result.new_keyframe) Follow(system);
     if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
       // The map as it was just before the OCG's first removal, for the before/after
@@ -260,6 +275,7 @@ class ObjectLayer {
               << " live at the end, " << keyframes_ << " OCG keyframes (mode " << settings_.ocg.mode
               << ")\n";
     section.update({{"detections", detections_},
+                    {"detection_files_matched", folder_->FilesMatched()},
                     {"ocg_mode", settings_.ocg.mode},
                     {"keyframes", keyframes_},
                     {"object_map_resets", resets_},
@@ -289,8 +305,8 @@ class ObjectLayer {
 
   const ocg::Settings& settings_;
   std::string detections_;
+  std::optional<ocg::EaoDetectionFolder> folder_;
   bool sequential_;
-  ocg::DetectionReadOptions read_options_;
   std::unique_ptr<ocg::ObjectMapper> mapper_;
   std::int64_t keyframes_ = 0;
   std::int64_t tracked_frames_ = 0;
@@ -490,13 +506,9 @@ int main(int argc, char** argv) {
       settings.ocg.mode = run_mode;
       settings.ocg.Check();
     }
-    ocg::VocabularyOptions vocabulary_options = settings.vocabulary;
-    if (!vocabulary_path.empty()) vocabulary_options.path = vocabulary_path;
-    const std::string vocabulary_file = vocabulary_options.Resolve();
-    const auto load_start = std::chrono::steady_clock::now();
-    const ocg::Vocabulary vocabulary = ocg::Vocabulary::Load(vocabulary_file);
-    const double load_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    // Every input is read and checked before the first frame (the detections of every
+    // frame to process included), and the output folder is tried for writing, so no bad
+    // input ends a run after the whole sequence.
     const ocg::ImageSequence sequence = format == "tum" ? ocg::ReadTumSequence(sequence_path)
                                                         : ocg::ReadEurocSequence(sequence_path);
     std::size_t frames = sequence.images.size();
@@ -505,6 +517,24 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("no frames to process: '" + sequence.list +
                                   "' lists no image (only comments or blank lines)");
     }
+    std::optional<ocg::EaoDetectionFolder> detection_folder;
+    if (!detections.empty()) {
+      ocg::DetectionReadOptions read_options;
+      read_options.lenient = run_lenient;
+      std::vector<std::string> frame_names;
+      frame_names.reserve(frames);
+      for (std::size_t i = 0; i < frames; ++i)
+        frame_names.push_back(sequence.images[i].timestamp_text);
+      detection_folder.emplace(detections, frame_names, read_options);
+    }
+    ocg::CheckWritableFolder(output);
+    ocg::VocabularyOptions vocabulary_options = settings.vocabulary;
+    if (!vocabulary_path.empty()) vocabulary_options.path = vocabulary_path;
+    const std::string vocabulary_file = vocabulary_options.Resolve();
+    const auto load_start = std::chrono::steady_clock::now();
+    const ocg::Vocabulary vocabulary = ocg::Vocabulary::Load(vocabulary_file);
+    const double load_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
     ocg::SystemConfig config;
     config.camera = settings.camera.model;
     config.fps = settings.camera.fps;
@@ -517,7 +547,6 @@ int main(int argc, char** argv) {
     config.local_mapping = settings.local_mapping;
     config.loop_closing = settings.loop_closing;
     config.seed = settings.system.seed;
-    ocg::EnsureDirectory(output);
     std::cout << "ocg_slam: " << frames << " frames of " << sequence_path << ", vocabulary "
               << vocabulary_file << " (" << vocabulary.WordCount() << " words, loaded in "
               << load_seconds << " s), " << (config.sequential ? "sequential" : "threaded")
@@ -529,7 +558,7 @@ int main(int argc, char** argv) {
       snapshot_policy.every_keyframes = settings.viewer.every_keyframes;
     }
     ocg::System system(config, vocabulary);
-    ObjectLayer objects_layer(settings, detections, config.sequential, run_lenient,
+    ObjectLayer objects_layer(settings, detections, std::move(detection_folder), config.sequential,
                               snapshot_policy.Enabled());
     const std::string groundtruth_path = sequence_path + "/groundtruth.txt";
     RunSnapshots run_snapshots(settings, snapshot_policy, output,

@@ -90,6 +90,28 @@ void WriteFile(const std::string& path, const std::string& content) {
   if (!stream) throw FileError("error while writing '" + path + "'");
 }
 
+void CheckWritableFolder(const std::string& path) {
+  std::error_code error;
+  std::filesystem::create_directories(path, error);
+  if (error) {
+    throw FileError("cannot create the output folder '" + path + "': " + error.message());
+  }
+  const std::string probe =
+      (std::filesystem::path(path) / (".write_test." + std::to_string(::getpid()))).string();
+  std::FILE* file = std::fopen(probe.c_str(), "wb");
+  if (file == nullptr) {
+    throw FileError("the output folder '" + path + "' is not writable: " + std::strerror(errno));
+  }
+  const bool written = std::fputc('x', file) != EOF && std::fflush(file) == 0;
+  const int write_errno = errno;
+  std::fclose(file);
+  std::remove(probe.c_str());
+  if (!written) {
+    throw FileError("the output folder '" + path +
+                    "' is not writable: " + std::strerror(write_errno));
+  }
+}
+
 std::string FileLocation(const std::string& path, int line) {
   return path + ":" + std::to_string(line);
 }

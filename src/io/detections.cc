@@ -3,9 +3,12 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "ocg/core/file_io.h"
@@ -60,19 +63,81 @@ std::string FormatNumber(double value) {
   return buffer;
 }
 
+bool WithinUnit(const Detection& detection) {
+  auto unit = [](double value) { return value >= 0.0 && value <= 1.0; };
+  return unit(detection.x) && unit(detection.y) && unit(detection.width) && unit(detection.height);
+}
+
+void WarnNormalized(const std::string& where) {
+  spdlog::warn(
+      "every box in '{}' lies within 0..1: these look like normalized coordinates (YOLO's "
+      "'class cx cy w h'), but detections must be 'class_id x y w h confidence' in pixels, "
+      "x y the top-left corner; no object will be found. Convert them: x = (cx - w/2) * "
+      "image width, w = w * image width (y and h likewise)",
+      where);
+}
+
+std::string ByteCount(std::uintmax_t bytes) {
+  if (bytes < (1u << 20)) return std::to_string(bytes) + " bytes";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+  return buffer;
+}
+
+// What is at path, for messages: "a directory", "a broken symbolic link", ...
+std::string DescribeNonRegular(const fs::path& path) {
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (fs::is_symlink(fs::symlink_status(path, error)) && !fs::exists(status))
+    return "a broken symbolic link";
+  if (fs::is_directory(status)) return "a directory";
+  if (!fs::exists(status)) return "missing";
+  return "not a regular file";
+}
+
+// Throws FileError unless path is a regular file of at most max_bytes.
+void CheckDetectionFile(const fs::path& path, std::uintmax_t max_bytes, const char* limit_what) {
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) {
+    throw FileError("detection file '" + path.string() + "' is " + DescribeNonRegular(path) +
+                    ", not a readable file");
+  }
+  const std::uintmax_t size = fs::file_size(path, error);
+  if (error) {
+    throw FileError("cannot read detection file '" + path.string() + "': " + error.message());
+  }
+  if (size > max_bytes) {
+    throw FileError("detection file '" + path.string() + "' is " + ByteCount(size) +
+                    ", more than the limit of " + ByteCount(max_bytes) + " " + limit_what +
+                    ": far more than any detector writes, so it is not a detection file "
+                    "or it is broken");
+  }
+}
+
+// True when something (a file, a folder, a broken link) is at path.
+bool Exists(const fs::path& path) {
+  std::error_code error;
+  return fs::exists(fs::symlink_status(path, error));
+}
 }  // namespace
 
 std::vector<Detection> ReadEaoDetectionFile(const std::string& path,
                                             const DetectionReadOptions& options) {
+  CheckDetectionFile(path, options.max_file_bytes, "for one image's detections");
   std::vector<Detection> detections;
-  ForEachDataLine(path, false, [&](int line, const std::vector<std::string>& fields) {
-    try {
-      detections.push_back(ParseEaoLine(fields, path, line));
-    } catch (const ParseError& error) {
-      if (!options.lenient) throw;
-      spdlog::warn("skipping malformed detection: {}", error.what());
-    }
-  });
+  try {
+    ForEachDataLine(path, false, [&](int line, const std::vector<std::string>& fields) {
+      try {
+        detections.push_back(ParseEaoLine(fields, path, line));
+      } catch (const ParseError& error) {
+        if (!options.lenient) throw;
+        spdlog::warn("skipping malformed detection: {}", error.what());
+      }
+    });
+  } catch (const ParseError& error) {
+    throw ParseError(std::string(error.what()) +
+                     " (--lenient skips malformed detection lines with a warning)");
+  }
   return detections;
 }
 
@@ -80,9 +145,69 @@ std::vector<Detection> ReadEaoDetectionsForImage(const std::string& dir,
                                                  const std::string& timestamp_text,
                                                  const DetectionReadOptions& options) {
   const fs::path path = fs::path(dir) / (timestamp_text + ".txt");
-  std::error_code error;
-  if (!fs::exists(path, error)) return {};
+  if (!Exists(path)) return {};
   return ReadEaoDetectionFile(path.string(), options);
+}
+
+EaoDetectionFolder::EaoDetectionFolder(const std::string& dir,
+                                       const std::vector<std::string>& frames,
+                                       const DetectionReadOptions& options) {
+  std::error_code error;
+  if (!fs::is_directory(dir, error)) {
+    throw FileError("detections folder '" + dir + "' does not exist or is not a folder");
+  }
+  const std::string expected =
+      frames.empty() ? std::string("<timestamp>.txt") : "'" + frames.front() + ".txt'";
+  std::size_t text_files = 0;
+  std::string found_example;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".txt") continue;
+    ++text_files;
+    const std::string name = entry.path().filename().string();
+    if (found_example.empty() || name < found_example) found_example = name;
+  }
+  if (text_files == 0) {
+    throw FileError("detections folder '" + dir +
+                    "' holds no .txt file: expected one file per frame named by the frame's "
+                    "timestamp as in the image list, e.g. " +
+                    expected);
+  }
+  bool within_unit = true;
+  for (const std::string& frame : frames) {
+    const fs::path path = fs::path(dir) / (frame + ".txt");
+    if (by_frame_.count(frame) > 0 || !Exists(path)) continue;
+    std::vector<Detection> detections = ReadEaoDetectionFile(path.string(), options);
+    for (const Detection& detection : detections)
+      within_unit = within_unit && WithinUnit(detection);
+    detections_ += detections.size();
+    by_frame_.emplace(frame, std::move(detections));
+  }
+  if (by_frame_.empty() && !frames.empty()) {
+    throw FileError("no detection file in '" + dir + "' matches a frame: expected files named " +
+                    "by the frames' timestamps as in the image list, e.g. " + expected +
+                    ", found " + std::to_string(text_files) + " .txt file(s) such as '" +
+                    found_example + "'");
+  }
+  looks_normalized_ = detections_ > 0 && within_unit;
+  if (looks_normalized_) WarnNormalized(dir);
+}
+
+const std::vector<Detection>& EaoDetectionFolder::ForFrame(
+    const std::string& timestamp_text) const {
+  static const std::vector<Detection> kNone;
+  const auto it = by_frame_.find(timestamp_text);
+  return it == by_frame_.end() ? kNone : it->second;
+}
+
+bool BoxesLookNormalized(const std::vector<DetectionFrame>& frames) {
+  bool any = false;
+  for (const DetectionFrame& frame : frames) {
+    for (const Detection& detection : frame.detections) {
+      if (!WithinUnit(detection)) return false;
+      any = true;
+    }
+  }
+  return any;
 }
 
 std::vector<DetectionFrame> ReadEaoDetectionDir(const std::string& dir,
@@ -93,8 +218,11 @@ std::vector<DetectionFrame> ReadEaoDetectionDir(const std::string& dir,
   }
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".txt")
-      files.push_back(entry.path());
+    if (entry.path().extension() == ".txt") files.push_back(entry.path());
+  }
+  if (files.empty()) {
+    throw FileError("detections folder '" + dir +
+                    "' holds no .txt file (expected <timestamp>.txt files, one per image)");
   }
   std::sort(files.begin(), files.end());
   std::vector<DetectionFrame> frames;
@@ -102,6 +230,7 @@ std::vector<DetectionFrame> ReadEaoDetectionDir(const std::string& dir,
   for (const fs::path& file : files) {
     frames.push_back({file.stem().string(), ReadEaoDetectionFile(file.string(), options)});
   }
+  if (BoxesLookNormalized(frames)) WarnNormalized(dir);
   return frames;
 }
 
@@ -117,12 +246,18 @@ std::string FormatEaoDetections(const std::vector<Detection>& detections) {
   return text;
 }
 
-std::vector<DetectionFrame> ReadJsonDetections(const std::string& path) {
+std::vector<DetectionFrame> ReadJsonDetections(const std::string& path,
+                                               const DetectionReadOptions& options) {
+  CheckDetectionFile(path, options.max_json_bytes, "for a JSON detection list");
   nlohmann::json root;
-  try {
-    root = nlohmann::json::parse(ReadTextFile(path));
-  } catch (const nlohmann::json::parse_error& error) {
-    throw ParseError(path + ": not valid JSON: " + error.what());
+  {
+    std::ifstream stream(path, std::ios::binary);
+    if (!stream) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
+    try {
+      root = nlohmann::json::parse(stream);  // from the stream: no copy of the text
+    } catch (const nlohmann::json::parse_error& error) {
+      throw ParseError(path + ": not valid JSON: " + error.what());
+    }
   }
   if (!root.is_array()) throw ParseError(path + ": expected a JSON list of images");
   std::vector<DetectionFrame> frames;
@@ -157,6 +292,7 @@ std::vector<DetectionFrame> ReadJsonDetections(const std::string& path) {
       throw ParseError(where + ": " + error.what());
     }
   }
+  if (BoxesLookNormalized(frames)) WarnNormalized(path);
   return frames;
 }
 

@@ -3,6 +3,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <sstream>
 
 #include "ocg/core/file_io.h"
@@ -15,7 +17,9 @@ void ThrowParseError(const std::string& path, int line, const std::string& messa
 
 void ForEachDataLine(const std::string& path, bool comma_separated,
                      const std::function<void(int, const std::vector<std::string>&)>& handle) {
-  std::istringstream input(ReadTextFile(path));
+  // Line by line: memory stays that of the longest line, whatever the file's size.
+  std::ifstream input(path, std::ios::binary);
+  if (!input) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
   std::string line;
   std::vector<std::string> fields;
   for (int number = 1; std::getline(input, line); ++number) {
@@ -32,6 +36,7 @@ void ForEachDataLine(const std::string& path, bool comma_separated,
     for (std::string word; words >> word;) fields.push_back(word);
     handle(number, fields);
   }
+  if (input.bad()) throw FileError("error while reading '" + path + "'");
 }
 
 double ParseNumberField(const std::string& field, const std::string& what, const std::string& path,

@@ -1,6 +1,7 @@
 #include "ocg/ocg/change_detector.h"
 
 #include <algorithm>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -25,6 +26,13 @@ std::optional<Eigen::Vector3d> VectorFromJson(const nlohmann::json& json) {
   const auto values = json.get<std::vector<double>>();
   if (values.size() != 3) throw std::invalid_argument("expected 3 numbers");
   return Eigen::Vector3d(values[0], values[1], values[2]);
+}
+
+// Later fields win, empty ones keep the earlier value (as ApplyUpdate does on a record).
+void MergeUpdate(ObjectGeometryUpdate& into, const ObjectGeometryUpdate& update) {
+  if (update.centroid) into.centroid = update.centroid;
+  if (update.size) into.size = update.size;
+  if (update.class_id) into.class_id = update.class_id;
 }
 
 nlohmann::json OptionsJson(const OcgOptions& options) {
@@ -76,12 +84,22 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   // 1. Graph update, with new objects entering in state 1.
   for (ObjectId id : observed) {
     auto [it, created] = records_.try_emplace(id);
-    if (created) it->second.first_keyframe = keyframe;
+    if (!created) continue;
+    it->second.first_keyframe = keyframe;
+    const auto pending = pending_.find(id);
+    if (pending != pending_.end()) {
+      ApplyUpdate(it->second, pending->second);
+      pending_.erase(pending);
+    }
   }
   graph_.AddCovisibility(observed);
   for (const auto& [id, update] : observation.updates) {
     const auto it = records_.find(id);
-    if (it != records_.end()) ApplyUpdate(it->second, update);
+    if (it != records_.end()) {
+      ApplyUpdate(it->second, update);
+    } else {
+      MergeUpdate(pending_[id], update);
+    }
   }
   const Eigen::Vector3d camera_centre = observation.T_cw.Inverse().translation();
   for (ObjectId id : observed) {
@@ -182,6 +200,7 @@ void ObjectChangeDetector::RemoveObject(ObjectId id) {
 }
 
 bool ObjectChangeDetector::Forget(ObjectId id) {
+  pending_.erase(id);
   if (records_.count(id) == 0) return false;
   RemoveObject(id);
   return true;
@@ -210,6 +229,12 @@ std::optional<ObjectStatus> ObjectChangeDetector::Status(ObjectId id) const {
   return MakeStatus(id, it->second);
 }
 
+std::optional<ObjectGeometryUpdate> ObjectChangeDetector::PendingGeometry(ObjectId id) const {
+  const auto it = pending_.find(id);
+  if (it == pending_.end()) return std::nullopt;
+  return it->second;
+}
+
 std::vector<ObjectStatus> ObjectChangeDetector::Snapshot() const {
   std::vector<ObjectStatus> statuses;
   statuses.reserve(records_.size());
@@ -236,13 +261,25 @@ std::string ObjectChangeDetector::ToJson() const {
       if (edge.neighbour > status.id) edges.push_back({status.id, edge.neighbour, edge.weight});
     }
   }
+  // Sorted by id, so equal detectors write equal files.
+  std::map<ObjectId, const ObjectGeometryUpdate*> pending_by_id;
+  for (const auto& [id, update] : pending_) pending_by_id[id] = &update;
+  nlohmann::json pending = nlohmann::json::array();
+  for (const auto& [id, update] : pending_by_id) {
+    pending.push_back({{"id", id},
+                       {"class_id", update->class_id ? nlohmann::json(*update->class_id)
+                                                     : nlohmann::json(nullptr)},
+                       {"centroid", VectorJson(update->centroid)},
+                       {"size", VectorJson(update->size)}});
+  }
   const nlohmann::json root = {
       {"format", "ocg-graph"},
       {"version", 1},
       {"keyframe", any_keyframe_ ? nlohmann::json(last_keyframe_) : nlohmann::json(nullptr)},
       {"options", OptionsJson(options_)},
       {"nodes", nodes},
-      {"edges", edges}};
+      {"edges", edges},
+      {"pending", pending}};
   return root.dump(1) + "\n";
 }
 
@@ -293,6 +330,14 @@ ObjectChangeDetector ObjectChangeDetector::FromJson(const std::string& text) {
                                     " names an unknown node");
       }
       detector.graph_.SetEdge(a, b, edge.at(2).get<std::uint32_t>());
+    }
+    if (root.contains("pending")) {  // files written before it existed have none
+      for (const nlohmann::json& entry : root.at("pending")) {
+        ObjectGeometryUpdate& update = detector.pending_[entry.at("id").get<ObjectId>()];
+        if (!entry.at("class_id").is_null()) update.class_id = entry.at("class_id").get<int>();
+        update.centroid = VectorFromJson(entry.at("centroid"));
+        update.size = VectorFromJson(entry.at("size"));
+      }
     }
     for (const auto& entry : detector.records_) detector.UpdateIsolation(entry.first);
     return detector;

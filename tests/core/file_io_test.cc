@@ -41,5 +41,36 @@ TEST(FileIo, ErrorsNameTheFile) {
   }
 }
 
+TEST(FileIo, WritableFolderCheckCreatesTheFolderAndLeavesNothing) {
+  const std::string dir = testing::MakeTempDir("file_io_writable") + "/a/b";
+  CheckWritableFolder(dir);
+  EXPECT_TRUE(fs::is_directory(dir));
+  EXPECT_TRUE(fs::is_empty(dir));  // the probe file is removed
+}
+
+TEST(FileIo, UnwritableFolderFailsNamingIt) {
+  const std::string dir = testing::MakeTempDir("file_io_unwritable");
+  // A folder in the probe file's place makes the folder unwritable even for root.
+  fs::create_directory(dir + "/.write_test." + std::to_string(::getpid()));
+  try {
+    CheckWritableFolder(dir);
+    FAIL();
+  } catch (const FileError& error) {
+    EXPECT_NE(std::string(error.what()).find("output folder '" + dir + "' is not writable"),
+              std::string::npos)
+        << error.what();
+  }
+  WriteFileAtomically(dir + "/file", "x");
+  try {
+    CheckWritableFolder(dir + "/file/out");  // under a file: cannot be created
+    FAIL();
+  } catch (const FileError& error) {
+    EXPECT_NE(
+        std::string(error.what()).find("cannot create the output folder '" + dir + "/file/out'"),
+        std::string::npos)
+        << error.what();
+  }
+}
+
 }  // namespace
 }  // namespace ocg

@@ -331,3 +331,50 @@ TEST(Detector, ForgetDropsAnObjectWithoutAChangeLogEntry) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+// Issue 16: a centroid given before the object's first observation is kept (SPEC 3.1),
+// so the object can gather doubt once it goes missing.
+TEST(Detector, CentroidGivenBeforeTheFirstObservationIsKept) {
+  ObjectChangeDetector detector{OcgOptions{}};
+  const SE3 at_table = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const SE3 at_shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+  KeyframeObservation first = MakeObservation(0, at_table, {1, 2});
+  for (ObjectId id : {1, 2, 3}) first.updates[id].centroid = kPlaces.at(id);
+  first.updates[3].class_id = 41;
+  detector.Process(first);
+  EXPECT_FALSE(detector.Status(3).has_value());
+  ASSERT_TRUE(detector.PendingGeometry(3).has_value());
+  detector.Process(MakeObservation(1, at_table, {1, 2, 3}));
+  EXPECT_FALSE(detector.PendingGeometry(3).has_value());
+  ASSERT_TRUE(detector.Status(3)->geometry.centroid.has_value());
+  EXPECT_TRUE(detector.Status(3)->geometry.centroid->isApprox(kPlaces.at(3)));
+  EXPECT_EQ(detector.Status(3)->class_id, 41);
+  detector.Process(MakeObservation(2, at_shelf, {4}));
+  EXPECT_EQ(detector.Status(3)->state, S::kUnknown);
+  detector.Process(MakeObservation(3, at_table, {1, 2}));
+  EXPECT_EQ(detector.Status(3)->state, S::kSuspicious);
+  EXPECT_DOUBLE_EQ(detector.Status(3)->active_edge_rate, 1.0);
+  EXPECT_EQ(detector.Status(3)->doubt, 30.0);
+}
+
+TEST(Detector, PendingGeometrySurvivesTheJsonRoundTripAndForget) {
+  ObjectChangeDetector detector{OcgOptions{}};
+  KeyframeObservation observation = MakeObservation(0, LookAt({-2, 0, 0.8}, {0, 0, 0}), {1});
+  observation.updates[7].centroid = Eigen::Vector3d(1, 2, 3);
+  observation.updates[8].size = Eigen::Vector3d(0.1, 0.2, 0.3);
+  detector.Process(observation);
+  const ObjectChangeDetector restored = ObjectChangeDetector::FromJson(detector.ToJson());
+  EXPECT_EQ(restored.ToJson(), detector.ToJson());
+  ASSERT_TRUE(restored.PendingGeometry(7).has_value());
+  EXPECT_TRUE(restored.PendingGeometry(7)->centroid->isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_FALSE(restored.PendingGeometry(7)->size.has_value());
+  EXPECT_TRUE(restored.PendingGeometry(8)->size->isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
+  EXPECT_FALSE(detector.Forget(7));  // not in the graph, but its geometry is dropped
+  EXPECT_FALSE(detector.PendingGeometry(7).has_value());
+}
+
+}  // namespace
+}  // namespace ocg

@@ -75,15 +75,22 @@ std::uint32_t NaiveOcg::EdgeWeight(ObjectId a, ObjectId b) const {
 
 std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) {
   const std::set<ObjectId> observed(observation.observed.begin(), observation.observed.end());
-  for (ObjectId id : observed) objects_.try_emplace(id);
+  for (ObjectId id : observed) {
+    const auto [it, created] = objects_.try_emplace(id);
+    const auto pending = pending_.find(id);
+    if (created && pending != pending_.end()) {  // geometry given before it entered
+      it->second.geometry = pending->second;
+      pending_.erase(pending);
+    }
+  }
   for (auto a = observed.begin(); a != observed.end(); ++a) {
     for (auto b = std::next(a); b != observed.end(); ++b) ++edges_[{*a, *b}];
   }
   for (const auto& [id, update] : observation.updates) {
     auto it = objects_.find(id);
-    if (it == objects_.end()) continue;
-    if (update.centroid) it->second.geometry.centroid = update.centroid;
-    if (update.size) it->second.geometry.size = update.size;
+    ObjectGeometry& geometry = it == objects_.end() ? pending_[id] : it->second.geometry;
+    if (update.centroid) geometry.centroid = update.centroid;
+    if (update.size) geometry.size = update.size;
   }
   const Eigen::Vector3d camera_centre = observation.T_cw.Inverse().translation();
   for (ObjectId id : observed) {

@@ -50,6 +50,7 @@ class NaiveOcg {
   OcgOptions options_;
   std::map<std::pair<ObjectId, ObjectId>, std::uint32_t> edges_;  // first < second
   std::map<ObjectId, Object> objects_;
+  std::map<ObjectId, ObjectGeometry> pending_;  // given before the object entered
 };
 
 }  // namespace ocg::testing

@@ -7,8 +7,6 @@
 set -u
 BIN=$1
 SRC=$2
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/check_helpers.sh"
 
 slam() {  # slam <sequence folder> <out folder> [more options]

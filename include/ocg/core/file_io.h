@@ -32,6 +32,11 @@ void WriteFile(const std::string& path, const std::string& content);
 // Creates the directory and its parents if missing. Throws FileError naming it.
 void EnsureDirectory(const std::string& path);
 
+// For an output folder, before any work: creates it if missing, then creates and removes
+// a temporary file in it, so an unwritable folder fails at start, not after a run.
+// Throws FileError naming the folder and the reason.
+void CheckWritableFolder(const std::string& path);
+
 // "path:line: message", the form editors and terminals turn into links.
 std::string FileLocation(const std::string& path, int line);
 

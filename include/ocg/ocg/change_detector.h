@@ -57,10 +57,13 @@ class ObjectChangeDetector {
   // updated graph, then this keyframe's removals.
   KeyframeResult Process(const KeyframeObservation& observation);
   // Removes an object that the object map dropped for its own reasons (a merge): no
-  // change-log entry. Returns false when unknown.
+  // change-log entry, and geometry given for it but not yet used is dropped too.
+  // Returns false when unknown.
   bool Forget(ObjectId id);
 
   std::optional<ObjectStatus> Status(ObjectId id) const;
+  // Geometry given for an object not in the graph, kept for its first observation.
+  std::optional<ObjectGeometryUpdate> PendingGeometry(ObjectId id) const;
   // Every object in the graph, ascending id.
   std::vector<ObjectStatus> Snapshot() const;
   const ObjectCovisibilityGraph& graph() const { return graph_; }
@@ -95,6 +98,9 @@ class ObjectChangeDetector {
   OcgModes modes_;
   ObjectCovisibilityGraph graph_;
   std::unordered_map<ObjectId, Record> records_;
+  // Geometry given for objects not (yet) in the graph (SPEC 3.1: a centroid may arrive
+  // before the first observation); applied when the object enters.
+  std::unordered_map<ObjectId, ObjectGeometryUpdate> pending_;
   std::unordered_set<ObjectId> active_;    // states 1, 2 and 4
   std::unordered_set<ObjectId> isolated_;  // degree 0 (judged geometrically in "fallback")
   std::int64_t last_keyframe_ = -1;
