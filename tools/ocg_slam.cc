@@ -92,10 +92,37 @@ std::vector<std::pair<std::string, double>> FrameTimestamps(const ObjectsCommand
   return frames;
 }
 
+// ORB-SLAM2's TUM settings files give no image size, and `objects` reads no image to
+// process: the size is then the first readable image of the --frames list. Throws naming
+// the keys when there is none.
+void TakeImageSizeFromFrames(const ObjectsCommand& command, ocg::CameraSettings* camera) {
+  const std::string keys = "Camera.width and Camera.height";
+  if (command.frames.empty()) {
+    throw ocg::SettingsError(command.settings + ": camera keys missing: this command needs " +
+                             keys + " (or --frames listing images to take the size from)");
+  }
+  const std::string base = std::filesystem::path(command.frames).parent_path().string();
+  for (const ocg::TimedImage& image : ocg::ReadTumImageList(command.frames, base)) {
+    if (!std::filesystem::is_regular_file(image.path)) continue;
+    const cv::Mat first = cv::imread(image.path, cv::IMREAD_UNCHANGED);
+    if (first.empty()) continue;
+    camera->model.width = first.cols;
+    camera->model.height = first.rows;
+    camera->Check();
+    spdlog::info("image size {}x{} from '{}' ({} not in '{}')", first.cols, first.rows,
+                 image.path, keys, command.settings);
+    return;
+  }
+  throw ocg::SettingsError(command.settings + ": camera keys missing: this command needs " +
+                           keys + " (no image listed in '" + command.frames +
+                           "' could be read to take the size from)");
+}
+
 void RunObjects(const ObjectsCommand& command) {
   const ocg::LoadedSettings loaded =
-      ocg::LoadSettings(command.settings, ocg::CameraNeed::kIntrinsicsAndImageSize);
+      ocg::LoadSettings(command.settings, ocg::CameraNeed::kIntrinsics);
   ocg::Settings settings = loaded.settings;
+  if (!loaded.image_size_given) TakeImageSizeFromFrames(command, &settings.camera);
   if (!command.mode.empty()) {
     settings.ocg.mode = command.mode;
     settings.ocg.Check();

@@ -54,6 +54,7 @@ LoadedSettings ReadAll(const SettingsFile& file, CameraNeed camera_need) {
   }
   // After the values: a wrong value is reported where it is, even when keys are missing.
   RequireCamera(file, camera_need);
+  loaded.image_size_given = file.Has("Camera.width") && file.Has("Camera.height");
   for (const std::string& key : file.UnreadKeys()) {
     if (IsKnownForeignKey(key)) continue;
     loaded.warnings.push_back(FileLocation(file.name(), file.LineOf(key)) + ": unknown key '" +

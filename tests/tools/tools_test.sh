@@ -130,7 +130,14 @@ printf 'Objects:\n  min_confidence: 2\n' >"$WORK/bad_objects.yaml"
 fails_with "bad Objects key named" "Objects.min_confidence" objects_run "$WORK/never_objects" "$WORK/bad_objects.yaml"
 check "nothing written on failure" test ! -e "$WORK/never_objects/objects.json"
 grep -v -e width -e height "$WORK/objseq/camera.yaml" >"$WORK/no_size.yaml"
-fails_with "ocg_slam objects needs the image size" "this command needs Camera.width, Camera.height" objects_run "$WORK/never_objects" "$WORK/no_size.yaml"
+# ORB-SLAM2's TUM files give no image size: objects takes it from the first image listed.
+check "objects takes the image size from the frames' images" objects_run "$WORK/objects_no_size" "$WORK/no_size.yaml"
+check "same object map as with the size in the settings" cmp "$WORK/objects/objects.json" "$WORK/objects_no_size/objects.json"
+fails_with "objects without a size nor --frames names the keys" "this command needs Camera.width and Camera.height (or --frames" \
+  "$BIN/ocg_slam" objects --trajectory "$WORK/objseq/groundtruth.txt" --detections "$WORK/objseq/detections" --settings "$WORK/no_size.yaml" --out "$WORK/never_objects"
+sed 's#rgb/#missing/#' "$WORK/objseq/rgb.txt" >"$WORK/objseq/rgb_missing.txt"
+fails_with "objects without a size and no readable image says so" "could be read to take the size from" \
+  "$BIN/ocg_slam" objects --trajectory "$WORK/objseq/groundtruth.txt" --detections "$WORK/objseq/detections" --settings "$WORK/no_size.yaml" --frames "$WORK/objseq/rgb_missing.txt" --out "$WORK/never_objects"
 fails_with "unknown OCG mode named" "OCG.mode" objects_run "$WORK/never_objects" "$WORK/objseq/camera.yaml" --mode sometimes
 
 echo "$passed passed, $failed failed"

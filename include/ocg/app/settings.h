@@ -41,6 +41,9 @@ struct Settings {
 struct LoadedSettings {
   Settings settings;
   std::vector<std::string> warnings;  // one per unknown key, also logged
+  // Camera.width and Camera.height were both in the file (ORB-SLAM2's TUM files give
+  // neither: a command that reads no image must then take the size from elsewhere).
+  bool image_size_given = false;
 };
 
 // Throws SettingsError naming the file, line and key on a missing file, invalid YAML, a key
