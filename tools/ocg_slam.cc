@@ -499,18 +499,7 @@ int main(int argc, char** argv) {
     std::size_t frames = sequence.images.size();
     if (max_frames > 0) frames = std::min(frames, static_cast<std::size_t>(max_frames));
     if (frames == 0) throw std::invalid_argument("no images in '" + sequence_path + "'");
-    ocg::SystemConfig config;
-    config.camera = settings.camera.model;
-    config.fps = settings.camera.fps;
-    config.sequential = settings.system.sequential;
-    config.orb = settings.orb;
-    config.matcher = settings.matcher;
-    config.initializer = settings.initializer;
-    config.initializer.two_view.seed ^= settings.system.seed;
-    config.tracking = settings.tracking;
-    config.local_mapping = settings.local_mapping;
-    config.loop_closing = settings.loop_closing;
-    config.seed = settings.system.seed;
+    const ocg::SystemConfig config = ocg::MakeSystemConfig(settings);
     ocg::EnsureDirectory(output);
     std::cout << "ocg_slam: " << frames << " frames of " << sequence_path << ", vocabulary "
               << vocabulary_file << " (" << vocabulary.WordCount() << " words, loaded in "
