@@ -562,18 +562,7 @@ int main(int argc, char** argv) {
     const ocg::Vocabulary vocabulary = ocg::Vocabulary::Load(vocabulary_file);
     const double load_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
-    ocg::SystemConfig config;
-    config.camera = settings.camera.model;
-    config.fps = settings.camera.fps;
-    config.sequential = settings.system.sequential;
-    config.orb = settings.orb;
-    config.matcher = settings.matcher;
-    config.initializer = settings.initializer;
-    config.initializer.two_view.seed ^= settings.system.seed;
-    config.tracking = settings.tracking;
-    config.local_mapping = settings.local_mapping;
-    config.loop_closing = settings.loop_closing;
-    config.seed = settings.system.seed;
+    const ocg::SystemConfig config = ocg::MakeSystemConfig(settings);
     std::cout << "ocg_slam: " << frames << " frames of " << sequence_path << ", vocabulary "
               << vocabulary_file << " (" << vocabulary.WordCount() << " words, loaded in "
               << load_seconds << " s), " << (config.sequential ? "sequential" : "threaded")

@@ -83,4 +83,20 @@ LoadedSettings ParseSettings(const std::string& text, const std::string& name,
   return ReadAll(SettingsFile::Parse(text, name), camera_need);
 }
 
+SystemConfig MakeSystemConfig(const Settings& settings) {
+  SystemConfig config;
+  config.camera = settings.camera.model;
+  config.fps = settings.camera.fps;
+  config.sequential = settings.system.sequential;
+  config.orb = settings.orb;
+  config.matcher = settings.matcher;
+  config.initializer = settings.initializer;
+  config.initializer.two_view.seed ^= settings.system.seed;
+  config.tracking = settings.tracking;
+  config.local_mapping = settings.local_mapping;
+  config.loop_closing = settings.loop_closing;
+  config.seed = settings.system.seed;
+  return config;
+}
+
 }  // namespace ocg

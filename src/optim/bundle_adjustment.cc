@@ -16,7 +16,7 @@ namespace {
 double Chi2(const PinholeCamera& camera, const SE3& T_cw, const Eigen::Vector3d& X,
             const Eigen::Vector2d& pixel, double inverse_sigma2, bool* in_front) {
   const Eigen::Vector3d Xc = T_cw * X;
-  *in_front = Xc.z() > 0.0;
+  *in_front = Xc.z() > kMinDepth;
   if (!*in_front) return std::numeric_limits<double>::infinity();
   return (camera.ProjectUndistorted(Xc) - pixel).squaredNorm() * inverse_sigma2;
 }
@@ -56,17 +56,24 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
   PoseManifold manifold;
   double initial_sum = 0.0;
   for (const BaObservation& o : problem->observations) {
+    bool in_front = false;
+    const double chi2 =
+        Chi2(problem->camera, problem->keyframes[static_cast<std::size_t>(o.keyframe)].T_cw,
+             problem->points[static_cast<std::size_t>(o.point)].position, o.pixel, 1.0, &in_front);
+    // A point behind its camera has no usable projection: it would only pull the solve
+    // with a meaningless residual. It stays out and is judged an outlier afterwards
+    // unless the other observations bring it in front.
+    if (!in_front) {
+      ++report.behind_camera;
+      continue;
+    }
+    initial_sum += chi2;
     const double sqrt_information = std::sqrt(o.inverse_sigma2);
     auto* cost = new ReprojectionCost(problem->camera, o.pixel, sqrt_information);
     double* pose = poses[static_cast<std::size_t>(o.keyframe)].data();
     double* point = points[static_cast<std::size_t>(o.point)].data();
     ceres_problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_threshold), pose,
                                    point);
-    bool in_front = false;
-    const double chi2 =
-        Chi2(problem->camera, problem->keyframes[static_cast<std::size_t>(o.keyframe)].T_cw,
-             problem->points[static_cast<std::size_t>(o.point)].position, o.pixel, 1.0, &in_front);
-    if (in_front) initial_sum += chi2;
   }
   bool any_free = false;
   for (std::size_t k = 0; k < poses.size(); ++k) {
@@ -88,7 +95,7 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
   }
   const double count = std::max<std::size_t>(1, problem->observations.size());
   report.initial_rms_pixels = std::sqrt(initial_sum / count);
-  if (any_free && !problem->observations.empty()) {
+  if (any_free && ceres_problem.NumResidualBlocks() > 0) {
     ceres::Solver::Summary summary;
     ceres::Solve(SolverOptions(options.max_iterations, LinearSolver::kSchur), &ceres_problem,
                  &summary);
@@ -136,6 +143,10 @@ PoseOptimizationResult OptimizePose(const PinholeCamera& camera, const SE3& T_cw
   PoseOptimizationResult result;
   result.T_cw = T_cw_initial;
   result.inlier.assign(observations.size(), true);
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    // Behind the initial pose: no usable residual until a round brings it in front.
+    result.inlier[i] = (T_cw_initial * observations[i].point_world).z() > kMinDepth;
+  }
   PoseManifold manifold;
   for (int round = 0; round < options.rounds; ++round) {
     PoseParameters pose = ToParameters(result.T_cw);

@@ -14,7 +14,12 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
 }
 
 // Residual and (optionally) the Jacobians with respect to the pose tangent and the
-// point, for a point X in world coordinates.
+// point, for a point X in world coordinates. Always succeeds with finite values for
+// finite parameters: a point at, near or behind the camera is projected as if it lay at
+// kMinDepth, a large but finite residual whose depth derivative is zero. Returning false
+// instead made Ceres abandon the whole solve ("Residual and Jacobian evaluation failed")
+// whenever one of thousands of points started behind one camera; the observation is then
+// judged an outlier after the solve, as every other bad one.
 bool Residual(const PinholeCamera& camera, const Eigen::Vector2d& observed, double weight,
               const double* pose, const Eigen::Vector3d& X, double* residuals,
               double* pose_jacobian, double* point_jacobian) {
@@ -22,14 +27,15 @@ bool Residual(const PinholeCamera& camera, const Eigen::Vector2d& observed, doub
   const Eigen::Matrix3d R = q.normalized().toRotationMatrix();
   const Eigen::Vector3d rotated = R * X;
   const Eigen::Vector3d Xc = rotated + Eigen::Vector3d(pose[4], pose[5], pose[6]);
-  // Behind the camera: a large, smooth residual would mislead the solver; report a
-  // failed evaluation so that Ceres rejects the step instead.
-  if (Xc.z() <= 1e-6) return false;
-  const double inverse_z = 1.0 / Xc.z();
-  residuals[0] = weight * (camera.fx * Xc.x() * inverse_z + camera.cx - observed.x());
-  residuals[1] = weight * (camera.fy * Xc.y() * inverse_z + camera.cy - observed.y());
+  if (!Xc.allFinite()) return false;  // the solver's own step diverged: let it reject it
+  const bool clamped = Xc.z() < kMinDepth;
+  const Eigen::Vector3d projected(Xc.x(), Xc.y(), clamped ? kMinDepth : Xc.z());
+  const double inverse_z = 1.0 / projected.z();
+  residuals[0] = weight * (camera.fx * projected.x() * inverse_z + camera.cx - observed.x());
+  residuals[1] = weight * (camera.fy * projected.y() * inverse_z + camera.cy - observed.y());
   if (pose_jacobian == nullptr && point_jacobian == nullptr) return true;
-  const Eigen::Matrix<double, 2, 3> J = weight * ProjectionJacobian(camera, Xc);
+  Eigen::Matrix<double, 2, 3> J = weight * ProjectionJacobian(camera, projected);
+  if (clamped) J.col(2).setZero();  // the residual does not change with depth there
   if (pose_jacobian != nullptr) {
     Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> Jpose(pose_jacobian);
     Jpose.leftCols<3>() = J;                      // d / d rho: translation

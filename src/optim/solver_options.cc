@@ -1,8 +1,11 @@
 #include "solver_options.h"
 
+#include "ocg/optim/solver_logging.h"
+
 namespace ocg {
 
 ceres::Solver::Options SolverOptions(int iterations, LinearSolver solver) {
+  RouteSolverLogging();  // whatever Ceres still says goes through our logger
   ceres::Solver::Options options;
   options.max_num_iterations = iterations;
   options.num_threads = 1;  // reproducible sums

@@ -1,5 +1,8 @@
 #include "ocg/slam/map_operations.h"
 
+#include <spdlog/fmt/ranges.h>
+#include <spdlog/spdlog.h>
+
 #include <map>
 
 namespace ocg {
@@ -108,6 +111,15 @@ bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations) {
   BundleAdjustmentOptions options;
   options.max_iterations = iterations;
   adjustment->report = BundleAdjust(&adjustment->problem, options);
+  if (!adjustment->report.solved) {
+    // The map keeps its poses; say which keyframes were left unadjusted and why.
+    std::vector<KeyFrameId> free_ids;
+    for (std::size_t i = 0; i < adjustment->keyframes.size(); ++i) {
+      if (!adjustment->problem.keyframes[i].fixed) free_ids.push_back(adjustment->keyframes[i]->id);
+    }
+    spdlog::warn("bundle adjustment of keyframes [{}] failed, map left unchanged: {}",
+                 fmt::join(free_ids, ", "), adjustment->report.message);
+  }
   return adjustment->report.solved;
 }
 

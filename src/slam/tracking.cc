@@ -55,6 +55,8 @@ void TrackingOptions::Check() const {
                 "Tracking.keyframeRatio", "must be in (0, 1]");
   RequireOption(max_frames_between_keyframes >= 0, "Tracking.maxFramesBetweenKeyFrames",
                 "must not be negative");
+  RequireOption(min_frames_between_keyframes >= 0, "Tracking.minFramesBetweenKeyFrames",
+                "must not be negative");
   RequireOption(min_keyframes_to_keep_map >= 2, "Tracking.minKeyFrames", "must be at least 2");
   RequireOption(local_keyframes >= 2, "Tracking.localKeyFrames", "must be at least 2");
 }
@@ -71,6 +73,7 @@ void ReadSettings(const SettingsFile& file, TrackingOptions* options) {
   file.Read("Tracking.minRelocalizationInliers", &options->min_inliers_after_relocalization);
   file.Read("Tracking.keyframeRatio", &options->keyframe_tracked_ratio);
   file.Read("Tracking.maxFramesBetweenKeyFrames", &options->max_frames_between_keyframes);
+  file.Read("Tracking.minFramesBetweenKeyFrames", &options->min_frames_between_keyframes);
   file.Read("Tracking.minKeyFrames", &options->min_keyframes_to_keep_map);
   file.Read("Tracking.localKeyFrames", &options->local_keyframes);
 }
@@ -506,7 +509,13 @@ bool Tracking::NeedKeyFrame(const Frame& frame, int inliers) const {
   if (!reference_) return false;
   const int reference_points = reference_->TrackedPoints(keyframes <= 2 ? 2 : 3);
   const bool waited_long = frame.id >= last_keyframe_frame_id_ + max_frames;
-  const bool mapping_idle = local_mapping_idle_();
+  // ORB-SLAM2 inserts whenever mapping is idle (its mMinFrames is 0) and relies on the
+  // mapper being busy for the frames after a keyframe; in sequential mode it never is,
+  // so the idle condition waits for min_frames_between_keyframes frames instead.
+  const bool mapping_idle =
+      local_mapping_idle_() &&
+      frame.id >= last_keyframe_frame_id_ +
+                      static_cast<std::uint64_t>(options_.min_frames_between_keyframes);
   const bool weak = inliers < options_.keyframe_tracked_ratio * reference_points && inliers > 15;
   return (waited_long || mapping_idle) && weak;
 }

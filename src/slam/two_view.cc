@@ -150,8 +150,11 @@ PoseCheck CheckPose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
     }
   }
   if (!cos_parallaxes.empty()) {
-    std::sort(cos_parallaxes.begin(), cos_parallaxes.end(), std::greater<double>());
-    // The 50th smallest parallax (largest cosine first), robust to a few near points.
+    // The 50th largest parallax (smallest cosine first): a handful of wrong matches with a
+    // huge parallax cannot pass the check alone. Not the 50th smallest: under forward
+    // motion the points near the focus of expansion have no parallax however far the
+    // camera moves, so that figure stays near zero and the views would never qualify.
+    std::sort(cos_parallaxes.begin(), cos_parallaxes.end());
     const std::size_t index = std::min<std::size_t>(50, cos_parallaxes.size() - 1);
     check.parallax_degrees =
         std::acos(std::clamp(cos_parallaxes[index], -1.0, 1.0)) * kRadiansToDegrees;

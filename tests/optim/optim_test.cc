@@ -1,14 +1,19 @@
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/rotation.h>
+#include <glog/logging.h>
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include <Eigen/Geometry>
 #include <random>
+#include <sstream>
 
 #include "ocg/core/alignment.h"
 #include "ocg/optim/bundle_adjustment.h"
 #include "ocg/optim/pose_parameters.h"
 #include "ocg/optim/reprojection_cost.h"
+#include "ocg/optim/solver_logging.h"
 
 namespace ocg {
 namespace {
@@ -214,6 +219,63 @@ TEST(BundleAdjustment, IsReproducible) {
   for (std::size_t k = 0; k < a.keyframes.size(); ++k) {
     EXPECT_EQ(a.keyframes[k].T_cw.Matrix(), b.keyframes[k].T_cw.Matrix());
   }
+}
+
+TEST(ReprojectionCost, StaysFiniteAtAndBehindTheCamera) {
+  const PinholeCamera camera;
+  const PoseParameters pose = ToParameters(SE3());
+  for (const double depth : {0.0, 1e-9, -2.0}) {
+    const double point[3] = {0.3, -0.2, depth};
+    const double* parameters[2] = {pose.data(), point};
+    double residuals[2], pose_jacobian[14], point_jacobian[6];
+    double* jacobians[2] = {pose_jacobian, point_jacobian};
+    const ReprojectionCost cost(camera, Eigen::Vector2d(320.0, 240.0), 1.0);
+    ASSERT_TRUE(cost.Evaluate(parameters, residuals, jacobians)) << "depth " << depth;
+    for (const double r : residuals) EXPECT_TRUE(std::isfinite(r)) << "depth " << depth;
+    for (const double j : pose_jacobian) EXPECT_TRUE(std::isfinite(j)) << "depth " << depth;
+    for (const double j : point_jacobian) EXPECT_TRUE(std::isfinite(j)) << "depth " << depth;
+    const PoseOnlyReprojectionCost pose_only(camera, Eigen::Vector3d(0.3, -0.2, depth),
+                                             Eigen::Vector2d(320.0, 240.0), 1.0);
+    const double* pose_parameters[1] = {pose.data()};
+    ASSERT_TRUE(pose_only.Evaluate(pose_parameters, residuals, nullptr)) << "depth " << depth;
+    for (const double r : residuals) EXPECT_TRUE(std::isfinite(r)) << "depth " << depth;
+  }
+}
+
+// A map point that drifted behind the keyframes observing it (a wrong match, or
+// a keyframe moved by an earlier adjustment) must not stop the adjustment of the rest:
+// it used to fail the whole solve at Ceres' first evaluation.
+TEST(BundleAdjustment, SolvesWithAPointBehindItsCameras) {
+  std::mt19937_64 rng(6);
+  std::vector<SE3> true_poses;
+  std::vector<Eigen::Vector3d> true_points;
+  BundleAdjustmentProblem problem = MakeScene(rng, &true_poses, &true_points);
+  problem.keyframes[2].T_cw =
+      SE3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.05, 0, 0)) * problem.keyframes[2].T_cw;
+  const int behind = problem.observations[0].point;
+  problem.points[static_cast<std::size_t>(behind)].position.z() = -3.0;
+  const BundleAdjustmentReport report = BundleAdjust(&problem, BundleAdjustmentOptions());
+  ASSERT_TRUE(report.solved) << report.message;
+  EXPECT_GT(report.behind_camera, 0);
+  EXPECT_TRUE(report.outlier[0]);
+  // The perturbed keyframe went back to where it was.
+  EXPECT_LT((problem.keyframes[2].T_cw.translation() - true_poses[2].translation()).norm(), 0.01);
+}
+
+TEST(SolverLogging, GlogReachesOurLoggerAndNotStderr) {
+  std::ostringstream captured;
+  const auto previous = spdlog::default_logger();
+  auto logger = std::make_shared<spdlog::logger>(
+      "capture", std::make_shared<spdlog::sinks::ostream_sink_mt>(captured));
+  spdlog::set_default_logger(logger);
+  RouteSolverLogging();
+  ::testing::internal::CaptureStderr();
+  LOG(WARNING) << "probe from glog 4711";
+  const std::string on_stderr = ::testing::internal::GetCapturedStderr();
+  spdlog::set_default_logger(previous);
+  EXPECT_EQ(on_stderr, "");
+  EXPECT_NE(captured.str().find("probe from glog 4711"), std::string::npos) << captured.str();
+  EXPECT_NE(captured.str().find("warning"), std::string::npos) << captured.str();
 }
 
 TEST(PoseOptimization, RecoversAPerturbedPoseAndFlagsOutliers) {

@@ -194,6 +194,45 @@ TEST(TwoView, RefusesViewsWithoutParallax) {
   EXPECT_FALSE(result.failure.empty());
 }
 
+// A car camera (KITTI's intrinsics) driving 1.5 m straight ahead through a street: walls,
+// road and far points from 3 to 40 m. Points near the focus of expansion, in the image
+// centre, have almost no parallax however far the car drives.
+TEST(TwoView, InitializesUnderForwardMotion) {
+  PinholeCamera camera;
+  camera.fx = camera.fy = 707.0912;
+  camera.cx = 601.8873;
+  camera.cy = 183.1104;
+  camera.width = 1226;
+  camera.height = 370;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> x_of(-8.0, 8.0), y_of(-3.0, 1.65), z_of(3.0, 40.0);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  const SE3 T_21(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.0, 0.0, -1.5));
+  std::vector<Eigen::Vector2d> pixels1, pixels2;
+  int below_one_degree = 0, above_one_degree = 0;
+  while (pixels1.size() < 400) {
+    const Eigen::Vector3d X(x_of(rng), y_of(rng), z_of(rng));
+    const Eigen::Vector3d X2 = T_21 * X;
+    const Eigen::Vector2d p1 = camera.Project(X);
+    const Eigen::Vector2d p2 = camera.Project(X2);
+    if (!camera.IsInImage(p1, 5) || !camera.IsInImage(p2, 5)) continue;
+    pixels1.push_back(p1 + Eigen::Vector2d(noise(rng), noise(rng)));
+    pixels2.push_back(p2 + Eigen::Vector2d(noise(rng), noise(rng)));
+    const double parallax = std::acos(X.normalized().dot(X2.normalized())) * 180.0 / M_PI;
+    ++(parallax < 1.0 ? below_one_degree : above_one_degree);
+  }
+  // The construction: the 50th smallest parallax is under the 1 degree bound, the 50th
+  // largest above it; only the latter says whether the views can be reconstructed.
+  ASSERT_GT(below_one_degree, 50);
+  ASSERT_GT(above_one_degree, 50);
+  const TwoViewResult result = ReconstructTwoView(pixels1, pixels2, camera, TwoViewOptions());
+  ASSERT_TRUE(result.success) << result.failure;
+  EXPECT_EQ(result.model, TwoViewModel::kFundamental) << "ratio " << result.homography_ratio;
+  EXPECT_GT(result.parallax_degrees, 1.0);
+  EXPECT_LT(RotationErrorDegrees(result.T_21, T_21), 0.5);
+  EXPECT_LT(DirectionErrorDegrees(result.T_21.translation(), T_21.translation()), 3.0);
+}
+
 TEST(TwoView, RefusesTooFewMatches) {
   const TwoViewResult result =
       ReconstructTwoView({{1, 2}, {3, 4}}, {{1, 2}, {3, 4}}, PinholeCamera(), TwoViewOptions());

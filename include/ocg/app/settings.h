@@ -14,6 +14,7 @@
 #include "ocg/slam/initializer.h"
 #include "ocg/slam/local_mapping.h"
 #include "ocg/slam/loop_closing.h"
+#include "ocg/slam/system.h"
 #include "ocg/slam/tracking.h"
 #include "ocg/viewer/viewer_options.h"
 
@@ -53,5 +54,9 @@ struct LoadedSettings {
 LoadedSettings LoadSettings(const std::string& path, CameraNeed camera_need = CameraNeed::kNone);
 LoadedSettings ParseSettings(const std::string& text, const std::string& name,
                              CameraNeed camera_need = CameraNeed::kNone);
+
+// The SLAM system's part of the settings; the initializer's RANSAC seed mixed with
+// System.seed so that one seed changes every random choice of a run.
+SystemConfig MakeSystemConfig(const Settings& settings);
 
 }  // namespace ocg

@@ -54,6 +54,7 @@ struct BundleAdjustmentReport {
   double final_rms_pixels = 0.0;
   std::vector<bool> outlier;  // per observation, judged after the optimization
   int outliers = 0;
+  int behind_camera = 0;  // observations left out of the solve: point behind its camera
 };
 
 // Optimizes the free keyframes and points of problem in place. Single-threaded, so a run

@@ -2,6 +2,9 @@
 // Reprojection error of a map point in a keyframe, with hand-written Jacobians
 // (tests/optim checks them against automatic differentiation). Residual:
 //   sqrt_information * (project(R_cw X + t_cw) - observed pixel)
+// Finite for every finite pose and point: depths below kMinDepth (behind the camera
+// included) are projected at kMinDepth, with a zero depth derivative, so Ceres never
+// sees a failed evaluation at the start of a solve.
 // Pose blocks follow pose_parameters.h: Jacobians are with respect to the tangent
 // (rho, phi) in the pose block's first six columns.
 
@@ -12,6 +15,10 @@
 #include "ocg/core/camera.h"
 
 namespace ocg {
+
+// Depth (in the point's units, metres for a metric map) below which a point is projected
+// as if it lay at this depth: the residual stays finite at and behind the camera.
+constexpr double kMinDepth = 1e-6;
 
 // d(pixel) / d(point in camera coordinates) of an ideal pinhole camera.
 Eigen::Matrix<double, 2, 3> ProjectionJacobian(const PinholeCamera& camera,

@@ -27,7 +27,7 @@ struct TwoViewOptions {
   double chi2_two_dof = 5.991;  // Initializer.chi2TwoDof
   // Initializer.homographyRatio: choose the homography when S_H / (S_H + S_F) exceeds it.
   double homography_ratio = 0.40;
-  double min_parallax_degrees = 1.0;  // Initializer.minParallax: of the 50th smallest parallax
+  double min_parallax_degrees = 1.0;  // Initializer.minParallax: of the 50th largest parallax
   int min_triangulated = 50;          // Initializer.minTriangulated
   double min_good_fraction = 0.9;     // Initializer.minGoodFraction: of the model's inliers
   // Initializer.maxAmbiguity: reject when the second best pose explains this share of the
@@ -56,7 +56,7 @@ struct TwoViewResult {
   double score_fundamental = 0.0;
   double homography_ratio = 0.0;  // S_H / (S_H + S_F)
   int inliers = 0;                // of the chosen model
-  double parallax_degrees = 0.0;  // the 50th smallest (or the smallest) parallax
+  double parallax_degrees = 0.0;  // the 50th largest (or the smallest) parallax
 };
 
 // pixels1[i] and pixels2[i] are the undistorted positions of match i in the two views,
