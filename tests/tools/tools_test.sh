@@ -4,33 +4,7 @@
 set -u
 BIN=$1
 SRC=$2
-WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
-passed=0
-failed=0
-
-check() {  # check "description" command...
-  local description=$1
-  shift
-  if "$@" >"$WORK/out" 2>&1; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAILED: $description"
-    sed 's/^/    /' "$WORK/out"
-  fi
-}
-fails_with() {  # fails_with "description" "expected text" command...
-  local description=$1 expected=$2
-  shift 2
-  if "$@" >"$WORK/out" 2>&1; then
-    failed=$((failed + 1)); echo "FAILED: $description (exit code 0)"
-  elif ! grep -qF -- "$expected" "$WORK/out"; then
-    failed=$((failed + 1)); echo "FAILED: $description (no '$expected' in:)"; sed 's/^/    /' "$WORK/out"
-  else
-    passed=$((passed + 1))
-  fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/check_helpers.sh"
 
 for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab ocg_slam; do
   check "$tool --help" "$BIN/$tool" --help
@@ -140,5 +114,4 @@ fails_with "objects without a size and no readable image says so" "could be read
   "$BIN/ocg_slam" objects --trajectory "$WORK/objseq/groundtruth.txt" --detections "$WORK/objseq/detections" --settings "$WORK/no_size.yaml" --frames "$WORK/objseq/rgb_missing.txt" --out "$WORK/never_objects"
 fails_with "unknown OCG mode named" "OCG.mode" objects_run "$WORK/never_objects" "$WORK/objseq/camera.yaml" --mode sometimes
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+report_and_exit
