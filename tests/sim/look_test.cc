@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -62,6 +63,10 @@ TEST(RealisticLook, FastStatisticsWithinTheBandOfRealFrames) {
           MeasureFast(renderer.Colour(t, CameraPoseAt(scene, t), static_cast<std::uint64_t>(k))));
     }
     const FastSummary summary = Summarize(frames);
+    std::cout << name << ": FAST corners mean " << summary.mean_corners << " (min "
+              << summary.min_corners << ", max " << summary.max_corners << "), cells "
+              << summary.mean_cell_share << "; real " << real.mean_corners << ", "
+              << real.mean_cell_share << "\n";
     EXPECT_NEAR(summary.mean_corners, real.mean_corners, kBand * real.mean_corners) << name;
     EXPECT_NEAR(summary.mean_cell_share, real.mean_cell_share, kBand * real.mean_cell_share)
         << name;
