@@ -1,13 +1,53 @@
 // ocg_synth: render a synthetic semi-static sequence (TUM layout) with YOLO-like
 // detections and full ground truth (docs/synthetic.md).
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <opencv2/imgcodecs.hpp>
 #include <regex>
 
 #include "cli_common.h"
 #include "ocg/sim/generator.h"
 #include "ocg/sim/scene_io.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// FAST statistics of every PNG or JPEG in folder (or folder/rgb), in name order.
+void MeasureFolder(const std::string& folder, bool per_frame) {
+  const fs::path images =
+      fs::is_directory(fs::path(folder) / "rgb") ? fs::path(folder) / "rgb" : fs::path(folder);
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(images)) {
+    const std::string extension = entry.path().extension().string();
+    if (extension == ".png" || extension == ".jpg" || extension == ".jpeg")
+      files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty())
+    throw std::invalid_argument("no .png or .jpg images in '" + images.string() + "'");
+  std::vector<ocg::sim::FastStatistics> frames;
+  for (const fs::path& file : files) {
+    const cv::Mat image = cv::imread(file.string(), cv::IMREAD_COLOR);
+    if (image.empty()) throw std::runtime_error("cannot read image '" + file.string() + "'");
+    frames.push_back(ocg::sim::MeasureFast(image));
+    if (per_frame) {
+      std::printf("%s %d %.3f\n", file.filename().string().c_str(), frames.back().corners,
+                  frames.back().cell_share);
+    }
+  }
+  const ocg::sim::FastSummary summary = ocg::sim::Summarize(frames);
+  std::printf(
+      "%s: %d images, FAST corners per frame mean %.0f min %d max %d, cells with corners mean "
+      "%.1f %% min %.1f %%\n",
+      images.string().c_str(), summary.frames, summary.mean_corners, summary.min_corners,
+      summary.max_corners, 100 * summary.mean_cell_share, 100 * summary.min_cell_share);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -33,6 +73,15 @@ int main(int argc, char** argv) {
   app.add_option("--size", size, "image size WxH (intrinsics scaled), e.g. 320x240");
   app.add_flag("--depth", depth, "also write depth/ and depth.txt (16-bit PNG, 5000 per metre)");
   app.add_flag("--perfect", perfect, "no detector noise");
+  std::string look;
+  double rolling_shutter_ms = -1;
+  app.add_option("--look", look,
+                 "procedural (default: dense saturated textures, ideal pinhole) or realistic "
+                 "(natural materials, motion blur, auto-exposure, vignetting, TUM fr1 lens "
+                 "distortion, sensor noise); overrides the scene file's look.kind");
+  app.add_option("--rolling-shutter", rolling_shutter_ms,
+                 "realistic look: row readout time in ms (0: global shutter)")
+      ->check(CLI::Range(0.0, 100.0));
   int keyframe_interval = 10;
   app.add_option("--keyframe-interval", keyframe_interval,
                  "every N-th frame goes into oracle_observations.jsonl (0: none)")
@@ -40,10 +89,22 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--overwrite", overwrite, "replace an existing output folder");
   app.add_flag("--list-presets", list, "print the preset names and exit");
+  std::string measure;
+  bool per_frame = false;
+  app.add_option("--measure", measure,
+                 "print FAST corners per frame and the share of 8x6 grid cells with corners "
+                 "(threshold 20 as ORBextractor.iniThFAST, 16-pixel border as the ORB extractor) "
+                 "of the images in a folder (its rgb/ subfolder if there is one), and exit")
+      ->check(CLI::ExistingDirectory);
+  app.add_flag("--per-frame", per_frame, "with --measure: one line per image");
 
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
     if (list) {
       for (const std::string& name : ocg::sim::PresetNames()) std::cout << name << "\n";
+      return;
+    }
+    if (!measure.empty()) {
+      MeasureFolder(measure, per_frame);
       return;
     }
     if (output.empty()) throw std::invalid_argument("--out is required");
@@ -58,6 +119,12 @@ int main(int argc, char** argv) {
     }
     ocg::sim::Scene& scene = file.scene;
     if (perfect) scene.noise.perfect = true;
+    if (!look.empty()) scene.look.kind = ocg::sim::LookKindFromName(look);
+    if (rolling_shutter_ms >= 0) {
+      if (!scene.look.realistic())
+        throw std::invalid_argument("--rolling-shutter needs --look realistic");
+      scene.look.rolling_shutter_ms = rolling_shutter_ms;
+    }
     if (!size.empty()) {
       std::smatch match;
       if (!std::regex_match(size, match, std::regex(R"((\d+)x(\d+))"))) {
@@ -94,6 +161,9 @@ int main(int argc, char** argv) {
         stats.detections, double(stats.detections) / stats.frames,
         double(stats.visible) / stats.frames, double(stats.missed) / stats.frames,
         double(stats.false_positives) / stats.frames, double(stats.duplicates) / stats.frames);
+    if (scene.look.realistic()) {
+      std::printf("  look realistic: exposure.txt lists each frame's exposure and gain\n");
+    }
     std::printf(
         "  per frame: render %.1f ms, id pass %.1f ms, detections %.1f ms, writing %.1f ms\n",
         1e3 * stats.colour_seconds / stats.frames, 1e3 * stats.ids_seconds / stats.frames,

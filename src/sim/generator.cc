@@ -82,7 +82,8 @@ Projection ProjectBox(const SceneObject& object, const PlacedPose& pose, const S
                                 (corner & 4 ? 0.5 : -0.5) * object.size.z());
     Eigen::Vector3d p = T_cw * (T_wo * local);
     p.z() = std::max(p.z(), 0.05);
-    const Eigen::Vector2d pixel = camera.ProjectUndistorted(p);
+    const Eigen::Vector2d pixel =
+        camera.HasDistortion() ? camera.Project(p) : camera.ProjectUndistorted(p);
     points.emplace_back(static_cast<float>(pixel.x()), static_cast<float>(pixel.y()));
   }
   std::vector<cv::Point2f> hull;
@@ -103,7 +104,13 @@ Projection ProjectBox(const SceneObject& object, const PlacedPose& pose, const S
 // ---------------------------------------------------------------- SceneRenderer
 
 SceneRenderer::SceneRenderer(const Scene& scene)
-    : scene_(scene), renderer_(scene.camera.width, scene.camera.height) {
+    : scene_(scene),
+      sensor_(scene.look.realistic()
+                  ? std::make_unique<CameraSensor>(scene.look, OutputCamera(scene), scene.seed)
+                  : nullptr),
+      render_camera_(sensor_ ? sensor_->maps().pinhole : scene.camera),
+      renderer_(render_camera_.width, render_camera_.height) {
+  const bool realistic = scene.look.realistic();
   const Eigen::Vector3f light = scene.light_direction.cast<float>();
   for (const Furniture& item : scene.furniture) {
     DrawItem draw;
@@ -113,14 +120,20 @@ SceneRenderer::SceneRenderer(const Scene& scene)
     // 1024 texels suffice for walls: their features are centimetres (texture.h), and 2048
     // would cost 30 % of the rendering time.
     const int texture_size = largest > 1.2 ? 1024 : 512;
-    draw.texture = renderer_.AddTexture(MakeTexture(item.texture_seed, texture_size, largest));
+    draw.texture = renderer_.AddTexture(
+        realistic ? MakeMaterialTexture(FurnitureMaterial(item.name), item.texture_seed,
+                                        texture_size, largest)
+                  : MakeTexture(item.texture_seed, texture_size, largest));
     draw.colour = Eigen::Vector3f::Ones();
     Renderer::Shade(draw, light, static_cast<float>(scene.ambient));
     furniture_.push_back(std::move(draw));
   }
   for (const SceneObject& object : scene.objects) {
+    const double span = object.size.maxCoeff();
     object_textures_[object.id] =
-        renderer_.AddTexture(MakeTexture(object.texture_seed, 256, object.size.maxCoeff()));
+        renderer_.AddTexture(realistic ? MakeMaterialTexture(ObjectMaterial(object.class_id),
+                                                             object.texture_seed, 256, span)
+                                       : MakeTexture(object.texture_seed, 256, span));
     auto& items = object_items_[object.id];
     for (const PlacedPose& pose : object.history) items.push_back(MakeObjectItem(object, pose));
   }
@@ -161,6 +174,7 @@ std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object) c
 }
 
 cv::Mat SceneRenderer::Colour(double t, const SE3& T_cw, std::uint64_t noise_seed) {
+  if (sensor_) return RealisticColour(t, T_cw, noise_seed);
   const cv::Mat image = renderer_.RenderColour(ItemsAt(t, -1), T_cw, scene_.camera,
                                                Eigen::Vector3f(0.3f, 0.3f, 0.3f));
   // Sensor noise: a window of a pre-drawn noise tile at a seeded offset (drawing a
@@ -178,8 +192,34 @@ cv::Mat SceneRenderer::Colour(double t, const SE3& T_cw, std::uint64_t noise_see
   return noisy;
 }
 
+cv::Mat SceneRenderer::RealisticColour(double t, const SE3& T_cw, std::uint64_t noise_seed) {
+  // The camera's motion around t, from the path, applied to T_cw.
+  const SE3 T_wc_path = CameraPoseAt(scene_, t).Inverse();
+  auto pose_at = [&](double offset) { return CameraPoseAt(scene_, t + offset) * T_wc_path * T_cw; };
+  // Image motion: rotation moves every pixel by about f * angle, translation by f * d / z
+  // with z a typical distance to the desk's objects from the paths.
+  constexpr double kStep = 0.005, kNearSurface = 1.0;
+  const SE3 motion = pose_at(kStep) * pose_at(-kStep).Inverse();
+  const double focal = std::max(scene_.camera.fx, scene_.camera.fy);
+  const double pixels_per_second =
+      focal * (LogSO3(motion.rotation()).norm() + motion.translation().norm() / kNearSurface) /
+      (2 * kStep);
+  const std::vector<double> times = sensor_->SampleTimes(pixels_per_second);
+  const std::vector<const DrawItem*> items = ItemsAt(t, -1);
+  std::vector<cv::Mat> renders;
+  for (double offset : times) {
+    renders.push_back(renderer_.RenderColour(items, pose_at(offset), render_camera_,
+                                             Eigen::Vector3f(0.3f, 0.3f, 0.3f)));
+  }
+  return sensor_->Record(renders, times, t, noise_seed);
+}
+
 cv::Mat SceneRenderer::Ids(double t, const SE3& T_cw, cv::Mat* depth) {
-  cv::Mat ids = renderer_.RenderIds(ItemsAt(t, -1), T_cw, scene_.camera, depth);
+  cv::Mat ids = renderer_.RenderIds(ItemsAt(t, -1), T_cw, render_camera_, depth);
+  if (sensor_) {
+    ids = sensor_->Distort(ids);
+    if (depth != nullptr) *depth = sensor_->Distort(*depth);
+  }
   // Furniture carries id 0 already (DrawItem default), so only objects remain.
   return ids;
 }
@@ -190,7 +230,9 @@ int SceneRenderer::VisiblePixels(int object_id, const PlacedPose& pose, double t
   if (object == nullptr) throw std::invalid_argument("no object " + std::to_string(object_id));
   const DrawItem probe = MakeObjectItem(*object, pose);
   items.push_back(&probe);
-  const cv::Mat ids = renderer_.RenderIds(items, T_cw, scene_.camera);
+  // With a distorting lens the pinhole render is wider than the image: a conservative
+  // count, so changes stay unseen.
+  const cv::Mat ids = renderer_.RenderIds(items, T_cw, render_camera_);
   return cv::countNonZero(ids == object_id);
 }
 
@@ -394,7 +436,7 @@ std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double 
   observation.keyframe_id = keyframe;
   observation.timestamp = kTimestampStart + t;
   observation.T_cw = T_cw;
-  observation.camera = scene.camera;
+  observation.camera = OutputCamera(scene);
   for (int id : detected_objects) {
     const SceneObject& object = *scene.FindObject(id);
     std::size_t index = 0;
@@ -451,7 +493,19 @@ std::string ObjectsGroundTruthJson(const Scene& scene) {
 
 std::string CameraSettingsYaml(const Scene& scene) {
   const PinholeCamera& c = scene.camera;
-  char text[512];
+  char text[640];
+  if (scene.look.realistic()) {
+    const PinholeCamera lens = OutputCamera(scene);
+    std::snprintf(text, sizeof(text),
+                  "# Settings for the rendered camera of the synthetic scene '%s' (realistic look: "
+                  "the images are distorted with these coefficients).\n"
+                  "Camera:\n  fx: %.6f\n  fy: %.6f\n  cx: %.6f\n  cy: %.6f\n"
+                  "  k1: %.6f\n  k2: %.6f\n  p1: %.6f\n  p2: %.6f\n  k3: %.6f\n"
+                  "  width: %d\n  height: %d\n  fps: %.3f\n  RGB: 0\n",
+                  scene.name.c_str(), c.fx, c.fy, c.cx, c.cy, lens.k1, lens.k2, lens.p1, lens.p2,
+                  lens.k3, c.width, c.height, scene.fps);
+    return text;
+  }
   std::snprintf(text, sizeof(text),
                 "# Settings for the rendered camera of the synthetic scene '%s' (ideal pinhole).\n"
                 "Camera:\n  fx: %.6f\n  fy: %.6f\n  cx: %.6f\n  cy: %.6f\n"
@@ -475,6 +529,8 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
   std::string rgb_list =
       "# color images\n# synthetic scene '" + scene.name + "'\n# timestamp filename\n";
   std::string depth_list = "# depth maps\n# timestamp filename\n";
+  std::string exposure_list =
+      "# exposure of each frame (realistic look)\n# timestamp exposure_ms gain\n";
   std::vector<StampedPose> groundtruth;
   std::string oracle;
   const auto start = std::chrono::steady_clock::now();
@@ -493,6 +549,12 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
       total += std::chrono::duration<double>(now - lap).count();
       lap = now;
     };
+    if (renderer.sensor() != nullptr) {
+      char line[96];
+      std::snprintf(line, sizeof(line), "%s %.3f %.3f\n", stamp.c_str(),
+                    renderer.sensor()->exposure_ms(), renderer.sensor()->gain());
+      exposure_list += line;
+    }
     const cv::Mat colour =
         renderer.Colour(t, T_cw, Mix(scene.seed, static_cast<std::uint64_t>(frame)));
     stage(stats.colour_seconds);
@@ -536,6 +598,7 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
   progress.Finish();
   WriteFile(staging + "/rgb.txt", rgb_list);
   if (options.write_depth) WriteFile(staging + "/depth.txt", depth_list);
+  if (renderer.sensor() != nullptr) WriteFile(staging + "/exposure.txt", exposure_list);
   WriteFileAtomically(
       staging + "/groundtruth.txt",
       "# ground truth trajectory (camera to world)\n# timestamp tx ty tz qx qy qz qw\n" +

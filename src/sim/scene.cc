@@ -55,6 +55,7 @@ SceneObject* Scene::FindObject(int id) {
 
 void Scene::Check() const {
   camera.Check();
+  look.Check();
   Require(fps > 0 && duration > 0, "fps and duration must be positive");
   Require(path.kind == "round" || path.kind == "straight", "path.kind must be round or straight");
   Require(path.speed > 0 && path.speed <= 0.4, "path.speed must be in (0, 0.4] m/s");
@@ -74,6 +75,8 @@ void Scene::Check() const {
             "object " + std::to_string(object.id) + ": size must be positive");
   }
 }
+
+PinholeCamera OutputCamera(const Scene& scene) { return LookCamera(scene.camera, scene.look); }
 
 double LapDuration(const CameraPath& path) {
   if (path.kind == "round") return 2.0 * M_PI * kRoundStretch * path.radius / path.speed;

@@ -118,6 +118,33 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     read.Optional(noise, "false_positives_per_frame", "noise.", &n.false_positives_per_frame);
     read.Optional(noise, "duplicate", "noise.", &n.duplicate);
   }
+  if (const YAML::Node look = root["look"]) {
+    LookOptions& l = scene.look;
+    std::string kind = "procedural";
+    read.Optional(look, "kind", "look.", &kind);
+    try {
+      l.kind = LookKindFromName(kind);
+    } catch (const std::invalid_argument& error) {
+      read.Fail(look["kind"], "look.kind", error.what());
+    }
+    read.Optional(look, "min_exposure_ms", "look.", &l.min_exposure_ms);
+    read.Optional(look, "max_exposure_ms", "look.", &l.max_exposure_ms);
+    read.Optional(look, "max_gain", "look.", &l.max_gain);
+    read.Optional(look, "target_brightness", "look.", &l.target_brightness);
+    read.Optional(look, "exposure_adaptation", "look.", &l.exposure_adaptation);
+    read.Optional(look, "illumination_variation", "look.", &l.illumination_variation);
+    read.Optional(look, "vignetting", "look.", &l.vignetting);
+    read.Optional(look, "shot_noise", "look.", &l.shot_noise);
+    read.Optional(look, "read_noise", "look.", &l.read_noise);
+    read.Optional(look, "optical_blur", "look.", &l.optical_blur);
+    read.Optional(look, "rolling_shutter_ms", "look.", &l.rolling_shutter_ms);
+    read.Optional(look, "max_blur_samples", "look.", &l.max_blur_samples);
+    read.Optional(look, "k1", "look.", &l.k1);
+    read.Optional(look, "k2", "look.", &l.k2);
+    read.Optional(look, "k3", "look.", &l.k3);
+    read.Optional(look, "p1", "look.", &l.p1);
+    read.Optional(look, "p2", "look.", &l.p2);
+  }
   const YAML::Node furniture = root["furniture"];
   for (size_t i = 0; furniture && i < furniture.size(); ++i) {
     const std::string path = "furniture[" + std::to_string(i) + "].";
@@ -211,6 +238,29 @@ std::string SceneToYaml(const Scene& scene) {
   root["noise"]["confusion"] = n.confusion;
   root["noise"]["false_positives_per_frame"] = n.false_positives_per_frame;
   root["noise"]["duplicate"] = n.duplicate;
+  if (scene.look.realistic()) {  // absent for the procedural look: its files stay as they were
+    const LookOptions& l = scene.look;
+    YAML::Node look;
+    look["kind"] = LookKindName(l.kind);
+    look["min_exposure_ms"] = l.min_exposure_ms;
+    look["max_exposure_ms"] = l.max_exposure_ms;
+    look["max_gain"] = l.max_gain;
+    look["target_brightness"] = l.target_brightness;
+    look["exposure_adaptation"] = l.exposure_adaptation;
+    look["illumination_variation"] = l.illumination_variation;
+    look["vignetting"] = l.vignetting;
+    look["shot_noise"] = l.shot_noise;
+    look["read_noise"] = l.read_noise;
+    look["optical_blur"] = l.optical_blur;
+    look["rolling_shutter_ms"] = l.rolling_shutter_ms;
+    look["max_blur_samples"] = l.max_blur_samples;
+    look["k1"] = l.k1;
+    look["k2"] = l.k2;
+    look["k3"] = l.k3;
+    look["p1"] = l.p1;
+    look["p2"] = l.p2;
+    root["look"] = look;
+  }
   for (const Furniture& item : scene.furniture) {
     YAML::Node node;
     node["name"] = item.name;

@@ -12,6 +12,7 @@
 
 #include "ocg/io/detections.h"
 #include "ocg/render/renderer.h"
+#include "ocg/sim/look.h"
 #include "ocg/sim/presets.h"
 #include "ocg/sim/scene.h"
 
@@ -22,10 +23,16 @@ class SceneRenderer {
  public:
   explicit SceneRenderer(const Scene& scene);
 
-  // Colour image with mild sensor noise (deterministic in noise_seed).
+  // Colour image (deterministic in noise_seed). Procedural look: mild sensor noise.
+  // Realistic look: what the camera records over its exposure around t, the camera
+  // moving as the scene's path does around T_cw; the auto-exposure adapts from call to
+  // call, so a sequence is rendered with calls in frame order.
   cv::Mat Colour(double t, const SE3& T_cw, std::uint64_t noise_seed);
-  // Object ids per pixel (scene object ids; furniture and background are 0).
+  // Object ids per pixel (scene object ids; furniture and background are 0), through the
+  // output camera's lens at time t (no blur).
   cv::Mat Ids(double t, const SE3& T_cw, cv::Mat* depth = nullptr);
+  // The realistic camera (nullptr for the procedural look).
+  const CameraSensor* sensor() const { return sensor_.get(); }
   // Pixels of object_id visible from T_cw if it stood at pose (the rest of the scene as
   // at time t, the object's other poses hidden).
   int VisiblePixels(int object_id, const PlacedPose& pose, double t, const SE3& T_cw);
@@ -36,9 +43,12 @@ class SceneRenderer {
 
  private:
   std::vector<const DrawItem*> ItemsAt(double t, int skip_object) const;
+  cv::Mat RealisticColour(double t, const SE3& T_cw, std::uint64_t noise_seed);
   DrawItem MakeObjectItem(const SceneObject& object, const PlacedPose& pose);
 
   Scene scene_;
+  std::unique_ptr<CameraSensor> sensor_;
+  PinholeCamera render_camera_;  // pinhole; wider than the output with a distorting lens
   Renderer renderer_;
   std::vector<DrawItem> furniture_;
   std::map<int, std::vector<DrawItem>> object_items_;  // per object, one per history entry

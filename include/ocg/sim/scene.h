@@ -12,6 +12,7 @@
 
 #include "ocg/core/camera.h"
 #include "ocg/core/lie.h"
+#include "ocg/sim/look.h"
 
 namespace ocg::sim {
 
@@ -74,7 +75,7 @@ struct DetectionNoise {
 struct Scene {
   std::string name = "custom";
   std::uint64_t seed = 1;
-  PinholeCamera camera;  // ideal pinhole (rendered)
+  PinholeCamera camera;  // intrinsics; the realistic look adds its lens distortion (OutputCamera)
   double fps = 30.0;
   double duration = 60.0;  // seconds
   Eigen::Vector3d room_size = Eigen::Vector3d(6.0, 5.0, 2.8);
@@ -84,6 +85,7 @@ struct Scene {
   std::vector<SceneObject> objects;
   CameraPath path;
   DetectionNoise noise;
+  LookOptions look;  // procedural (default) or realistic frames
 
   int FrameCount() const { return static_cast<int>(duration * fps); }
   // The object with this id, or nullptr.
@@ -93,6 +95,9 @@ struct Scene {
   // Throws std::invalid_argument naming the field when the scene is impossible.
   void Check() const;
 };
+
+// The camera the frames are seen through: scene.camera with the look's distortion.
+PinholeCamera OutputCamera(const Scene& scene);
 
 // Seconds the camera takes for one lap of its path.
 double LapDuration(const CameraPath& path);
