@@ -36,6 +36,8 @@ ImageSequence ReadTumSequence(const std::string& root);
 // (intrinsics, radial-tangential distortion, resolution, T_BS), and the ground truth of
 // mav0/state_groundtruth_estimate0/data.csv when present, turned into camera poses
 // T_wc = T_wb * T_BS. Timestamps in nanoseconds become seconds.
+// Throws FileError when a file is missing, ParseError naming file and line for a bad list
+// line, SettingsError naming sensor.yaml and the key for a bad or impossible calibration.
 ImageSequence ReadEurocSequence(const std::string& root);
 
 // Camera poses from body poses: T_wc = T_wb * T_body_camera.
