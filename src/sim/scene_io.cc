@@ -18,6 +18,18 @@ class Reader {
                         "': " + message);
   }
 
+  // The sections: a present node of another shape is an error, not an empty section.
+  YAML::Node Map(const YAML::Node& parent, const std::string& key) const {
+    const YAML::Node node = parent[key];
+    if (node && !node.IsNull() && !node.IsMap()) Fail(node, key, "expected a map of fields");
+    return node;
+  }
+  YAML::Node List(const YAML::Node& parent, const std::string& key, const std::string& path) const {
+    const YAML::Node node = parent[key];
+    if (node && !node.IsNull() && !node.IsSequence()) Fail(node, path + key, "expected a list");
+    return node;
+  }
+
   template <typename T>
   void Optional(const YAML::Node& parent, const std::string& key, const std::string& path,
                 T* value) const {
@@ -60,6 +72,107 @@ YAML::Node VectorNode(const Eigen::Vector3d& v) {
   return node;
 }
 
+// The fields of a parsed scene file; yaml-cpp throws when a node has the wrong shape.
+SceneFile ReadSceneFields(const YAML::Node& root, const std::string& name) {
+  const Reader read(name);
+  SceneFile file;
+  Scene& scene = file.scene;
+  read.Optional(root, "name", "", &scene.name);
+  read.Optional(root, "seed", "", &scene.seed);
+  read.Optional(root, "fps", "", &scene.fps);
+  read.Optional(root, "duration", "", &scene.duration);
+  read.Optional(root, "ambient", "", &scene.ambient);
+  read.Vector(root, "room_size", "", &scene.room_size);
+  read.Vector(root, "light_direction", "", &scene.light_direction);
+  if (const YAML::Node camera = read.Map(root, "camera")) {
+    read.Optional(camera, "fx", "camera.", &scene.camera.fx);
+    read.Optional(camera, "fy", "camera.", &scene.camera.fy);
+    read.Optional(camera, "cx", "camera.", &scene.camera.cx);
+    read.Optional(camera, "cy", "camera.", &scene.camera.cy);
+    read.Optional(camera, "width", "camera.", &scene.camera.width);
+    read.Optional(camera, "height", "camera.", &scene.camera.height);
+  }
+  if (const YAML::Node path = read.Map(root, "path")) {
+    read.Optional(path, "kind", "path.", &scene.path.kind);
+    read.Optional(path, "radius", "path.", &scene.path.radius);
+    read.Optional(path, "side_offset", "path.", &scene.path.side_offset);
+    read.Optional(path, "height", "path.", &scene.path.height);
+    read.Optional(path, "speed", "path.", &scene.path.speed);
+    read.Optional(path, "jitter", "path.", &scene.path.jitter);
+  }
+  if (const YAML::Node noise = read.Map(root, "noise")) {
+    DetectionNoise& n = scene.noise;
+    read.Optional(noise, "perfect", "noise.", &n.perfect);
+    read.Optional(noise, "min_visible_pixels", "noise.", &n.min_visible_pixels);
+    read.Optional(noise, "box_jitter", "noise.", &n.box_jitter);
+    read.Optional(noise, "miss_base", "noise.", &n.miss_base);
+    read.Optional(noise, "miss_occlusion", "noise.", &n.miss_occlusion);
+    read.Optional(noise, "miss_truncation", "noise.", &n.miss_truncation);
+    read.Optional(noise, "miss_small", "noise.", &n.miss_small);
+    read.Optional(noise, "small_box_pixels", "noise.", &n.small_box_pixels);
+    read.Optional(noise, "burst_continue", "noise.", &n.burst_continue);
+    read.Optional(noise, "confusion", "noise.", &n.confusion);
+    read.Optional(noise, "false_positives_per_frame", "noise.", &n.false_positives_per_frame);
+    read.Optional(noise, "duplicate", "noise.", &n.duplicate);
+  }
+  const YAML::Node furniture = read.List(root, "furniture", "");
+  for (size_t i = 0; furniture && i < furniture.size(); ++i) {
+    const std::string path = "furniture[" + std::to_string(i) + "].";
+    Furniture item;
+    read.Optional(furniture[i], "name", path, &item.name);
+    read.Vector(furniture[i], "centre", path, &item.centre, true);
+    read.Vector(furniture[i], "size", path, &item.size, true);
+    read.Optional(furniture[i], "yaw", path, &item.yaw);
+    read.Optional(furniture[i], "texture_seed", path, &item.texture_seed);
+    scene.furniture.push_back(item);
+  }
+  const YAML::Node objects = read.List(root, "objects", "");
+  for (size_t i = 0; objects && i < objects.size(); ++i) {
+    const YAML::Node node = objects[i];
+    const std::string path = "objects[" + std::to_string(i) + "].";
+    SceneObject object;
+    read.Optional(node, "id", path, &object.id);
+    read.Optional(node, "class_id", path, &object.class_id);
+    std::string shape = "box";
+    read.Optional(node, "shape", path, &shape);
+    if (shape != "box" && shape != "cylinder")
+      read.Fail(node, path + "shape", "must be box or cylinder");
+    object.shape = shape == "box" ? Shape::kBox : Shape::kCylinder;
+    read.Vector(node, "size", path, &object.size, true);
+    read.Optional(node, "texture_seed", path, &object.texture_seed);
+    const YAML::Node history = read.List(node, "history", path);
+    if (!history || history.size() == 0)
+      read.Fail(node, path + "history", "needs at least the pose at time 0");
+    for (size_t k = 0; k < history.size(); ++k) {
+      const std::string pose_path = path + "history[" + std::to_string(k) + "].";
+      PlacedPose pose;
+      read.Optional(history[k], "time", pose_path, &pose.time);
+      read.Optional(history[k], "present", pose_path, &pose.present);
+      read.Vector(history[k], "centre", pose_path, &pose.centre, pose.present);
+      read.Optional(history[k], "yaw", pose_path, &pose.yaw);
+      object.history.push_back(pose);
+    }
+    scene.objects.push_back(object);
+  }
+  const YAML::Node moves = read.List(root, "moves", "");
+  for (size_t i = 0; moves && i < moves.size(); ++i) {
+    const std::string path = "moves[" + std::to_string(i) + "].";
+    PlannedMove move;
+    read.Optional(moves[i], "object_id", path, &move.object_id);
+    read.Optional(moves[i], "removal", path, &move.removal);
+    read.Optional(moves[i], "earliest", path, &move.earliest);
+    read.Optional(moves[i], "new_yaw", path, &move.new_yaw);
+    read.Vector(moves[i], "new_centre", path, &move.new_centre, !move.removal);
+    file.moves.push_back(move);
+  }
+  try {
+    scene.Check();
+  } catch (const std::invalid_argument& error) {
+    throw SettingsError(name + ": " + error.what());
+  }
+  return file;
+}
+
 }  // namespace
 
 SceneFile LoadSceneFile(const std::string& path) {
@@ -77,103 +190,18 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
   } catch (const YAML::Exception& error) {
     throw SettingsError(FileLocation(name, error.mark.line + 1) + ": not valid YAML: " + error.msg);
   }
-  const Reader read(name);
-  SceneFile file;
-  Scene& scene = file.scene;
-  read.Optional(root, "name", "", &scene.name);
-  read.Optional(root, "seed", "", &scene.seed);
-  read.Optional(root, "fps", "", &scene.fps);
-  read.Optional(root, "duration", "", &scene.duration);
-  read.Optional(root, "ambient", "", &scene.ambient);
-  read.Vector(root, "room_size", "", &scene.room_size);
-  read.Vector(root, "light_direction", "", &scene.light_direction);
-  if (const YAML::Node camera = root["camera"]) {
-    read.Optional(camera, "fx", "camera.", &scene.camera.fx);
-    read.Optional(camera, "fy", "camera.", &scene.camera.fy);
-    read.Optional(camera, "cx", "camera.", &scene.camera.cx);
-    read.Optional(camera, "cy", "camera.", &scene.camera.cy);
-    read.Optional(camera, "width", "camera.", &scene.camera.width);
-    read.Optional(camera, "height", "camera.", &scene.camera.height);
-  }
-  if (const YAML::Node path = root["path"]) {
-    read.Optional(path, "kind", "path.", &scene.path.kind);
-    read.Optional(path, "radius", "path.", &scene.path.radius);
-    read.Optional(path, "side_offset", "path.", &scene.path.side_offset);
-    read.Optional(path, "height", "path.", &scene.path.height);
-    read.Optional(path, "speed", "path.", &scene.path.speed);
-    read.Optional(path, "jitter", "path.", &scene.path.jitter);
-  }
-  if (const YAML::Node noise = root["noise"]) {
-    DetectionNoise& n = scene.noise;
-    read.Optional(noise, "perfect", "noise.", &n.perfect);
-    read.Optional(noise, "min_visible_pixels", "noise.", &n.min_visible_pixels);
-    read.Optional(noise, "box_jitter", "noise.", &n.box_jitter);
-    read.Optional(noise, "miss_base", "noise.", &n.miss_base);
-    read.Optional(noise, "miss_occlusion", "noise.", &n.miss_occlusion);
-    read.Optional(noise, "miss_truncation", "noise.", &n.miss_truncation);
-    read.Optional(noise, "miss_small", "noise.", &n.miss_small);
-    read.Optional(noise, "small_box_pixels", "noise.", &n.small_box_pixels);
-    read.Optional(noise, "burst_continue", "noise.", &n.burst_continue);
-    read.Optional(noise, "confusion", "noise.", &n.confusion);
-    read.Optional(noise, "false_positives_per_frame", "noise.", &n.false_positives_per_frame);
-    read.Optional(noise, "duplicate", "noise.", &n.duplicate);
-  }
-  const YAML::Node furniture = root["furniture"];
-  for (size_t i = 0; furniture && i < furniture.size(); ++i) {
-    const std::string path = "furniture[" + std::to_string(i) + "].";
-    Furniture item;
-    read.Optional(furniture[i], "name", path, &item.name);
-    read.Vector(furniture[i], "centre", path, &item.centre, true);
-    read.Vector(furniture[i], "size", path, &item.size, true);
-    read.Optional(furniture[i], "yaw", path, &item.yaw);
-    read.Optional(furniture[i], "texture_seed", path, &item.texture_seed);
-    scene.furniture.push_back(item);
-  }
-  const YAML::Node objects = root["objects"];
-  for (size_t i = 0; objects && i < objects.size(); ++i) {
-    const YAML::Node node = objects[i];
-    const std::string path = "objects[" + std::to_string(i) + "].";
-    SceneObject object;
-    read.Optional(node, "id", path, &object.id);
-    read.Optional(node, "class_id", path, &object.class_id);
-    std::string shape = "box";
-    read.Optional(node, "shape", path, &shape);
-    if (shape != "box" && shape != "cylinder")
-      read.Fail(node, path + "shape", "must be box or cylinder");
-    object.shape = shape == "box" ? Shape::kBox : Shape::kCylinder;
-    read.Vector(node, "size", path, &object.size, true);
-    read.Optional(node, "texture_seed", path, &object.texture_seed);
-    const YAML::Node history = node["history"];
-    if (!history || history.size() == 0)
-      read.Fail(node, path + "history", "needs at least the pose at time 0");
-    for (size_t k = 0; k < history.size(); ++k) {
-      const std::string pose_path = path + "history[" + std::to_string(k) + "].";
-      PlacedPose pose;
-      read.Optional(history[k], "time", pose_path, &pose.time);
-      read.Optional(history[k], "present", pose_path, &pose.present);
-      read.Vector(history[k], "centre", pose_path, &pose.centre, pose.present);
-      read.Optional(history[k], "yaw", pose_path, &pose.yaw);
-      object.history.push_back(pose);
-    }
-    scene.objects.push_back(object);
-  }
-  const YAML::Node moves = root["moves"];
-  for (size_t i = 0; moves && i < moves.size(); ++i) {
-    const std::string path = "moves[" + std::to_string(i) + "].";
-    PlannedMove move;
-    read.Optional(moves[i], "object_id", path, &move.object_id);
-    read.Optional(moves[i], "removal", path, &move.removal);
-    read.Optional(moves[i], "earliest", path, &move.earliest);
-    read.Optional(moves[i], "new_yaw", path, &move.new_yaw);
-    read.Vector(moves[i], "new_centre", path, &move.new_centre, !move.removal);
-    file.moves.push_back(move);
+  if (root && !root.IsNull() && !root.IsMap()) {
+    throw SettingsError(FileLocation(name, root.Mark().line + 1) +
+                        ": expected a map of scene fields at the top level");
   }
   try {
-    scene.Check();
-  } catch (const std::invalid_argument& error) {
-    throw SettingsError(name + ": " + error.what());
+    return ReadSceneFields(root, name);
+  } catch (const YAML::Exception& error) {
+    // A field of the wrong shape (a list or scalar where a map is expected, or the
+    // reverse): yaml-cpp's own exceptions never leave the reader.
+    throw SettingsError(FileLocation(name, error.mark.line + 1) +
+                        ": a field has the wrong structure: " + error.msg);
   }
-  return file;
 }
 
 std::string SceneToYaml(const Scene& scene) {
