@@ -128,7 +128,8 @@ std::vector<DetectionFrame> ReadJsonDetections(const std::string& path) {
   nlohmann::json root;
   try {
     root = nlohmann::json::parse(ReadTextFile(path));
-  } catch (const nlohmann::json::parse_error& error) {
+  } catch (const nlohmann::json::exception& error) {
+    // parse_error, and out_of_range for a number beyond a double (1e999).
     throw ParseError(path + ": not valid JSON: " + error.what());
   }
   if (!root.is_array()) throw ParseError(path + ": expected a JSON list of images");

@@ -68,7 +68,7 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
   json root;
   try {
     root = json::parse(line);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {  // parse_error; out_of_range for 1e999
     throw ReplayFormatError(std::string("not valid JSON: ") + error.what());
   }
   if (!root.is_object()) throw ReplayFormatError("expected a JSON object");

@@ -99,6 +99,10 @@ TEST(FuzzFindings, JsonCategoryIdMustBeAWholeNumberThatFits) {
     EXPECT_NE(message.find("d.json: image #0"), std::string::npos) << category << ": " << message;
     EXPECT_NE(message.find("category_id"), std::string::npos) << category << ": " << message;
   }
+  // A number beyond a double made nlohmann throw out_of_range, which escaped the reader.
+  WriteFileAtomically(dir + "/d.json", R"([{"file_name": "a.png", "detections": [1e99999]}])");
+  const std::string message = ErrorOf<ParseError>([&] { ReadJsonDetections(dir + "/d.json"); });
+  EXPECT_NE(message.find("d.json: not valid JSON"), std::string::npos) << message;
   // A whole number written as a float is still the class.
   WriteFileAtomically(dir + "/d.json", R"([{"file_name": "a.png", "detections": )"
                                        R"([{"category_id": 41.0, "detection_score": 0.5,)"
