@@ -73,7 +73,11 @@ void FlattenNode(const YAML::Node& node, const std::string& prefix, const std::s
                  std::vector<FlatEntry>* entries) {
   for (const auto& child : node) {
     FlatEntry entry;
-    entry.key = prefix + child.first.as<std::string>();
+    if (!child.first.IsScalar()) {  // a YAML complex key ("? ..."): as<string> would throw
+      throw SettingsError(FileLocation(name, child.first.Mark().line + 1) +
+                          ": settings keys must be plain names, not lists or maps");
+    }
+    entry.key = prefix + child.first.Scalar();
     entry.line = child.second.Mark().line + 1;
     const YAML::Node& value = child.second;
     if (value.IsMap()) {
