@@ -72,3 +72,15 @@ function(ocg_install_package)
   install(FILES ${PROJECT_BINARY_DIR}/ocgConfig.cmake ${PROJECT_BINARY_DIR}/ocgConfigVersion.cmake
     DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ocg)
 endfunction()
+
+# Sanitizers on every target, so that a fault inside a library is caught where it happens,
+# and libFuzzer's coverage instrumentation; the fuzz targets themselves link -fsanitize=fuzzer.
+macro(ocg_enable_fuzzing)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "OCG_FUZZ needs clang (libFuzzer), not ${CMAKE_CXX_COMPILER_ID}: "
+                        "configure with -DCMAKE_CXX_COMPILER=clang++, or use tools/fuzz.sh")
+  endif()
+  set(OCG_SANITIZE_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined)
+  add_compile_options(${OCG_SANITIZE_FLAGS} -fsanitize=fuzzer-no-link -fno-omit-frame-pointer -g)
+  add_link_options(${OCG_SANITIZE_FLAGS})
+endmacro()

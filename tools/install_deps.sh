@@ -15,6 +15,7 @@ PACKAGES=(
   nlohmann-json3-dev
   libcli11-dev
   libspdlog-dev libfmt-dev
+  clang libclang-rt-14-dev  # libFuzzer and the sanitizers of tools/fuzz.sh
 )
 
 missing=()

@@ -15,6 +15,7 @@
 #include "cli_common.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/core/settings_file.h"
 #include "ocg/core/statistics.h"
 #include "ocg/eval/trajectory_error.h"
 #include "ocg/io/detections.h"

@@ -81,7 +81,11 @@ void FlattenNode(const YAML::Node& node, const std::string& prefix, const std::s
   std::map<std::string, int> lines;  // of this map's keys, to report a key given twice
   for (const auto& child : node) {
     FlatEntry entry;
-    entry.key = prefix + child.first.as<std::string>();
+    if (!child.first.IsScalar()) {  // a YAML complex key ("? ..."): as<string> would throw
+      throw SettingsError(FileLocation(name, child.first.Mark().line + 1) +
+                          ": settings keys must be plain names, not lists or maps");
+    }
+    entry.key = prefix + child.first.Scalar();
     // The key's line, not the value's: a null value has no mark, a block list starts below.
     entry.line = child.first.Mark().line + 1;
     // Checked here too, not only after flattening: "Camera: {fx: 1}" given twice with

@@ -10,8 +10,10 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "ocg/core/file_io.h"
+#include "ocg/core/whole_number.h"
 #include "ocg/io/text_lines.h"
 
 namespace ocg {
@@ -43,7 +45,12 @@ Detection ParseEaoLine(const std::vector<std::string>& fields, const std::string
         "expected 6 fields 'class_id x y w h confidence', got " + std::to_string(fields.size()));
   }
   Detection detection;
-  detection.class_id = static_cast<int>(ParseIntegerField(fields[0], "class_id", path, line));
+  const long long class_id = ParseIntegerField(fields[0], "class_id", path, line);
+  // Checked before narrowing: 4294967297 must not wrap to the valid class 1.
+  if (class_id < 0 || class_id >= kCocoClasses) {
+    ThrowParseError(path, line, "class_id must be a COCO-80 index in [0, 79], got " + fields[0]);
+  }
+  detection.class_id = static_cast<int>(class_id);
   detection.x = ParseNumberField(fields[1], "x", path, line);
   detection.y = ParseNumberField(fields[2], "y", path, line);
   detection.width = ParseNumberField(fields[3], "w", path, line);
@@ -255,7 +262,8 @@ std::vector<DetectionFrame> ReadJsonDetections(const std::string& path,
     if (!stream) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
     try {
       root = nlohmann::json::parse(stream);  // from the stream: no copy of the text
-    } catch (const nlohmann::json::parse_error& error) {
+    } catch (const nlohmann::json::exception& error) {
+      // parse_error, and out_of_range for a number beyond a double (1e999).
       throw ParseError(path + ": not valid JSON: " + error.what());
     }
   }
@@ -277,7 +285,13 @@ std::vector<DetectionFrame> ReadJsonDetections(const std::string& path,
                            ": bbox must be [x1, y1, x2, y2]");
         }
         Detection detection;
-        detection.class_id = entry.at("category_id").get<int>();
+        const std::optional<int> class_id = JsonWholeNumberAs<int>(entry.at("category_id"));
+        if (!class_id) {
+          throw ParseError(where + " detection #" + std::to_string(j) +
+                           ": category_id must be a whole number, got " +
+                           entry.at("category_id").dump());
+        }
+        detection.class_id = *class_id;
         detection.confidence = entry.at("detection_score").get<double>();
         detection.x = box[0];
         detection.y = box[1];

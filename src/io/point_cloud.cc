@@ -1,5 +1,6 @@
 #include "ocg/io/point_cloud.h"
 
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 
@@ -57,7 +58,10 @@ std::vector<Eigen::Vector3d> ReadPlyPoints(const std::string& path) {
   if (vertices < 0) fail("no 'element vertex' in the header");
   if (x < 0 || y < 0 || z < 0) fail("the vertices have no x, y, z properties");
   std::vector<Eigen::Vector3d> points;
-  points.reserve(static_cast<std::size_t>(vertices));
+  // The header's count is not trusted for memory: every vertex takes at least 6 bytes
+  // ("x y z\n"), so a count the file cannot hold fails below at its end, not here.
+  const auto left = static_cast<long long>(in.rdbuf()->in_avail());
+  points.reserve(static_cast<std::size_t>(std::min(vertices, std::max(0LL, left) / 6 + 1)));
   std::vector<double> values(static_cast<std::size_t>(properties));
   for (long long i = 0; i < vertices; ++i) {
     ++line_number;

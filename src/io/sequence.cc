@@ -1,9 +1,12 @@
 #include "ocg/io/sequence.h"
 
 #include <filesystem>
+#include <optional>
 
 #include "ocg/core/file_io.h"
+#include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/core/whole_number.h"
 #include "ocg/io/text_lines.h"
 #include "ocg/io/time_order.h"
 
@@ -39,13 +42,18 @@ void ReadEurocSensor(const std::string& path, ImageSequence* sequence) {
   if (!sensor.Read("resolution", &resolution) || resolution.size() != 2) {
     throw SettingsError(path + ": key 'resolution' must be a list [width, height]");
   }
+  const std::optional<int> width = WholeNumberAs<int>(resolution[0]);
+  const std::optional<int> height = WholeNumberAs<int>(resolution[1]);
+  if (!width || !height) {
+    throw SettingsError(path + ": key 'resolution' must hold two whole numbers of pixels");
+  }
   PinholeCamera camera;
   camera.fx = intrinsics[0];
   camera.fy = intrinsics[1];
   camera.cx = intrinsics[2];
   camera.cy = intrinsics[3];
-  camera.width = static_cast<int>(resolution[0]);
-  camera.height = static_cast<int>(resolution[1]);
+  camera.width = *width;
+  camera.height = *height;
   if (sensor.Read("distortion_coefficients", &distortion)) {
     if (distortion.size() < 4) {
       throw SettingsError(path + ": key 'distortion_coefficients' must hold k1 k2 p1 p2");
@@ -61,7 +69,18 @@ void ReadEurocSensor(const std::string& path, ImageSequence* sequence) {
     throw SettingsError(path + ": distortion_model '" + model +
                         "' is not supported (only radial-tangential)");
   }
-  camera.Check();
+  try {
+    camera.Check();
+  } catch (const OptionError& error) {
+    // Name the sensor.yaml key the bad value came from, not the settings key Check knows.
+    const std::string& key = error.key();
+    const char* source =
+        key == "Camera.width" || key == "Camera.height" ? "resolution"
+        : key == "Camera.fx" || key == "Camera.fy" || key == "Camera.cx" || key == "Camera.cy"
+            ? "intrinsics"
+            : "distortion_coefficients";
+    throw SettingsError(path + ": key '" + source + "': " + key + " " + error.message());
+  }
   sequence->camera = camera;
   if (sensor.Read("T_BS.data", &extrinsics)) {
     if (extrinsics.size() != 16) throw SettingsError(path + ": key 'T_BS.data' needs 16 numbers");

@@ -1,8 +1,12 @@
 #include "ocg/ocg/replay_format.h"
 
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
 
 #include "ocg/core/coco.h"
+#include "ocg/core/whole_number.h"
 
 namespace ocg {
 namespace {
@@ -27,6 +31,27 @@ Eigen::Vector3d Vector3FromJson(const json& value, const std::string& what) {
   return vector;
 }
 
+// A whole number of type Int; what names the field in the error.
+template <typename Int>
+Int WholeNumberField(const json& value, const std::string& what) {
+  const std::optional<Int> number = JsonWholeNumberAs<Int>(value);
+  if (!number) {
+    throw ReplayFormatError("wrong type: " + what + " must be a whole number in [" +
+                            std::to_string(std::numeric_limits<Int>::lowest()) + ", " +
+                            std::to_string(std::numeric_limits<Int>::max()) + "], got " +
+                            value.dump());
+  }
+  return *number;
+}
+
+std::vector<ObjectId> ObjectIdList(const json& value, const std::string& what) {
+  if (!value.is_array()) throw ReplayFormatError(what + " must be a list of object ids");
+  std::vector<ObjectId> ids;
+  ids.reserve(value.size());
+  for (const json& id : value) ids.push_back(WholeNumberField<ObjectId>(id, what + " entry"));
+  return ids;
+}
+
 ObjectId ParseObjectKey(const std::string& key, const char* field) {
   try {
     size_t used = 0;
@@ -43,13 +68,14 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
   json root;
   try {
     root = json::parse(line);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {  // parse_error; out_of_range for 1e999
     throw ReplayFormatError(std::string("not valid JSON: ") + error.what());
   }
   if (!root.is_object()) throw ReplayFormatError("expected a JSON object");
   try {
     KeyframeObservation observation;
-    observation.keyframe_id = Field(root, "keyframe").get<std::int64_t>();
+    observation.keyframe_id =
+        WholeNumberField<std::int64_t>(Field(root, "keyframe"), "\"keyframe\"");
     observation.timestamp = root.value("timestamp", 0.0);
     const json& pose = Field(root, "T_cw");
     if (!pose.is_array() || pose.size() != 16) {
@@ -68,8 +94,8 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
     observation.camera.fy = Field(camera, "fy").get<double>();
     observation.camera.cx = Field(camera, "cx").get<double>();
     observation.camera.cy = Field(camera, "cy").get<double>();
-    observation.camera.width = Field(camera, "width").get<int>();
-    observation.camera.height = Field(camera, "height").get<int>();
+    observation.camera.width = WholeNumberField<int>(Field(camera, "width"), "\"camera\" width");
+    observation.camera.height = WholeNumberField<int>(Field(camera, "height"), "\"camera\" height");
     PinholeCamera& model = observation.camera;
     const std::pair<const char*, double*> distortion[] = {{"k1", &model.k1},
                                                           {"k2", &model.k2},
@@ -84,7 +110,7 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
     } catch (const std::invalid_argument& error) {
       throw ReplayFormatError(std::string("\"camera\": ") + error.what());
     }
-    observation.observed = Field(root, "observed").get<std::vector<ObjectId>>();
+    observation.observed = ObjectIdList(Field(root, "observed"), "\"observed\"");
     if (root.contains("centroids")) {
       for (const auto& [key, value] : root.at("centroids").items()) {
         observation.updates[ParseObjectKey(key, "centroids")].centroid =
@@ -99,11 +125,12 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
     }
     if (root.contains("classes")) {
       for (const auto& [key, value] : root.at("classes").items()) {
-        observation.updates[ParseObjectKey(key, "classes")].class_id = value.get<int>();
+        observation.updates[ParseObjectKey(key, "classes")].class_id =
+            WholeNumberField<int>(value, "class of object " + key);
       }
     }
     if (root.contains("forgotten")) {
-      observation.forgotten = root.at("forgotten").get<std::vector<ObjectId>>();
+      observation.forgotten = ObjectIdList(root.at("forgotten"), "\"forgotten\"");
     }
     return observation;
   } catch (const json::exception& error) {

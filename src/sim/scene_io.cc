@@ -18,6 +18,18 @@ class Reader {
                         "': " + message);
   }
 
+  // The sections: a present node of another shape is an error, not an empty section.
+  YAML::Node Map(const YAML::Node& parent, const std::string& key) const {
+    const YAML::Node node = parent[key];
+    if (node && !node.IsNull() && !node.IsMap()) Fail(node, key, "expected a map of fields");
+    return node;
+  }
+  YAML::Node List(const YAML::Node& parent, const std::string& key, const std::string& path) const {
+    const YAML::Node node = parent[key];
+    if (node && !node.IsNull() && !node.IsSequence()) Fail(node, path + key, "expected a list");
+    return node;
+  }
+
   template <typename T>
   void Optional(const YAML::Node& parent, const std::string& key, const std::string& path,
                 T* value) const {
@@ -60,23 +72,8 @@ YAML::Node VectorNode(const Eigen::Vector3d& v) {
   return node;
 }
 
-}  // namespace
-
-SceneFile LoadSceneFile(const std::string& path) {
-  try {
-    return ParseSceneYaml(ReadTextFile(path), path);
-  } catch (const FileError& error) {
-    throw SettingsError(std::string("scene: ") + error.what());
-  }
-}
-
-SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& error) {
-    throw SettingsError(FileLocation(name, error.mark.line + 1) + ": not valid YAML: " + error.msg);
-  }
+// The fields of a parsed scene file; yaml-cpp throws when a node has the wrong shape.
+SceneFile ReadSceneFields(const YAML::Node& root, const std::string& name) {
   const Reader read(name);
   SceneFile file;
   Scene& scene = file.scene;
@@ -87,7 +84,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
   read.Optional(root, "ambient", "", &scene.ambient);
   read.Vector(root, "room_size", "", &scene.room_size);
   read.Vector(root, "light_direction", "", &scene.light_direction);
-  if (const YAML::Node camera = root["camera"]) {
+  if (const YAML::Node camera = read.Map(root, "camera")) {
     read.Optional(camera, "fx", "camera.", &scene.camera.fx);
     read.Optional(camera, "fy", "camera.", &scene.camera.fy);
     read.Optional(camera, "cx", "camera.", &scene.camera.cx);
@@ -95,7 +92,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     read.Optional(camera, "width", "camera.", &scene.camera.width);
     read.Optional(camera, "height", "camera.", &scene.camera.height);
   }
-  if (const YAML::Node path = root["path"]) {
+  if (const YAML::Node path = read.Map(root, "path")) {
     read.Optional(path, "kind", "path.", &scene.path.kind);
     read.Optional(path, "radius", "path.", &scene.path.radius);
     read.Optional(path, "side_offset", "path.", &scene.path.side_offset);
@@ -103,7 +100,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     read.Optional(path, "speed", "path.", &scene.path.speed);
     read.Optional(path, "jitter", "path.", &scene.path.jitter);
   }
-  if (const YAML::Node noise = root["noise"]) {
+  if (const YAML::Node noise = read.Map(root, "noise")) {
     DetectionNoise& n = scene.noise;
     read.Optional(noise, "perfect", "noise.", &n.perfect);
     read.Optional(noise, "min_visible_pixels", "noise.", &n.min_visible_pixels);
@@ -118,7 +115,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     read.Optional(noise, "false_positives_per_frame", "noise.", &n.false_positives_per_frame);
     read.Optional(noise, "duplicate", "noise.", &n.duplicate);
   }
-  if (const YAML::Node look = root["look"]) {
+  if (const YAML::Node look = read.Map(root, "look")) {
     LookOptions& l = scene.look;
     std::string kind = "procedural";
     read.Optional(look, "kind", "look.", &kind);
@@ -145,7 +142,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     read.Optional(look, "p1", "look.", &l.p1);
     read.Optional(look, "p2", "look.", &l.p2);
   }
-  const YAML::Node furniture = root["furniture"];
+  const YAML::Node furniture = read.List(root, "furniture", "");
   for (size_t i = 0; furniture && i < furniture.size(); ++i) {
     const std::string path = "furniture[" + std::to_string(i) + "].";
     Furniture item;
@@ -156,7 +153,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     read.Optional(furniture[i], "texture_seed", path, &item.texture_seed);
     scene.furniture.push_back(item);
   }
-  const YAML::Node objects = root["objects"];
+  const YAML::Node objects = read.List(root, "objects", "");
   for (size_t i = 0; objects && i < objects.size(); ++i) {
     const YAML::Node node = objects[i];
     const std::string path = "objects[" + std::to_string(i) + "].";
@@ -170,7 +167,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     object.shape = shape == "box" ? Shape::kBox : Shape::kCylinder;
     read.Vector(node, "size", path, &object.size, true);
     read.Optional(node, "texture_seed", path, &object.texture_seed);
-    const YAML::Node history = node["history"];
+    const YAML::Node history = read.List(node, "history", path);
     if (!history || history.size() == 0)
       read.Fail(node, path + "history", "needs at least the pose at time 0");
     for (size_t k = 0; k < history.size(); ++k) {
@@ -184,7 +181,7 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     }
     scene.objects.push_back(object);
   }
-  const YAML::Node moves = root["moves"];
+  const YAML::Node moves = read.List(root, "moves", "");
   for (size_t i = 0; moves && i < moves.size(); ++i) {
     const std::string path = "moves[" + std::to_string(i) + "].";
     PlannedMove move;
@@ -201,6 +198,37 @@ SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
     throw SettingsError(name + ": " + error.what());
   }
   return file;
+}
+
+}  // namespace
+
+SceneFile LoadSceneFile(const std::string& path) {
+  try {
+    return ParseSceneYaml(ReadTextFile(path), path);
+  } catch (const FileError& error) {
+    throw SettingsError(std::string("scene: ") + error.what());
+  }
+}
+
+SceneFile ParseSceneYaml(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& error) {
+    throw SettingsError(FileLocation(name, error.mark.line + 1) + ": not valid YAML: " + error.msg);
+  }
+  if (root && !root.IsNull() && !root.IsMap()) {
+    throw SettingsError(FileLocation(name, root.Mark().line + 1) +
+                        ": expected a map of scene fields at the top level");
+  }
+  try {
+    return ReadSceneFields(root, name);
+  } catch (const YAML::Exception& error) {
+    // A field of the wrong shape (a list or scalar where a map is expected, or the
+    // reverse): yaml-cpp's own exceptions never leave the reader.
+    throw SettingsError(FileLocation(name, error.mark.line + 1) +
+                        ": a field has the wrong structure: " + error.msg);
+  }
 }
 
 std::string SceneToYaml(const Scene& scene) {

@@ -41,6 +41,9 @@ ImageSequence ReadTumSequence(const std::string& root);
 // mav0/state_groundtruth_estimate0/data.csv when present, turned into camera poses
 // T_wc = T_wb * T_BS. Timestamps in nanoseconds become seconds; data.csv and the ground
 // truth must increase strictly in time, as rgb.txt.
+// Throws FileError when a file is missing, ParseError naming file and line for a bad list
+// line (or a time out of order), SettingsError naming sensor.yaml and the key for a bad or
+// impossible calibration.
 ImageSequence ReadEurocSequence(const std::string& root);
 
 // Camera poses from body poses: T_wc = T_wb * T_body_camera.

@@ -1,0 +1,17 @@
+// EuRoC MAV folders: the camera calibration mav0/cam0/sensor.yaml
+// is the input, the other files of the folder are valid; read by ReadEurocSequence.
+#include <cstddef>
+#include <cstdint>
+
+#include "euroc_folder.h"
+#include "fuzz_input.h"
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  ocg::fuzz::SilenceLogging();
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  ocg::fuzz::ReadEurocWithInput("mav0/cam0/sensor.yaml", data, size);
+  return 0;
+}
