@@ -24,7 +24,9 @@ build-ubsan, build-tsan. gcc, RelWithDebInfo (-O1: a sanitizer's stacks stay
 readable) with -fno-omit-frame-pointer; ccache when present. Every report is written to
 <build folder>/sanitizer-logs/ and printed at the end; the first report ends the process
 (halt_on_error), and any report makes this script fail, even one from a program a test
-expected to fail.
+expected to fail. Except: UBSan inside the address build (gcc) prints to stderr only; the
+script also searches the tests' output for it, but a report a test script swallows is
+seen by the undefined mode alone.
 Environment: OCG_SANITIZE_JOBS (default: nproc) build and test jobs.
 EOF
 }
@@ -150,6 +152,11 @@ PY
 esac
 echo "== tests ran in $(($(date +%s) - TEST_START)) s"
 
+# gcc's UBSan inside an ASan build (address mode) prints to stderr whatever log_path says:
+# look for its reports in what the tests printed too. (undefined mode writes files.)
+if [ -f Testing/Temporary/LastTest.log ] && grep -q "runtime error:" Testing/Temporary/LastTest.log; then
+  grep -B2 -A12 "runtime error:" Testing/Temporary/LastTest.log >"$LOGS/ubsan-in-test-output"
+fi
 reports=$(find "$LOGS" -type f | sort)
 if [ -n "$reports" ]; then
   echo "== $(echo "$reports" | wc -l) sanitizer report(s):"
