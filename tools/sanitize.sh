@@ -71,12 +71,16 @@ export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:check_initialization_order=1
 # LeakSanitizer: leaks inside third-party libraries only (see the file for why).
 export LSAN_OPTIONS="suppressions=$SUPPRESSIONS/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:log_path=$LOGS/ubsan"
-export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:history_size=4:log_path=$LOGS/tsan"
+export TSAN_OPTIONS="suppressions=$SUPPRESSIONS/tsan.supp:halt_on_error=1:second_deadlock_stack=1:history_size=4:log_path=$LOGS/tsan"
 # OpenCV runs parallel_for_ on TBB's thread pool, which is not built with ThreadSanitizer:
 # its synchronization is invisible and would be reported as races inside OpenCV. One
 # OpenCV thread makes parallel_for_ run the body on the caller, so every thread TSan sees
 # is one of ours. (Ceres already runs with num_threads = 1, see src/optim/solver_options.cc.)
 export OPENCV_FOR_THREADS_NUM=1
+# The same for Mesa's llvmpipe (OSMesa renders the generator's images and the snapshots):
+# its rasterizer threads raced on its own mutexes in TSan's eyes (ocg_synth, first run).
+# No rasterizer thread: llvmpipe draws on the calling thread.
+export LP_NUM_THREADS=0
 
 # The same flags through the environment too: install_test.sh configures a consumer of the
 # installed (sanitized) libraries, and a fresh CMake configure reads CXXFLAGS and LDFLAGS.
