@@ -110,12 +110,12 @@ void TakeImageSizeFromFrames(const ObjectsCommand& command, ocg::CameraSettings*
     camera->model.width = first.cols;
     camera->model.height = first.rows;
     camera->Check();
-    spdlog::info("image size {}x{} from '{}' ({} not in '{}')", first.cols, first.rows,
-                 image.path, keys, command.settings);
+    spdlog::info("image size {}x{} from '{}' ({} not in '{}')", first.cols, first.rows, image.path,
+                 keys, command.settings);
     return;
   }
-  throw ocg::SettingsError(command.settings + ": camera keys missing: this command needs " +
-                           keys + " (no image listed in '" + command.frames +
+  throw ocg::SettingsError(command.settings + ": camera keys missing: this command needs " + keys +
+                           " (no image listed in '" + command.frames +
                            "' could be read to take the size from)");
 }
 

@@ -43,7 +43,17 @@ std::size_t BinarySize(std::uint64_t nodes) {
          sizeof(kBinaryEnd);
 }
 
+// A FIFO would block fopen, a directory read as empty: both named, as a missing file.
+void RequireVocabularyFile(const std::string& path) {
+  try {
+    RequireRegularFile(path);
+  } catch (const FileError& error) {
+    throw FileError(std::string("vocabulary: ") + error.what());
+  }
+}
+
 std::string ReadWholeFile(const std::string& path) {
+  RequireVocabularyFile(path);
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) {
     throw FileError("cannot open vocabulary '" + path + "': " + std::strerror(errno));
@@ -526,6 +536,7 @@ void Vocabulary::SaveOrbSlamText(const std::string& path) const {
 }
 
 Vocabulary Vocabulary::Load(const std::string& path) {
+  RequireVocabularyFile(path);
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) {
     throw FileError("cannot open vocabulary '" + path + "': " + std::strerror(errno));

@@ -17,7 +17,9 @@ void ThrowParseError(const std::string& path, int line, const std::string& messa
 
 void ForEachDataLine(const std::string& path, bool comma_separated,
                      const std::function<void(int, const std::vector<std::string>&)>& handle) {
-  // Line by line: memory stays that of the longest line, whatever the file's size.
+  // Line by line: memory stays that of the longest line, whatever the file's size. A FIFO
+  // or a directory would block or read as empty: named instead.
+  RequireRegularFile(path);
   std::ifstream input(path, std::ios::binary);
   if (!input) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
   std::string line;

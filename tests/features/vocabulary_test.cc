@@ -1,6 +1,7 @@
 #include "ocg/features/vocabulary.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <filesystem>
@@ -55,6 +56,23 @@ class VocabularyTest : public ::testing::Test {
 std::vector<ExtractedFeatures> VocabularyTest::originals_;
 std::vector<ExtractedFeatures> VocabularyTest::copies_;
 Vocabulary* VocabularyTest::vocabulary_ = nullptr;
+
+// A vocabulary path that is a named pipe or a directory is named, not waited on or read
+// as an empty file.
+TEST(VocabularyFile, ANamedPipeOrADirectoryIsNamed) {
+  const std::string dir = testing::MakeTempDir("fifo_vocabulary");
+  ASSERT_EQ(::mkfifo((dir + "/voc.ocgvoc").c_str(), 0600), 0);
+  for (const std::string& path : {dir + "/voc.ocgvoc", dir}) {
+    try {
+      Vocabulary::Load(path);
+      ADD_FAILURE() << "no FileError for " << path;
+    } catch (const FileError& error) {
+      EXPECT_NE(std::string(error.what()).find("cannot read '" + path + "': it is a "),
+                std::string::npos)
+          << error.what();
+    }
+  }
+}
 
 TEST_F(VocabularyTest, TrainingBuildsATreeOfTheRequestedShape) {
   const Vocabulary& v = *vocabulary_;
@@ -171,7 +189,8 @@ TEST_F(VocabularyTest, DamagedFilesGiveErrorsNamingTheFile) {
   ExpectLoadError(folder + "/orphan.txt", "orphan.txt:2: bad parent id '5'");
   WriteFile(folder + "/scoring.txt", "10 6 2 0\n");
   ExpectLoadError(folder + "/scoring.txt", "scoring.txt:1: only L1 scoring");
-  ExpectLoadError(folder + "/missing.ocgvoc", "cannot open vocabulary");
+  ExpectLoadError(folder + "/missing.ocgvoc",
+                  "vocabulary: cannot read '" + folder + "/missing.ocgvoc': it does not exist");
   std::filesystem::remove_all(folder);
 }
 

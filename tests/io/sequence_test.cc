@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 
@@ -11,6 +12,21 @@ namespace ocg {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Line readers stream their file: a named pipe with no writer would block them forever
+// (a run hung on an rgb.txt FIFO), so it is named before it is opened.
+TEST(TumSequence, AFrameListThatIsANamedPipeIsNamedNotWaitedOn) {
+  const std::string dir = testing::MakeTempDir("fifo_sequence");
+  ASSERT_EQ(::mkfifo((dir + "/rgb.txt").c_str(), 0600), 0);
+  try {
+    ReadTumSequence(dir);
+    FAIL() << "no FileError";
+  } catch (const FileError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "cannot read '" + dir + "/rgb.txt': it is a named pipe (FIFO), not a file");
+  }
+  EXPECT_THROW(ForEachDataLine(dir + "/rgb.txt", false, [](int, const auto&) {}), FileError);
+}
 
 TEST(TumSequence, ReadsRealFramesAndGroundTruth) {
   const auto data = testing::SharedDataDir();

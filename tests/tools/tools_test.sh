@@ -78,7 +78,7 @@ fails_with "ocg_slam names the missing rgb.txt" "empty_sequence/rgb.txt' is miss
 printf 'OCG:\n  mode: paper\n' >"$WORK/no_camera.yaml"
 fails_with "ocg_slam run names the missing camera keys" "no_camera.yaml: camera keys missing: this command needs Camera.fx, Camera.fy, Camera.cx, Camera.cy" "$BIN/ocg_slam" run --settings "$WORK/no_camera.yaml" --sequence "$WORK/frames" --out "$WORK/never_slam"
 check "nothing written without a camera" test ! -e "$WORK/never_slam"
-fails_with "ocg_slam names a missing vocabulary" "cannot open vocabulary" "$BIN/ocg_slam" run --settings "$SRC/config/TUM1.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --vocabulary "$WORK/none.ocgvoc"
+fails_with "ocg_slam names a missing vocabulary" "vocabulary: cannot read '$WORK/none.ocgvoc': it does not exist" "$BIN/ocg_slam" run --settings "$SRC/config/TUM1.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --vocabulary "$WORK/none.ocgvoc"
 check "ocg_slam on six frames" "$BIN/ocg_slam" run --settings "$WORK/frames/camera.yaml" --sequence "$WORK/frames" --out "$WORK/slam" --log-level warn
 check "run.json written" grep -q '"frames": 6' "$WORK/slam/run.json"
 
