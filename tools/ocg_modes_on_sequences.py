@@ -21,7 +21,7 @@ import subprocess
 import sys
 import tempfile
 
-MODES = ["paper", "fallback", "in_image", "guard", "improved"]
+MODES = ["paper", "fallback", "in_image", "guard", "view", "improved"]
 
 
 def score(sequence, graph_path):

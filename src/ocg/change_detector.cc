@@ -106,11 +106,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     Record& record = records_.at(id);
     ++record.observations;
     record.last_observed_keyframe = keyframe;
-    if (record.geometry.centroid) {
-      record.geometry.max_observed_distance =
-          std::max(record.geometry.max_observed_distance,
-                   (*record.geometry.centroid - camera_centre).norm());
-    }
+    RecordDetectedView(record.geometry, camera_centre, options_, modes_.detected_view);
     UpdateIsolation(id);
   }
 
@@ -257,6 +253,12 @@ std::string ObjectChangeDetector::ToJson() const {
                      {"observations", status.observations},
                      {"first_keyframe", status.first_keyframe},
                      {"last_observed_keyframe", status.last_observed_keyframe}});
+    if (!status.geometry.view_directions.empty()) {  // "view" mode only
+      nlohmann::json directions = nlohmann::json::array();
+      for (const Eigen::Vector3d& direction : status.geometry.view_directions)
+        directions.push_back(VectorJson(direction));
+      nodes.back()["view_directions"] = directions;
+    }
     for (const CovisibilityEdge& edge : graph_.Neighbours(status.id)) {
       if (edge.neighbour > status.id) edges.push_back({status.id, edge.neighbour, edge.weight});
     }
@@ -314,6 +316,10 @@ ObjectChangeDetector ObjectChangeDetector::FromJson(const std::string& text) {
       record.geometry.centroid = VectorFromJson(node.at("centroid"));
       record.geometry.size = VectorFromJson(node.at("size"));
       record.geometry.max_observed_distance = node.at("max_observed_distance").get<double>();
+      if (node.contains("view_directions")) {
+        for (const nlohmann::json& direction : node.at("view_directions"))
+          record.geometry.view_directions.push_back(*VectorFromJson(direction));
+      }
       record.observations = node.at("observations").get<std::uint32_t>();
       record.first_keyframe = node.at("first_keyframe").get<std::int64_t>();
       record.last_observed_keyframe = node.at("last_observed_keyframe").get<std::int64_t>();

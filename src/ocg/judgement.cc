@@ -1,6 +1,7 @@
 #include "ocg/ocg/judgement.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "ocg/ocg/observability.h"
 
@@ -12,6 +13,33 @@ bool GeometricallyVisible(const ObjectGeometry& geometry, const SE3& T_cw,
   return CentroidInImage(*geometry.centroid, T_cw, camera, options.image_margin) &&
          DistanceFromCamera(*geometry.centroid, T_cw) <=
              options.distance_slack * geometry.max_observed_distance;
+}
+
+void RecordDetectedView(ObjectGeometry& geometry, const Eigen::Vector3d& camera_centre,
+                        const OcgOptions& options, bool record_direction) {
+  if (!geometry.centroid) return;
+  const Eigen::Vector3d towards_camera = camera_centre - *geometry.centroid;
+  const double distance = towards_camera.norm();
+  geometry.max_observed_distance = std::max(geometry.max_observed_distance, distance);
+  if (!record_direction || distance <= 0.0) return;
+  const Eigen::Vector3d direction = towards_camera / distance;
+  const double spacing = std::cos(options.view_max_angle_deg * M_PI / 180.0 / 3.0);
+  for (const Eigen::Vector3d& known : geometry.view_directions) {
+    if (known.dot(direction) >= spacing) return;
+  }
+  geometry.view_directions.push_back(direction);
+}
+
+bool InDetectedView(const ObjectGeometry& geometry, const SE3& T_cw, const OcgOptions& options) {
+  if (!geometry.centroid || geometry.view_directions.empty()) return true;
+  const Eigen::Vector3d towards_camera = T_cw.Inverse().translation() - *geometry.centroid;
+  const double distance = towards_camera.norm();
+  if (distance > options.distance_slack * geometry.max_observed_distance) return false;
+  if (distance <= 0.0) return true;
+  const double limit = std::cos(options.view_max_angle_deg * M_PI / 180.0);
+  const Eigen::Vector3d direction = towards_camera / distance;
+  return std::any_of(geometry.view_directions.begin(), geometry.view_directions.end(),
+                     [&](const Eigen::Vector3d& known) { return known.dot(direction) >= limit; });
 }
 
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
@@ -59,6 +87,9 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
       fraction = BoxFractionInImage(*geometry.centroid, *geometry.size, T_cw, camera);
       in_image = fraction >= options.min_box_fraction;
     }
+    // A detector finds an object from where it found it before: farther away it is too
+    // small, from another side it looks different or is hidden by what it stands behind.
+    if (in_image && modes.detected_view) in_image = InDetectedView(geometry, T_cw, options);
     increment = DoubtIncrement(judgement.rate, in_image, options) * fraction;
     if (modes.dropout_guard && evidence.degree > 0) {
       const std::size_t required = std::min<std::size_t>(

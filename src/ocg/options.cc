@@ -20,8 +20,8 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {"paper",    "fallback", "in_image",  "guard",
-                                               "improved", "off",      "visibility"};
+  static const std::set<std::string> kKnown = {"paper", "fallback", "in_image", "guard",
+                                               "view",  "improved", "off",      "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
   OcgModes modes;
@@ -34,10 +34,11 @@ OcgModes ParseOcgMode(const std::string& mode) {
     return modes;
   }
   for (const std::string& part : parts) {
-    RequireOption(kKnown.count(part) > 0, "OCG.mode",
-                  "unknown mode '" + part +
-                      "' (use paper, or fallback, in_image, guard joined with '+', or improved; "
-                      "baselines: off, visibility)");
+    RequireOption(
+        kKnown.count(part) > 0, "OCG.mode",
+        "unknown mode '" + part +
+            "' (use paper, or fallback, in_image, guard, view joined with '+', or improved; "
+            "baselines: off, visibility)");
   }
   RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
                 "'paper' cannot be combined with improvements");
@@ -45,6 +46,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
   modes.isolated_fallback = all || parts.count("fallback") > 0;
   modes.box_in_image = all || parts.count("in_image") > 0;
   modes.dropout_guard = all || parts.count("guard") > 0;
+  modes.detected_view = all || parts.count("view") > 0;
   return modes;
 }
 
@@ -68,6 +70,8 @@ void OcgOptions::Check() const {
   RequireOption(min_box_fraction > 0 && min_box_fraction <= 1, "OCG.min_box_fraction",
                 "must be in (0, 1]");
   RequireOption(guard_min_neighbours >= 1, "OCG.guard_min_neighbours", "must be at least 1");
+  RequireOption(view_max_angle_deg > 0 && view_max_angle_deg <= 180, "OCG.view_max_angle_deg",
+                "must be in (0, 180]");
   RequireOption(visibility_keyframes >= 1, "OCG.visibility_keyframes", "must be at least 1");
 }
 

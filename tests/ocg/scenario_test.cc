@@ -378,3 +378,95 @@ TEST(Detector, PendingGeometrySurvivesTheJsonRoundTripAndForget) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+// Object 1 stands in front of a partition; its neighbours 2-4 are tall enough to be seen
+// over it from both sides. The camera detects everything from the front, then walks
+// round to the back, where 1 is hidden and the detector finds only 2-4, then leaves.
+std::vector<RemovalEvent> BehindThePartition(const std::string& mode) {
+  OcgOptions options;
+  options.mode = mode;
+  ObjectChangeDetector detector(options);
+  std::vector<RemovalEvent> removed;
+  std::int64_t keyframe = 0;
+  const auto step = [&](const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+                        const std::vector<ObjectId>& seen) {
+    KeyframeObservation observation = MakeObservation(keyframe++, LookAt(eye, target), seen);
+    for (ObjectId id : seen) observation.updates[id].centroid = kPlaces.at(id);
+    for (const RemovalEvent& event : detector.Process(observation).removed)
+      removed.push_back(event);
+  };
+  for (int i = 0; i < 3; ++i) step({-2, 0, 0.8}, {0, 0, 0}, {1, 2, 3, 4});
+  step({8, 0, 0.8}, {10, 0, 0}, {5, 6});
+  for (int i = 0; i < 3; ++i) step({2, 0.3, 0.8}, {0, 0, 0}, {2, 3, 4});  // from the back
+  step({8, 0, 0.8}, {10, 0, 0}, {5, 6});
+  return removed;
+}
+
+TEST(ViewMode, HiddenFromASideItWasNeverDetectedFromIsKept) {
+  const std::vector<RemovalEvent> paper = BehindThePartition("paper");
+  ASSERT_EQ(paper.size(), 1u) << "the paper takes the hidden object for a moved one";
+  EXPECT_EQ(paper[0].object_id, 1);
+  EXPECT_TRUE(BehindThePartition("view").empty());
+  EXPECT_TRUE(BehindThePartition("improved").empty());
+}
+
+class ViewStory : public Story {
+ protected:
+  ViewStory() : Story("view") {}
+};
+
+TEST_F(ViewStory, MovedObjectSeenFromWhereItWasDetectedIsRemoved) {
+  for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});
+  AtShelf({5, 6});
+  AtTable({2, 3, 4});  // 1 was moved; the camera is where it detected 1 before
+  AtTable({2, 3, 4});
+  EXPECT_EQ(DoubtOf(1), 60.0);
+  const KeyframeResult leaving = AtShelf({5, 6});
+  ASSERT_EQ(leaving.removed.size(), 1u);
+  EXPECT_EQ(leaving.removed[0].object_id, 1);
+}
+
+TEST_F(ViewStory, FartherThanEverDetectedGivesNoIncrement) {
+  for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});  // detected from 2.15 m
+  AtShelf({5, 6});
+  // The same direction from 4.3 m: 1 would be too small for the detector; its
+  // neighbours (big ones) are still found.
+  Step(LookAt({-4, 0, 1.6}, {0, 0, 0}), {2, 3, 4});
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  EXPECT_EQ(DoubtOf(1), 0.0);
+  AtTable({2, 3, 4});  // back at 2 m: now the absence counts
+  EXPECT_EQ(DoubtOf(1), 30.0);
+}
+
+TEST(ViewMode, RecordedDirectionsAreSpacedAndSurviveJson) {
+  OcgOptions options;
+  options.mode = "view";
+  ObjectGeometry geometry;
+  geometry.centroid = Eigen::Vector3d::Zero();
+  for (int degrees = 0; degrees < 360; ++degrees) {
+    const double angle = degrees * M_PI / 180.0;
+    RecordDetectedView(geometry, 2.0 * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0),
+                       options, true);
+  }
+  // A full circle at one direction per degree: one kept whenever it is more than 10
+  // degrees (a third of view_max_angle_deg) from every kept one, so about 33, not 360.
+  EXPECT_GE(geometry.view_directions.size(), 30u);
+  EXPECT_LE(geometry.view_directions.size(), 36u);
+  EXPECT_DOUBLE_EQ(geometry.max_observed_distance, 2.0);
+
+  ObjectChangeDetector detector(options);
+  KeyframeObservation observation = MakeObservation(0, LookAt({-2, 0, 0.8}, {0, 0, 0}), {1, 2});
+  observation.updates[1].centroid = kPlaces.at(1);
+  detector.Process(observation);
+  ASSERT_EQ(detector.Status(1)->geometry.view_directions.size(), 1u);
+  const ObjectChangeDetector restored = ObjectChangeDetector::FromJson(detector.ToJson());
+  EXPECT_EQ(restored.ToJson(), detector.ToJson());
+  EXPECT_TRUE(restored.Status(1)->geometry.view_directions[0].isApprox(
+      detector.Status(1)->geometry.view_directions[0]));
+}
+
+}  // namespace
+}  // namespace ocg

@@ -94,11 +94,8 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
   }
   const Eigen::Vector3d camera_centre = observation.T_cw.Inverse().translation();
   for (ObjectId id : observed) {
-    ObjectGeometry& geometry = objects_.at(id).geometry;
-    if (geometry.centroid) {
-      geometry.max_observed_distance =
-          std::max(geometry.max_observed_distance, (*geometry.centroid - camera_centre).norm());
-    }
+    RecordDetectedView(objects_.at(id).geometry, camera_centre, options_,
+                       options_.modes().detected_view);
   }
 
   // Everything from scratch: one pass over all edges gives every object's evidence.

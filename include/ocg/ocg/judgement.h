@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "ocg/ocg/observation.h"
 #include "ocg/ocg/options.h"
@@ -26,6 +27,10 @@ struct ObjectGeometry {
   std::optional<Eigen::Vector3d> centroid;  // world frame
   std::optional<Eigen::Vector3d> size;      // world-axis extent
   double max_observed_distance = 0.0;       // farthest camera distance it was detected from
+  // "view" mode only: unit vectors, world frame, from the centroid towards the cameras it
+  // was detected from, no two closer than a third of OCG.view_max_angle_deg (so at most a
+  // few hundred, however long it is watched).
+  std::vector<Eigen::Vector3d> view_directions;
 };
 
 struct Judgement {
@@ -38,6 +43,17 @@ struct Judgement {
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
                       const OcgOptions& options, const OcgModes& modes);
+
+// A detection of the object from a camera at camera_centre (world): the farthest distance
+// and, with record_direction, the direction it was seen from.
+void RecordDetectedView(ObjectGeometry& geometry, const Eigen::Vector3d& camera_centre,
+                        const OcgOptions& options, bool record_direction);
+
+// The "view" mode's expectation: the camera is where the object was detected from before,
+// no farther than distance_slack times its farthest detection and within
+// view_max_angle_deg of a direction it was detected from. True when nothing is known
+// (no centroid or no recorded detection), as the paper assumes.
+bool InDetectedView(const ObjectGeometry& geometry, const SE3& T_cw, const OcgOptions& options);
 
 // The "fallback" mode's visibility: in front, inside the image by options.image_margin,
 // and no farther than distance_slack times the farthest distance it was observed from.

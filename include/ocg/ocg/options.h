@@ -21,6 +21,7 @@ struct OcgModes {
   bool isolated_fallback = false;  // "fallback"
   bool box_in_image = false;       // "in_image"
   bool dropout_guard = false;      // "guard"
+  bool detected_view = false;      // "view"
 };
 
 // Parses OCG.mode; throws OptionError naming the key when it is not a valid mode.
@@ -32,7 +33,9 @@ struct OcgOptions {
   //   "in_image"  P also needs the projected box mostly inside the image and the
   //               increment is scaled by the fraction inside,
   //   "guard"     increments need enough neighbours actually detected,
-  //   "improved"  all three. See docs/ocg.md for the case each one fixes.
+  //   "view"      P also needs the camera where the object was detected from before
+  //               (distance and viewing direction),
+  //   "improved"  fallback+in_image+guard+view. See docs/ocg.md for the case each one fixes.
   // Baselines for comparison: "off" (nothing is ever removed) and "visibility" (an object
   // is removed after visibility_keyframes keyframes in which it should have been seen and
   // was not, no graph involved).
@@ -61,6 +64,9 @@ struct OcgOptions {
   // "guard": neighbours that must be detected in the keyframe for an increment (capped at
   // the object's degree).
   int guard_min_neighbours = 2;
+  // "view": the largest angle, at the object, between the camera's direction and one the
+  // object was detected from, for P = 1 (distance: distance_slack, as for "fallback").
+  double view_max_angle_deg = 30.0;
   // "visibility": keyframes since the last detection in which the object was geometrically
   // visible (as for "fallback") and not detected, after which it is removed.
   int visibility_keyframes = 5;
@@ -91,6 +97,7 @@ void VisitOcgOptionFields(Options& options, Visitor&& visit) {
   visit("distance_slack", options.distance_slack);
   visit("min_box_fraction", options.min_box_fraction);
   visit("guard_min_neighbours", options.guard_min_neighbours);
+  visit("view_max_angle_deg", options.view_max_angle_deg);
   visit("visibility_keyframes", options.visibility_keyframes);
 }
 
