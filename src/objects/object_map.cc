@@ -61,6 +61,17 @@ Eigen::Vector3d WorldExtent(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg) {
   return high - low;
 }
 
+// The share of the smaller box's volume inside the other (world-axis boxes from centre and
+// extent); 0 when either is flat.
+double OverlapShare(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& extent_a,
+                    const Eigen::Vector3d& centre_b, const Eigen::Vector3d& extent_b) {
+  const Eigen::Vector3d low = (centre_a - 0.5 * extent_a).cwiseMax(centre_b - 0.5 * extent_b);
+  const Eigen::Vector3d high = (centre_a + 0.5 * extent_a).cwiseMin(centre_b + 0.5 * extent_b);
+  const double smaller = std::min(extent_a.prod(), extent_b.prod());
+  if (smaller <= 0.0 || (high - low).minCoeff() <= 0.0) return 0.0;
+  return (high - low).prod() / smaller;
+}
+
 nlohmann::json VectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json CuboidJson(const Cuboid& cuboid) {
@@ -401,8 +412,15 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
         if (!first.has_cuboid || !second.has_cuboid) continue;
         const double reach = options_.merge_distance *
                              std::max(first.cuboid.size.maxCoeff(), second.cuboid.size.maxCoeff());
-        if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) continue;
-        if (SeenTogether(first, second)) continue;
+        const bool one_space =
+            first.class_id == second.class_id &&
+            OverlapShare(first.cuboid.centre, WorldExtent(first.cuboid, R_wg_),
+                         second.cuboid.centre,
+                         WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
+        if (!one_space && ((first.cuboid.centre - second.cuboid.centre).norm() > reach ||
+                           SeenTogether(first, second))) {
+          continue;
+        }
         const bool keep_first = first.sightings.size() >= second.sightings.size();
         Merge(keep_first ? first.id : second.id, keep_first ? second.id : first.id, keyframe_id,
               timestamp, merges);

@@ -275,6 +275,31 @@ TEST_F(TwoObjectScene, TheSameObjectMappedTwiceIsMerged) {
   for (const auto& [id, object] : map.objects()) EXPECT_EQ(object.sightings.size(), 50u);
 }
 
+// A real detector's double box: with every box of the cup, a second one on its upper part
+// (IoU 0.44, so non-maximum suppression keeps both). Each box feeds its own object; both
+// are detected in every frame, so "never seen together" cannot tell them apart. Two solid
+// objects cannot share the space the smaller one takes up: they are merged.
+TEST_F(TwoObjectScene, AnObjectInsideAnotherOfItsClassIsMergedEvenIfSeenTogether) {
+  const auto objects_after_hygiene = [this](double merge_overlap) {
+    ObjectsOptions options;
+    options.merge_overlap = merge_overlap;
+    ObjectMap map(options, Camera());
+    for (int frame = 0; frame < 40; ++frame) {
+      const SE3 T_cw = OrbitPose(0.02 * frame);
+      std::vector<Detection> detections = DetectionsAt(T_cw);
+      const Detection cup = detections[0];
+      detections.push_back(
+          {41, cup.x + 0.1 * cup.width, cup.y, 0.8 * cup.width, 0.55 * cup.height, 0.8});
+      map.AddFrame(frame, frame / 30.0, T_cw, FilterDetections(detections, options, Camera()));
+    }
+    EXPECT_EQ(map.objects().size(), 3u) << "the nested boxes made an object of their own";
+    map.MakeKeyframeObservation(0, 1.0, OrbitPose(0.78), nullptr);
+    return map.objects().size();
+  };
+  EXPECT_EQ(objects_after_hygiene(1.0), 3u);  // the rule off: the duplicate cup stays
+  EXPECT_EQ(objects_after_hygiene(0.5), 2u);
+}
+
 TEST_F(TwoObjectScene, MapPointsFormEachObjectsPointSetWithoutTheBackground) {
   ObjectsOptions options;
   ObjectMap without_points(options, Camera());

@@ -62,6 +62,12 @@ struct ObjectsOptions {
   // whose centres are closer than this share of the larger one's largest extent are one
   // object seen twice: merged.
   double merge_distance = 0.5;
+  // Objects.merge_overlap: two objects of the same class whose boxes (world-axis extents
+  // of their cuboids) share more than this share of the smaller one's volume are one
+  // object, even when seen in the same frame: two solid objects cannot take up the same
+  // space, but a real detector puts a second, nested box on one object now and then (two
+  // boxes per bottle), and each box feeds its own object. 1 turns it off.
+  double merge_overlap = 0.5;
 
   // Objects.up: the world's up direction (gravity-aligned cuboids, yaw about it). In
   // pose-given mode the given trajectory's world frame decides it.
