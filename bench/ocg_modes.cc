@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
       "| mode | Corr.M (moved removed) | Delet.S (static removed) | duplicates removed | isolated "
       "moved removed | isolated static removed |\n");
   std::printf("|---|---|---|---|---|---|\n");
-  for (const char* mode : {"paper", "fallback", "in_image", "guard", "improved"}) {
+  for (const char* mode : {"paper", "fallback", "in_image", "guard", "view", "improved"}) {
     ocg::OcgOptions options;
     options.mode = mode;
     options.distance_slack = distance_slack;
