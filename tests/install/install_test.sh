@@ -15,6 +15,11 @@ cmake --build "$WORK/build" >>"$WORK/log" 2>&1 || { cat "$WORK/log"; exit 1; }
 "$WORK/build/consumer"
 test -x "$WORK/prefix/bin/ocg_replay"
 test -x "$WORK/prefix/bin/ocg_plot_ate.py"
+# ocg_batch finds its workflow in share/ocg/eval and the tools beside itself.
+"$WORK/prefix/bin/ocg_batch" --help >/dev/null
+printf 'out: %s\nsequences: [{preset: smoke, frames: 5}]\n' "$WORK/batch" >"$WORK/batch.yaml"
+"$WORK/prefix/bin/ocg_batch" "$WORK/batch.yaml" --dry-run >"$WORK/log" 2>&1 || { cat "$WORK/log"; exit 1; }
+grep -q "\"tools\": \"$WORK/prefix/bin\"" "$WORK/batch/batch.json" || { cat "$WORK/batch/batch.json"; exit 1; }
 if [ -n "$PYTHON" ]; then
   # The module from the prefix alone (not the build folder), as a user imports it.
   PACKAGES=$(echo "$WORK"/prefix/lib/python3*/dist-packages)
