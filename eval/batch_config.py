@@ -11,6 +11,8 @@ import subprocess
 
 import yaml
 
+from settings_variant import flatten
+
 MODES = ("off", "visibility", "paper", "improved", "fallback", "in_image", "guard")
 EXECUTIONS = ("sequential", "threaded")
 NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
@@ -173,6 +175,8 @@ def load(config_path, script_dir, out_override=None):
         if not isinstance(overrides, dict):
             _fail(source, "variants.%s" % name, "expected {settings key: value}, e.g. "
                   "{LoopClosing.enabled: false}")
+        # Nested keys as the settings files allow them: {LoopClosing: {enabled: false}}.
+        variants[name] = overrides = flatten(overrides, "", {})
         for setting, value in overrides.items():
             if not isinstance(setting, str) or "." not in setting:
                 _fail(source, "variants.%s.%s" % (name, setting),

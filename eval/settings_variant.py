@@ -43,7 +43,7 @@ def main():
     temporary = out + ".tmp"
     with open(temporary, "w") as handle:
         handle.write("# Made by the batch from %s (docs/batch.md)\n" % base)
-        yaml.safe_dump(values, handle, default_flow_style=None, sort_keys=False)
+        yaml.safe_dump(values, handle, default_flow_style=False, sort_keys=False)
     os.replace(temporary, out)
 
 
