@@ -1,5 +1,5 @@
 """tools/ocg_batch: the configuration check, the Slurm profile's dry run, and a local
-two-sequence batch (generated smoke sequences, 30 frames) that resumes after losing a run."""
+two-sequence batch (generated smoke sequences, 20 frames) that resumes after losing a run."""
 import csv
 import os
 import subprocess
@@ -21,8 +21,8 @@ def write_config(folder, tools, text):
 
 TWO_SMOKES = """out: out
 sequences:
-  - {preset: smoke, seed: 1, frames: 30}
-  - {preset: smoke, seed: 2, frames: 30}
+  - {preset: smoke, seed: 1, frames: 20}
+  - {preset: smoke, seed: 2, frames: 20}
 modes: [paper]
 executions: [sequential, threaded]
 repeats: 2
