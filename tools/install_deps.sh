@@ -16,6 +16,10 @@ PACKAGES=(
   libcli11-dev
   libspdlog-dev libfmt-dev
   clang libclang-rt-14-dev  # libFuzzer and the sanitizers of tools/fuzz.sh
+  python3-dev pybind11-dev python3-pybind11  # the Python module ocg (docs/python.md)
+  python3-numpy python3-pytest               # its arrays and its tests
+  python3-matplotlib   # ocg_eval ate --plot and the batch's plots
+  snakemake            # tools/ocg_batch (docs/batch.md)
 )
 
 missing=()

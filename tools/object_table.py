@@ -26,6 +26,15 @@ import sys
 import tempfile
 
 COLUMNS = ["corr_s", "unident_s", "redun_s", "corr_m", "delet_s", "unident_m"]
+# Table I's columns, here and in the batch's tables (eval/collect.py).
+TABLE_I_HEADER = ["Corr.S", "Unident.S", "Redun.S (dup+spur)", "Corr.M", "Delet.S", "Unident.M",
+                  "Acc", "Prec", "Recall"]
+
+
+def table_header(first_columns, columns):
+    """A Markdown table's header and rule lines."""
+    names = list(first_columns) + list(columns)
+    return ["| " + " | ".join(names) + " |", "|---" * len(names) + "|"]
 
 
 def run(command):
@@ -64,8 +73,7 @@ def main():
     out = args.out or tempfile.mkdtemp(prefix="ocg_object_table_")
     os.makedirs(out, exist_ok=True)
     modes = args.modes.split(",")
-    lines = ["| sequence | mode | Corr.S | Unident.S | Redun.S (dup+spur) | Corr.M | Delet.S "
-             "| Unident.M | Acc | Prec | Recall |", "|---" * 11 + "|"]
+    lines = table_header(["sequence", "mode"], TABLE_I_HEADER)
     for sequence in args.sequences:
         name = os.path.basename(os.path.normpath(sequence))
         groundtruth = os.path.join(sequence, "groundtruth.txt")

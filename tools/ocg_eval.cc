@@ -5,7 +5,9 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include <filesystem>
+#include <optional>
+
+#include "ate_plot.h"
 #include "cli_common.h"
 
 #include "ocg/eval/object_metrics.h"
@@ -59,22 +61,16 @@ struct ObjectsInput {
 };
 
 void EvaluateObjects(const ObjectsInput& input) {
-  const ocg::ObjectGroundTruth truth = ocg::ReadObjectGroundTruth(input.gt, input.match);
-  std::vector<ocg::RunObject> objects = ocg::ReadRunObjects(input.run);
+  std::optional<ocg::RunAlignment> aligned;
+  const ocg::ObjectMetrics m =
+      ocg::EvaluateRunObjects(input.gt, input.run, input.groundtruth, input.match, &aligned);
   nlohmann::json alignment = nullptr;
-  if (!input.groundtruth.empty()) {
-    // Monocular runs live in their own frame and scale: align the run's trajectory first.
-    std::string trajectory = input.run + "/KeyFrameTrajectory.txt";
-    if (!std::filesystem::exists(trajectory)) trajectory = input.run + "/CameraTrajectory.txt";
-    const ocg::AteResult ate = ocg::ComputeAte(ocg::ReadTumTrajectory(input.groundtruth),
-                                               ocg::ReadTumTrajectory(trajectory), {});
-    ocg::TransformObjects(ate.reference_from_estimate, &objects);
-    alignment = {{"trajectory", trajectory},
-                 {"pairs", ate.pairs.size()},
-                 {"scale", ate.reference_from_estimate.scale()},
-                 {"ate_rmse", ate.translation.rmse}};
+  if (aligned) {
+    alignment = {{"trajectory", aligned->trajectory},
+                 {"pairs", aligned->pairs},
+                 {"scale", aligned->scale},
+                 {"ate_rmse", aligned->ate_rmse}};
   }
-  const ocg::ObjectMetrics m = ocg::ComputeObjectMetrics(truth, objects);
   if (input.json) {
     std::cout << nlohmann::json({{"corr_s", m.corr_s},
                                  {"unident_s", m.unident_s},
@@ -139,6 +135,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"frames", "seconds"}));
 
+  std::string ate_plot;
+  ate->add_option("--plot", ate_plot,
+                  "also draw the aligned trajectories (top view) and the per-axis error over "
+                  "time into this PNG (matplotlib: python3-matplotlib)");
+
   ObjectsInput objects_input;
   CLI::App* objects = app.add_subcommand(
       "objects", "object-map metrics of the paper's Table I (SPEC 4) for a run folder");
@@ -174,8 +175,13 @@ int main(int argc, char** argv) {
       ocg::AteOptions options;
       options.alignment = ocg::ParseAlignmentMode(ate_input.align);
       options.max_dt = ate_input.max_dt;
-      const ocg::AteResult result = ocg::ComputeAte(ocg::ReadTumTrajectory(ate_input.gt),
-                                                    ocg::ReadTumTrajectory(ate_input.est), options);
+      const std::vector<ocg::StampedPose> reference = ocg::ReadTumTrajectory(ate_input.gt);
+      const std::vector<ocg::StampedPose> estimate = ocg::ReadTumTrajectory(ate_input.est);
+      const ocg::AteResult result = ocg::ComputeAte(reference, estimate, options);
+      // The plot first: when it cannot be drawn the run fails before printing a result.
+      if (!ate_plot.empty()) {
+        ocg::tools::PlotAte(reference, estimate, result, ate_input.align, ate_plot);
+      }
       if (ate_input.json) {
         nlohmann::json json = StatisticsJson(result.translation);
         json["pairs"] = result.pairs.size();

@@ -5,7 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include "ocg/core/file_io.h"
+#include "ocg/eval/trajectory_error.h"
 #include "ocg/io/text_lines.h"
+#include "ocg/io/trajectory.h"
 
 namespace ocg {
 namespace {
@@ -192,6 +194,28 @@ ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
 
 void TransformObjects(const Sim3& world_from_run, std::vector<RunObject>* objects) {
   for (RunObject& object : *objects) object.centre = world_from_run * object.centre;
+}
+
+ObjectMetrics EvaluateRunObjects(const std::string& objects_gt_path, const std::string& run_dir,
+                                 const std::string& groundtruth_path,
+                                 const ObjectMatchOptions& options,
+                                 std::optional<RunAlignment>* alignment) {
+  const ObjectGroundTruth truth = ReadObjectGroundTruth(objects_gt_path, options);
+  std::vector<RunObject> objects = ReadRunObjects(run_dir);
+  if (alignment != nullptr) alignment->reset();
+  if (!groundtruth_path.empty()) {
+    // Monocular runs live in their own frame and scale: align the run's trajectory first.
+    std::string trajectory = run_dir + "/KeyFrameTrajectory.txt";
+    if (!std::filesystem::exists(trajectory)) trajectory = run_dir + "/CameraTrajectory.txt";
+    const AteResult ate =
+        ComputeAte(ReadTumTrajectory(groundtruth_path), ReadTumTrajectory(trajectory), {});
+    TransformObjects(ate.reference_from_estimate, &objects);
+    if (alignment != nullptr) {
+      *alignment = RunAlignment{trajectory, ate.pairs.size(), ate.reference_from_estimate.scale(),
+                                ate.translation.rmse};
+    }
+  }
+  return ComputeObjectMetrics(truth, objects);
 }
 
 }  // namespace ocg

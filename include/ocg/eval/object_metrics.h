@@ -3,6 +3,8 @@
 // (static, and the outdated places moved objects left) against the run's objects (live at
 // the end, or removed on the way).
 
+#include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,5 +67,24 @@ ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
 
 // Moves objects into the ground truth's frame: world_from_run applied to every centre.
 void TransformObjects(const Sim3& world_from_run, std::vector<RunObject>* objects);
+
+// How a run in its own frame and scale was brought into the ground truth's.
+struct RunAlignment {
+  std::string trajectory;  // the run's trajectory file that was aligned
+  std::size_t pairs = 0;
+  double scale = 1.0;
+  double ate_rmse = 0.0;  // metres
+};
+
+// `ocg_eval objects` for one run folder: the ground truth (objects_gt.json) against the
+// run's objects. With a ground-truth trajectory (TUM, camera-to-world) the run's
+// KeyFrameTrajectory.txt (else CameraTrajectory.txt) is aligned to it (Sim(3)) and the
+// objects moved with it, and *alignment says how; without one the run is taken to be in
+// the ground truth's frame. Throws FileError / ParseError naming the file, and
+// std::invalid_argument when the trajectories do not align (fewer than 3 pairs).
+ObjectMetrics EvaluateRunObjects(const std::string& objects_gt_path, const std::string& run_dir,
+                                 const std::string& groundtruth_path,
+                                 const ObjectMatchOptions& options,
+                                 std::optional<RunAlignment>* alignment = nullptr);
 
 }  // namespace ocg

@@ -1,0 +1,232 @@
+"""The batch configuration (docs/batch.md): read, checked whole before any job starts,
+and resolved (defaults filled, paths absolute) into the JSON the Snakefile reads.
+
+Every error names the file and the key, e.g. `b.yaml: sequences[1].preset: unknown preset
+'smok' (known: smoke, ...)`. Needs PyYAML (a dependency of Debian's snakemake).
+"""
+import json
+import os
+import re
+import subprocess
+
+import yaml
+
+from settings_variant import flatten
+
+MODES = ("off", "visibility", "paper", "improved", "fallback", "in_image", "guard")
+EXECUTIONS = ("sequential", "threaded")
+NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
+TOP_KEYS = {"out", "tools", "sequences", "modes", "variants", "executions", "repeats",
+            "realtime", "max_dt"}
+GENERATED_KEYS = {"name", "preset", "seed", "frames", "size"}
+USER_KEYS = {"name", "path", "format", "settings", "groundtruth", "detections", "objects_gt",
+             "max_frames"}
+
+
+class ConfigError(Exception):
+    pass
+
+
+def _fail(source, key, message):
+    raise ConfigError("%s: %s: %s" % (source, key, message))
+
+
+def _path(source, key, base, value, kind):
+    if not isinstance(value, str) or not value:
+        _fail(source, key, "expected a path")
+    path = os.path.normpath(os.path.join(base, os.path.expanduser(value)))
+    if kind == "file" and not os.path.isfile(path):
+        _fail(source, key, "no such file: %s" % path)
+    if kind == "dir" and not os.path.isdir(path):
+        _fail(source, key, "no such folder: %s" % path)
+    return path
+
+
+def _whole(source, key, value, minimum):
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        _fail(source, key, "expected a whole number >= %d, got %r" % (minimum, value))
+    return value
+
+
+def _mode_ok(mode):
+    if mode in ("off", "visibility", "paper", "improved"):
+        return True
+    return all(part in ("fallback", "in_image", "guard") for part in mode.split("+"))
+
+
+def default_tools(script_dir):
+    """Beside the wrapper when installed (bin/), else the build folder of the checkout."""
+    if os.path.exists(os.path.join(script_dir, "ocg_slam")):
+        return script_dir
+    return os.path.normpath(os.path.join(script_dir, "..", "build", "tools"))
+
+
+def _presets(tools):
+    result = subprocess.run([os.path.join(tools, "ocg_synth"), "--list-presets"],
+                            capture_output=True, text=True)
+    return result.stdout.split() if result.returncode == 0 else []
+
+
+def load(config_path, script_dir, out_override=None):
+    """Returns the resolved batch (a dict) or raises ConfigError naming file and key."""
+    source = config_path
+    try:
+        with open(config_path) as handle:
+            raw = yaml.safe_load(handle)
+    except OSError as error:
+        raise ConfigError("%s: cannot read: %s" % (source, error.strerror))
+    except yaml.YAMLError as error:
+        raise ConfigError("%s: not YAML: %s" % (source, error))
+    if not isinstance(raw, dict):
+        raise ConfigError("%s: expected a mapping of keys (out, sequences, modes, ...)" % source)
+    unknown = sorted(set(raw) - TOP_KEYS)
+    if unknown:
+        _fail(source, unknown[0], "unknown key (known: %s)" % ", ".join(sorted(TOP_KEYS)))
+    base = os.path.dirname(os.path.abspath(config_path))
+
+    tools = _path(source, "tools", base, raw["tools"], "dir") if "tools" in raw else \
+        default_tools(script_dir)
+    needed = ["ocg_slam", "ocg_eval"]
+    sequences_raw = raw.get("sequences")
+    if not isinstance(sequences_raw, list) or not sequences_raw:
+        _fail(source, "sequences", "expected a non-empty list of sequences")
+    if any(isinstance(s, dict) and "preset" in s for s in sequences_raw):
+        needed.append("ocg_synth")
+    for tool in needed:
+        if not os.access(os.path.join(tools, tool), os.X_OK):
+            _fail(source, "tools", "%s not found in %s (build it, or set tools: to the folder "
+                  "with the OCG-SLAM programs)" % (tool, tools))
+    presets = None
+
+    sequences, names = [], set()
+    for index, entry in enumerate(sequences_raw):
+        key = "sequences[%d]" % index
+        if not isinstance(entry, dict):
+            _fail(source, key, "expected a mapping with preset: or path:")
+        if ("preset" in entry) == ("path" in entry):
+            _fail(source, key, "give either preset: (generated) or path: (your TUM/EuRoC folder)")
+        if "preset" in entry:
+            extra = sorted(set(entry) - GENERATED_KEYS)
+            if extra:
+                _fail(source, "%s.%s" % (key, extra[0]),
+                      "unknown key for a generated sequence (known: %s)" % ", ".join(sorted(GENERATED_KEYS)))
+            presets = presets if presets is not None else _presets(tools)
+            if entry["preset"] not in presets:
+                _fail(source, key + ".preset", "unknown preset %r (known: %s)" % (
+                    entry["preset"], ", ".join(presets)))
+            seed = _whole(source, key + ".seed", entry.get("seed", 1), 0)
+            frames = _whole(source, key + ".frames", entry.get("frames", 0), 0)
+            size = entry.get("size", "")
+            if size and not re.match(r"^\d+x\d+$", str(size)):
+                _fail(source, key + ".size", "expected WxH, e.g. 320x240")
+            sequence = {"name": entry.get("name", "%s_s%d" % (entry["preset"], seed)),
+                        "generated": True, "preset": entry["preset"], "seed": seed,
+                        "frames": frames, "size": str(size), "format": "tum", "max_frames": 0}
+        else:
+            extra = sorted(set(entry) - USER_KEYS)
+            if extra:
+                _fail(source, "%s.%s" % (key, extra[0]),
+                      "unknown key for a sequence folder (known: %s)" % ", ".join(sorted(USER_KEYS)))
+            path = _path(source, key + ".path", base, entry["path"], "dir")
+            form = entry.get("format", "tum")
+            if form not in ("tum", "euroc"):
+                _fail(source, key + ".format", "expected tum or euroc, got %r" % form)
+            if "settings" not in entry:
+                _fail(source, key + ".settings", "required for a sequence folder (its camera)")
+            groundtruth = entry.get("groundtruth")
+            if groundtruth is None and os.path.isfile(os.path.join(path, "groundtruth.txt")):
+                groundtruth = "groundtruth.txt"
+            sequence = {
+                "name": entry.get("name", os.path.basename(path)), "generated": False,
+                "path": path, "format": form,
+                "settings": _path(source, key + ".settings", base, entry["settings"], "file"),
+                "groundtruth": _path(source, key + ".groundtruth", path, groundtruth, "file")
+                if groundtruth else None,
+                "detections": _path(source, key + ".detections", base, entry["detections"], "dir")
+                if "detections" in entry else None,
+                "objects_gt": _path(source, key + ".objects_gt", base, entry["objects_gt"], "file")
+                if "objects_gt" in entry else None,
+                "max_frames": _whole(source, key + ".max_frames", entry.get("max_frames", 0), 0)}
+        if not NAME.match(str(sequence["name"])):
+            _fail(source, key + ".name", "use letters, digits, '_', '-' and '.' only")
+        if sequence["name"] in names:
+            _fail(source, key + ".name", "%r is used twice" % sequence["name"])
+        names.add(sequence["name"])
+        sequences.append(sequence)
+
+    modes = raw.get("modes", ["paper"])
+    if not isinstance(modes, list) or not modes:
+        _fail(source, "modes", "expected a non-empty list, e.g. [paper, improved]")
+    for index, mode in enumerate(modes):
+        if not isinstance(mode, str) or not _mode_ok(mode):
+            _fail(source, "modes[%d]" % index, "unknown OCG mode %r (paper, improved, off, "
+                  "visibility, or fallback/in_image/guard joined with '+')" % (mode,))
+    if len(set(modes)) != len(modes):
+        _fail(source, "modes", "a mode is listed twice")
+
+    variants = raw.get("variants", {"default": {}})
+    if not isinstance(variants, dict) or not variants:
+        _fail(source, "variants", "expected a mapping: variant name -> {settings key: value}")
+    for name, overrides in variants.items():
+        if not NAME.match(str(name)):
+            _fail(source, "variants.%s" % name, "use letters, digits, '_', '-' and '.' only")
+        if overrides is None:
+            variants[name] = overrides = {}
+        if not isinstance(overrides, dict):
+            _fail(source, "variants.%s" % name, "expected {settings key: value}, e.g. "
+                  "{LoopClosing.enabled: false}")
+        # Nested keys as the settings files allow them: {LoopClosing: {enabled: false}}.
+        variants[name] = overrides = flatten(overrides, "", {})
+        for setting, value in overrides.items():
+            if not isinstance(setting, str) or "." not in setting:
+                _fail(source, "variants.%s.%s" % (name, setting),
+                      "expected a dotted settings key such as OCG.tau_doubt")
+            if setting == "System.sequential":
+                _fail(source, "variants.%s.%s" % (name, setting),
+                      "set by executions: (sequential, threaded), not by a variant")
+            if isinstance(value, dict) or (isinstance(value, list) and any(
+                    isinstance(item, (dict, list)) for item in value)):
+                _fail(source, "variants.%s.%s" % (name, setting),
+                      "expected a value or a list of values")
+
+    executions = raw.get("executions", ["sequential"])
+    if not isinstance(executions, list) or not executions or \
+            any(e not in EXECUTIONS for e in executions):
+        _fail(source, "executions", "expected a list of sequential and/or threaded")
+    repeats = _whole(source, "repeats", raw.get("repeats", 3), 1)
+    realtime = raw.get("realtime", True)
+    if not isinstance(realtime, bool):
+        _fail(source, "realtime", "expected true or false")
+    max_dt = raw.get("max_dt", 0.02)
+    if isinstance(max_dt, bool) or not isinstance(max_dt, (int, float)) or max_dt <= 0:
+        _fail(source, "max_dt", "expected a positive number of seconds")
+
+    if out_override:
+        out = os.path.abspath(out_override)
+    elif "out" in raw:
+        out = _path(source, "out", base, raw["out"], None)
+    else:
+        _fail(source, "out", "required: the folder of the runs, tables and plots")
+
+    runs = []
+    for sequence in sequences:
+        has_objects = sequence["generated"] or sequence["detections"] is not None
+        for variant in variants:
+            for mode in (modes if has_objects else ["slam"]):
+                for execution in executions:
+                    count = repeats if execution == "threaded" else 1
+                    for repeat in range(1, count + 1):
+                        runs.append("%s/%s/%s/%s-%d" % (sequence["name"], variant, mode,
+                                                          execution, repeat))
+    return {"config": os.path.abspath(config_path), "out": out, "tools": tools,
+            "sequences": sequences, "modes": modes, "variants": variants,
+            "executions": executions, "repeats": repeats, "realtime": realtime,
+            "max_dt": float(max_dt), "runs": runs}
+
+
+def write_resolved(batch, path):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    temporary = path + ".tmp"
+    with open(temporary, "w") as handle:
+        json.dump(batch, handle, indent=1)
+    os.replace(temporary, path)
