@@ -10,10 +10,10 @@
 //    outputs; otherwise they run on threads of their own, started by the constructor and
 //    joined by Shutdown().
 //  - The readers (Pose(), Objects(), Changes(), KeyFrameTrajectory(), CameraTrajectory())
-//    may be called between Track() calls from the tracking thread; Objects() and Changes()
-//    may also be called from any other thread at any time (the object layer serializes
-//    them with its own lock and they see whole frames). The trajectories are final only
-//    after Shutdown().
+//    between Track() calls, from the tracking thread or from another thread the caller
+//    keeps from overlapping Track() (a SLAM map reset inside Track() replaces the object
+//    map; the Python binding serializes every call with one lock). They see whole
+//    frames; the trajectories are final only after Shutdown().
 //  - Save() after Shutdown(), from the tracking thread.
 //  - Track() after Shutdown() throws std::logic_error; Shutdown() is idempotent; the
 //    destructor shuts down when the caller has not.
