@@ -18,21 +18,6 @@ namespace py = pybind11;
 
 namespace ocg::python {
 namespace {
-
-using TumRows = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-TumRows ToRows(const std::vector<StampedPose>& poses) {
-  TumRows rows({static_cast<py::ssize_t>(poses.size()), static_cast<py::ssize_t>(8)});
-  auto out = rows.mutable_unchecked<2>();
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const Eigen::Vector3d& t = poses[i].T_wc.translation();
-    const Eigen::Quaterniond& q = poses[i].T_wc.quaternion();
-    const double values[8] = {poses[i].timestamp, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
-    for (int c = 0; c < 8; ++c) out(i, c) = values[c];
-  }
-  return rows;
-}
-
 // A trajectory argument: a TUM file's path, or an (N, 8) array of TUM rows.
 std::vector<StampedPose> ToPoses(const py::object& given, const char* name) {
   if (py::isinstance<py::str>(given) || py::hasattr(given, "__fspath__")) {
@@ -94,11 +79,24 @@ py::dict MetricsDict(const ObjectMetrics& m, const std::optional<RunAlignment>& 
 
 }  // namespace
 
+TumRows ToTumRows(const std::vector<StampedPose>& poses) {
+  TumRows rows({static_cast<py::ssize_t>(poses.size()), static_cast<py::ssize_t>(8)});
+  auto out = rows.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const Eigen::Vector3d& t = poses[i].T_wc.translation();
+    const Eigen::Quaterniond& q = poses[i].T_wc.quaternion();
+    const double values[8] = {poses[i].timestamp, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+    for (int c = 0; c < 8; ++c) out(i, c) = values[c];
+  }
+  return rows;
+}
+
 void BindEvaluation(py::module_& module) {
   module.def(
       "read_tum_trajectory",
       [](const py::object& path) {
-        return ToRows(ReadTumTrajectory(py::str(py::module_::import("os").attr("fspath")(path))));
+        return ToTumRows(
+            ReadTumTrajectory(py::str(py::module_::import("os").attr("fspath")(path))));
       },
       py::arg("path"),
       "Reads a TUM trajectory file (camera-to-world poses T_wc).\n\n"

@@ -1,8 +1,13 @@
 #pragma once
 // The parts of the Python module `ocg`, one function per file, called in order by
-// module.cc. A new part (ocg.ObjectSlam) is one more file with one more Bind function.
+// module.cc. A new part is one more file with one more Bind function.
 
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+
+#include <vector>
+
+#include "ocg/io/trajectory.h"
 
 namespace ocg::python {
 
@@ -12,5 +17,11 @@ void BindErrors(pybind11::module_& module);
 void BindChangeDetector(pybind11::module_& module);
 // ocg.read_tum_trajectory, ocg.ate, ocg.object_metrics.
 void BindEvaluation(pybind11::module_& module);
+// ocg.ObjectSlam: SLAM, objects and the OCG fed frame by frame.
+void BindObjectSlam(pybind11::module_& module);
+
+using TumRows = pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>;
+// Poses as an (N, 8) array of TUM rows [timestamp, tx, ty, tz, qx, qy, qz, qw] (T_wc).
+TumRows ToTumRows(const std::vector<StampedPose>& poses);
 
 }  // namespace ocg::python

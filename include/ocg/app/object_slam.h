@@ -1,0 +1,118 @@
+#pragma once
+// ObjectSlam: the whole system behind one class — monocular SLAM, the object layer on its
+// tracked frames, the OCG that keeps the object map up to date, and the run's snapshots.
+// `ocg_slam run` and the Python module `ocg.ObjectSlam` are thin callers of it.
+//
+// Threading contract:
+//  - Track() and Shutdown() from one caller thread (the "tracking thread"), never
+//    concurrently with each other. In sequential mode (System.sequential) local mapping,
+//    loop closing and the OCG run inside Track(), so identical inputs give identical
+//    outputs; otherwise they run on threads of their own, started by the constructor and
+//    joined by Shutdown().
+//  - The readers (Pose(), Objects(), Changes(), KeyFrameTrajectory(), CameraTrajectory())
+//    between Track() calls, from the tracking thread or from another thread the caller
+//    keeps from overlapping Track() (a SLAM map reset inside Track() replaces the object
+//    map; the Python binding serializes every call with one lock). They see whole
+//    frames; the trajectories are final only after Shutdown().
+//  - Save() after Shutdown(), from the tracking thread.
+//  - Track() after Shutdown() throws std::logic_error; Shutdown() is idempotent; the
+//    destructor shuts down when the caller has not.
+
+#include <Eigen/Core>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/mat.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocg/app/settings.h"
+#include "ocg/core/lie.h"
+#include "ocg/io/detections.h"
+#include "ocg/io/trajectory.h"
+#include "ocg/viewer/snapshots.h"
+
+namespace ocg {
+
+struct ObjectSlamOptions {
+  // Vocabulary file; empty: the settings' Vocabulary.path.
+  std::string vocabulary_path;
+  // Map objects from the detections given to Track() (false: SLAM alone, no object files).
+  bool map_objects = true;
+  // PNG snapshots (docs/viewer.md) written under snapshot_folder; none when not enabled.
+  SnapshotPolicy snapshots{false, 0};
+  std::string snapshot_folder;
+  // Ground truth (camera to world, TUM) drawn in the final snapshots, aligned by Sim(3).
+  std::vector<StampedPose> groundtruth;
+};
+
+// What Track() is told about a frame besides its pixels (all optional).
+struct FrameSource {
+  // The frame's timestamp as written in the trajectories (default: the number, %.6f).
+  std::string timestamp_text;
+  // The image file, read in colour for the frame snapshots; empty: the pixels given.
+  std::string image_path;
+};
+
+// Where the run came from, for run.json.
+struct RunDescription {
+  std::string sequence;    // sequence folder
+  std::string settings;    // settings file
+  std::string detections;  // detection folder (empty: none)
+  std::size_t detection_files_matched = 0;
+};
+
+class ObjectSlam {
+ public:
+  // Loads the vocabulary and starts SLAM (and, in threaded mode, its threads). Throws
+  // FileError when the vocabulary cannot be read, SettingsError for impossible settings.
+  explicit ObjectSlam(const Settings& settings, ObjectSlamOptions options = {});
+  ~ObjectSlam();
+  ObjectSlam(const ObjectSlam&) = delete;
+  ObjectSlam& operator=(const ObjectSlam&) = delete;
+
+  // One frame: image CV_8UC1 grey or CV_8UC3 BGR of the settings' size (pixels);
+  // timestamp in seconds, increasing; detections in this image's pixels (EAO format,
+  // ignored when the options map no objects). Returns T_cw (world to camera, map units)
+  // when the frame was tracked, else nothing. Throws std::invalid_argument for an empty
+  // image, another type or size; std::logic_error after Shutdown().
+  std::optional<SE3> Track(const cv::Mat& image, double timestamp,
+                           const std::vector<Detection>& detections,
+                           const FrameSource& source = {});
+  // Finishes local mapping, loop closing and the OCG; the objects take the final poses.
+  // Idempotent; rethrows a failure of a worker thread.
+  void Shutdown();
+  bool IsShutDown() const { return shut_down_; }
+
+  // The last tracked frame's pose (T_cw), if any frame was tracked since the last reset.
+  std::optional<SE3> Pose() const;
+  // objects.json and changes.json (docs/objects.md): the object map and the change log.
+  std::string Objects() const;
+  std::string Changes() const;
+  std::vector<StampedPose> KeyFrameTrajectory() const;  // camera to world
+  std::vector<StampedPose> CameraTrajectory() const;    // camera to world
+  std::size_t FramesGiven() const;
+
+  const std::string& VocabularyFile() const { return vocabulary_file_; }
+  std::size_t VocabularyWords() const;
+  double VocabularyLoadSeconds() const { return vocabulary_seconds_; }
+  bool Sequential() const;
+
+  // After Shutdown(): writes KeyFrameTrajectory.txt, CameraTrajectory.txt,
+  // map_points.ply, the object files (objects.json, changes.json, ocg.json,
+  // ocg_observations.jsonl) when objects are mapped, the final snapshots, and run.json
+  // (docs/slam.md) into folder; returns run.json's content. Throws std::logic_error
+  // before Shutdown(), FileError when a file cannot be written.
+  nlohmann::json Save(const std::string& folder, const RunDescription& description);
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+  std::string vocabulary_file_;
+  double vocabulary_seconds_ = 0.0;
+  bool shut_down_ = false;
+};
+
+}  // namespace ocg

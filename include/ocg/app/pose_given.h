@@ -1,0 +1,36 @@
+#pragma once
+// Pose-given mode (`ocg_slam objects`, docs/objects.md): the object map built and kept up
+// to date by the OCG from a given camera trajectory and detections alone, no images.
+
+#include <cstddef>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocg/app/settings.h"
+#include "ocg/core/lie.h"
+#include "ocg/io/detections.h"
+
+namespace ocg {
+
+struct PoseGivenFrame {
+  std::string timestamp_text;  // names its detection file "<timestamp_text>.txt"
+  double timestamp = 0.0;      // seconds
+  std::optional<SE3> T_cw;     // world to camera; none: the frame is skipped
+};
+
+// Runs the object layer over frames (in time order; every Objects.keyframe_interval-th
+// frame with a pose is an OCG keyframe), writes objects.json, changes.json, ocg.json and
+// ocg_observations.jsonl into folder and returns the counts and timings run.json reports
+// (frames, frames_used, frames_without_pose, keyframes, wall_seconds, timing and the
+// object map's counts). progress(frames done) after each frame, when given. Throws
+// FileError when a file cannot be written.
+nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
+                                         const std::vector<PoseGivenFrame>& frames,
+                                         const EaoDetectionFolder& detections,
+                                         const std::string& folder,
+                                         const std::function<void(std::size_t)>& progress = {});
+
+}  // namespace ocg

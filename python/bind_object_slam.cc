@@ -1,0 +1,270 @@
+// ocg.ObjectSlam: the whole system (SLAM, objects, OCG) fed frame by frame from Python.
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "ocg/app/object_slam.h"
+#include "ocg/app/settings.h"
+#include "ocg/core/file_io.h"
+
+namespace py = pybind11;
+
+namespace ocg::python {
+namespace {
+
+using Matrix4 = py::array_t<double>;
+
+Matrix4 ToMatrix(const SE3& pose) {
+  Matrix4 matrix({4, 4});
+  auto out = matrix.mutable_unchecked<2>();
+  const Eigen::Matrix4d m = pose.Matrix();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out(r, c) = m(r, c);
+  return matrix;
+}
+
+std::vector<Detection> ToDetections(const py::object& given) {
+  std::vector<Detection> detections;
+  if (given.is_none()) return detections;
+  const auto rows = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(given);
+  if (!rows) throw py::value_error("detections: expected an (N, 6) numeric array");
+  if (rows.size() == 0) return detections;
+  if (rows.ndim() != 2 || rows.shape(1) != 6) {
+    throw py::value_error(
+        "detections: expected an (N, 6) array [class, x, y, w, h, score] (pixels, x y the "
+        "top-left corner), got " +
+        std::to_string(rows.ndim()) + " dimension(s)");
+  }
+  const auto in = rows.unchecked<2>();
+  for (py::ssize_t i = 0; i < rows.shape(0); ++i) {
+    Detection detection;
+    detection.class_id = static_cast<int>(in(i, 0));
+    if (detection.class_id != in(i, 0) || detection.class_id < 0) {
+      throw py::value_error("detections: row " + std::to_string(i) +
+                            ": the class must be a COCO-80 index (a whole number >= 0)");
+    }
+    detection.x = in(i, 1), detection.y = in(i, 2);
+    detection.width = in(i, 3), detection.height = in(i, 4);
+    detection.confidence = in(i, 5);
+    if (!(detection.width > 0.0 && detection.height > 0.0)) {
+      throw py::value_error("detections: row " + std::to_string(i) +
+                            ": width and height must be > 0 pixels");
+    }
+    if (!(detection.confidence >= 0.0 && detection.confidence <= 1.0)) {
+      throw py::value_error("detections: row " + std::to_string(i) +
+                            ": the score must be in [0, 1]");
+    }
+    detections.push_back(detection);
+  }
+  return detections;
+}
+
+// One ObjectSlam for Python: its methods are serialized (Track is for one thread at a
+// time, and track() runs without the GIL, so two Python threads could otherwise enter it).
+class PyObjectSlam {
+ public:
+  PyObjectSlam(const std::string& settings_path, const std::optional<std::string>& vocabulary,
+               const std::optional<std::string>& mode, bool map_objects)
+      : settings_path_(settings_path) {
+    Settings settings = LoadSettings(settings_path, CameraNeed::kIntrinsics).settings;
+    if (mode) {
+      settings.ocg.mode = *mode;
+      settings.ocg.Check();
+    }
+    ObjectSlamOptions options;
+    if (vocabulary) options.vocabulary_path = *vocabulary;
+    options.map_objects = map_objects;
+    options.snapshots = SnapshotPolicy{false, 0};
+    py::gil_scoped_release release;
+    slam_ = std::make_unique<ObjectSlam>(settings, options);
+  }
+
+  std::optional<Matrix4> Track(const py::array& image, double timestamp,
+                               const py::object& detections) {
+    if (!image.dtype().is(py::dtype::of<std::uint8_t>())) {
+      throw py::value_error("image: expected a uint8 array (HxW grey or HxWx3 BGR), got dtype " +
+                            std::string(py::str(image.dtype())));
+    }
+    if (!(image.ndim() == 2 || (image.ndim() == 3 && image.shape(2) == 3))) {
+      throw py::value_error("image: expected HxW (grey) or HxWx3 (BGR), got " +
+                            std::to_string(image.ndim()) + " dimension(s)" +
+                            (image.ndim() == 3
+                                 ? " with " + std::to_string(image.shape(2)) + " channels"
+                                 : std::string()));
+    }
+    const auto pixels = py::array_t<std::uint8_t, py::array::c_style>::ensure(image);
+    const std::vector<Detection> boxes = ToDetections(detections);
+    // A header over NumPy's buffer: no copy; pixels keeps it alive past the GIL release.
+    const cv::Mat mat(static_cast<int>(pixels.shape(0)), static_cast<int>(pixels.shape(1)),
+                      image.ndim() == 2 ? CV_8UC1 : CV_8UC3,
+                      const_cast<std::uint8_t*>(pixels.data()));
+    std::optional<SE3> T_cw;
+    {
+      py::gil_scoped_release release;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      T_cw = slam_->Track(mat, timestamp, boxes);
+    }
+    if (!T_cw) return std::nullopt;
+    return ToMatrix(*T_cw);
+  }
+
+  template <typename Result, typename Body>
+  Result Locked(Body body) {
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return body(*slam_);
+  }
+
+  ObjectSlam& slam() { return *slam_; }
+  const std::string& settings_path() const { return settings_path_; }
+
+ private:
+  std::string settings_path_;
+  std::mutex mutex_;
+  std::unique_ptr<ObjectSlam> slam_;
+};
+
+// An image file as `ocg_slam run` reads it, so Python feeds ObjectSlam the same pixels.
+py::array ReadImage(const std::string& path, const std::string& mode) {
+  if (mode != "grey" && mode != "bgr") {
+    throw py::value_error("read_image: mode must be 'grey' or 'bgr', not '" + mode + "'");
+  }
+  cv::Mat image;
+  {
+    py::gil_scoped_release release;
+    image = cv::imread(path, mode == "grey" ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
+  }
+  if (image.empty()) throw FileError("cannot read image '" + path + "'");
+  std::vector<py::ssize_t> shape = {image.rows, image.cols};
+  if (mode == "bgr") shape.push_back(3);
+  py::array_t<std::uint8_t> pixels(shape);
+  const std::size_t row_bytes = image.cols * image.elemSize();
+  for (int r = 0; r < image.rows; ++r)
+    std::copy(image.ptr<std::uint8_t>(r), image.ptr<std::uint8_t>(r) + row_bytes,
+              pixels.mutable_data() + r * row_bytes);
+  return pixels;
+}
+
+// A trajectory reader of ObjectSlam as TUM rows, under the lock.
+template <std::vector<StampedPose> (ObjectSlam::*Reader)() const>
+TumRows Trajectory(PyObjectSlam& self) {
+  return ToTumRows(
+      self.Locked<std::vector<StampedPose>>([](ObjectSlam& slam) { return (slam.*Reader)(); }));
+}
+
+py::object ParseJson(const std::string& text) {
+  if (text.empty()) return py::none();
+  return py::module_::import("json").attr("loads")(text);
+}
+
+}  // namespace
+
+void BindObjectSlam(py::module_& module) {
+  module.def(
+      "read_image",
+      [](const py::object& path, const std::string& mode) {
+        return ReadImage(py::str(py::module_::import("os").attr("fspath")(path)), mode);
+      },
+      py::arg("path"), py::arg("mode") = "grey",
+      "An image file (PNG, JPEG, ...) decoded as `ocg_slam run` decodes it (OpenCV): mode "
+      "'grey' gives an (H, W) uint8 array, 'bgr' an (H, W, 3) one. Raises ocg.FileError "
+      "when the file is missing or not an image, ValueError for another mode.");
+  py::class_<PyObjectSlam>(
+      module, "ObjectSlam",
+      "The whole system: monocular SLAM, the cuboid object map from the detections given "
+      "with each frame, and the OCG that removes objects that moved (what `ocg_slam run` "
+      "runs, frame by frame).\n\n"
+      "Threading: track(), shutdown() and the trajectory readers run one at a time (a lock "
+      "serializes them); track() releases the GIL, so other Python threads run meanwhile. "
+      "In sequential mode (System.sequential, the default) identical inputs give identical "
+      "outputs; otherwise local mapping, loop closing and the OCG have threads of their own.")
+      .def(py::init<const std::string&, const std::optional<std::string>&,
+                    const std::optional<std::string>&, bool>(),
+           py::arg("settings"), py::kw_only(), py::arg("vocabulary") = py::none(),
+           py::arg("mode") = py::none(), py::arg("map_objects") = true,
+           "settings: a settings file (ours or ORB-SLAM2's; docs/settings.md) with the camera "
+           "intrinsics. vocabulary: a vocabulary file instead of the settings' "
+           "Vocabulary.path. mode: OCG.mode instead of the file's (off, visibility, paper, "
+           "...). map_objects: False runs SLAM alone.\n"
+           "Raises ocg.SettingsError naming file, line and key (also for a missing settings "
+           "file); ocg.FileError when the vocabulary cannot be read; ValueError for an "
+           "unknown mode.")
+      .def("track", &PyObjectSlam::Track, py::arg("image"), py::arg("timestamp"),
+           py::arg("detections") = py::none(),
+           "One frame. image: (H, W) grey or (H, W, 3) BGR uint8 array of the camera in the "
+           "settings. timestamp: seconds, increasing. detections: (N, 6) array, one row per "
+           "box [class, x, y, w, h, score]: COCO-80 class index, top-left corner and size in "
+           "pixels, score in [0, 1]; None or (0, 6) when there is none.\n"
+           "Returns the (4, 4) float64 pose T_cw (world to camera; camera x right, y down, z "
+           "forward; map units, monocular: arbitrary scale) when the frame was tracked, else "
+           "None (before initialization, or lost).\n"
+           "Raises ValueError for another dtype or shape, a malformed detection row; "
+           "RuntimeError after shutdown().")
+      .def(
+          "pose",
+          [](PyObjectSlam& self) -> std::optional<Matrix4> {
+            const std::optional<SE3> pose =
+                self.Locked<std::optional<SE3>>([](ObjectSlam& slam) { return slam.Pose(); });
+            if (!pose) return std::nullopt;
+            return ToMatrix(*pose);
+          },
+          "The last frame's (4, 4) T_cw (world to camera), None when it was not tracked.")
+      .def(
+          "objects",
+          [](PyObjectSlam& self) {
+            return ParseJson(
+                self.Locked<std::string>([](ObjectSlam& slam) { return slam.Objects(); }));
+          },
+          "The object map as objects.json holds it (docs/objects.md): a dict with the live "
+          "and removed objects (world frame, map units) and their OCG states; None when "
+          "objects are not mapped.")
+      .def(
+          "changes",
+          [](PyObjectSlam& self) {
+            return ParseJson(
+                self.Locked<std::string>([](ObjectSlam& slam) { return slam.Changes(); }));
+          },
+          "The change log as changes.json holds it: every removal by the OCG with its "
+          "keyframe and timestamp; None when objects are not mapped.")
+      .def("keyframe_trajectory", &Trajectory<&ObjectSlam::KeyFrameTrajectory>,
+           "The keyframes in the map as an (N, 8) float64 array of TUM rows [timestamp, tx, ty, "
+           "tz, qx, qy, qz, qw], camera to world (T_wc); final after shutdown().")
+      .def("camera_trajectory", &Trajectory<&ObjectSlam::CameraTrajectory>,
+           "Every tracked frame, (N, 8) TUM rows as keyframe_trajectory(); final after "
+           "shutdown().")
+      .def(
+          "shutdown",
+          [](PyObjectSlam& self) {
+            self.Locked<int>([](ObjectSlam& slam) {
+              slam.Shutdown();
+              return 0;
+            });
+          },
+          "Finishes local mapping, loop closing and the OCG; the objects take the final "
+          "poses. Safe to call twice. Raises RuntimeError when a worker thread failed.")
+      .def(
+          "save",
+          [](PyObjectSlam& self, const py::object& folder) {
+            const std::string path = py::str(py::module_::import("os").attr("fspath")(folder));
+            const std::string settings = self.settings_path();
+            const std::string report = self.Locked<std::string>([&](ObjectSlam& slam) {
+              return slam.Save(path, {"(python)", settings, "", 0}).dump();
+            });
+            return ParseJson(report);
+          },
+          py::arg("folder"),
+          "After shutdown(): writes what `ocg_slam run` writes into folder (an existing, "
+          "writable one): KeyFrameTrajectory.txt, CameraTrajectory.txt, map_points.ply, the "
+          "object files and run.json; returns run.json as a dict. Raises RuntimeError "
+          "before shutdown(), ocg.FileError when a file cannot be written.");
+}
+
+}  // namespace ocg::python

@@ -1,0 +1,133 @@
+#include "object_layer.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <utility>
+
+#include "ocg/core/file_io.h"
+#include "ocg/core/statistics.h"
+
+namespace ocg::app_detail {
+
+nlohmann::json Timing(const std::vector<double>& seconds) {
+  return {{"count", seconds.size()},
+          {"median_ms", 1000.0 * Quantile(seconds, 0.5)},
+          {"p95_ms", 1000.0 * Quantile(seconds, 0.95)},
+          {"max_ms",
+           seconds.empty() ? 0.0 : 1000.0 * *std::max_element(seconds.begin(), seconds.end())}};
+}
+
+nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder) {
+  WriteFileAtomically(folder + "/objects.json", mapper.ObjectsJson());
+  WriteFileAtomically(folder + "/changes.json", mapper.ChangesJson());
+  WriteFileAtomically(folder + "/ocg.json", mapper.GraphJson());
+  WriteFileAtomically(folder + "/ocg_observations.jsonl", mapper.ObservationsJsonl());
+  const ObjectLayerStats stats = mapper.Stats();
+  return {{"detections_used", stats.detections_used},
+          {"detections_matched", stats.detections_matched},
+          {"objects_created", stats.objects_created},
+          {"objects_live", mapper.LiveObjectCount()}};
+}
+
+ObjectLayer::ObjectLayer(const Settings& settings, bool enabled, bool keep_first_removal)
+    : settings_(settings), enabled_(enabled), keep_first_removal_(keep_first_removal) {
+  if (enabled_) Start();
+}
+
+void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
+                           double timestamp, const std::vector<Detection>& detections) {
+  if (!enabled_) return;
+  const auto start = std::chrono::steady_clock::now();
+  if (result.reset) {
+    // The SLAM map the objects were built in is gone; so are they.
+    spdlog::warn("frame {}: the SLAM map was reset: the object map starts over", frame);
+    ++resets_;
+    Start();
+  }
+  if (!result.T_cw) return;
+  std::vector<PointObservation> points;
+  points.reserve(result.points.size());
+  for (const TrackedPoint& point : result.points)
+    points.push_back({point.id, point.pixel, point.position});
+  last_association_ = mapper_->AddFrame(frame, timestamp, *result.T_cw, detections, &points);
+  if (result.new_keyframe) Follow(system);
+  if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
+    // The map as it was just before the OCG's first removal, for the before/after
+    // snapshots (exact in sequential mode; a keyframe late when the OCG has a thread).
+    std::vector<ObjectView> before;
+    if (keep_first_removal_ && !removal_seen_) before = mapper_->Views();
+    const std::int64_t removed = mapper_->Stats().objects_removed;
+    mapper_->AddKeyframe(keyframes_++, timestamp, *result.T_cw);
+    if (!removal_seen_ && mapper_->Stats().objects_removed > removed) {
+      removal_seen_ = true;
+      if (keep_first_removal_) first_removal_ = std::move(before);
+    }
+  }
+  seconds_.push_back(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+std::vector<ObjectView> ObjectLayer::Views() const {
+  return enabled_ ? mapper_->Views() : std::vector<ObjectView>{};
+}
+
+std::optional<Eigen::Vector3d> ObjectLayer::Up() const {
+  if (!enabled_) return std::nullopt;
+  return mapper_->Up();
+}
+
+std::vector<FrameDetection> ObjectLayer::LastFrameDetections() const {
+  std::vector<FrameDetection> detections;
+  for (const ObjectDetection& detection : last_association_.detections)
+    detections.push_back({detection.box, detection.class_id, detection.confidence, 0});
+  for (const auto& [index, id] : last_association_.matched) {
+    if (index >= 0) detections[static_cast<std::size_t>(index)].object_id = id;
+  }
+  return detections;
+}
+
+std::optional<std::vector<ObjectView>> ObjectLayer::TakeFirstRemoval() {
+  return std::exchange(first_removal_, std::nullopt);
+}
+
+void ObjectLayer::Finish(const System& system) {
+  if (!enabled_) return;
+  Follow(system);
+  mapper_->Finish();
+}
+
+std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }
+std::string ObjectLayer::Changes() const { return enabled_ ? mapper_->ChangesJson() : ""; }
+
+nlohmann::json ObjectLayer::Write(const std::string& output) const {
+  nlohmann::json section = WriteObjectMap(*mapper_, output);
+  const ObjectLayerStats stats = mapper_->Stats();
+  section.update({{"ocg_mode", settings_.ocg.mode},
+                  {"keyframes", keyframes_},
+                  {"object_map_resets", resets_},
+                  {"supporting_plane_inliers", stats.plane_inliers},
+                  {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
+                  {"timing", {{"objects_per_frame", Timing(seconds_)}}}});
+  return section;
+}
+
+void ObjectLayer::Start() {
+  mapper_ = std::make_unique<ObjectMapper>(settings_.objects, settings_.ocg, settings_.camera.model,
+                                           settings_.system.sequential);
+  mapper_->RecordObservations();
+  keyframes_ = 0;
+  tracked_frames_ = 0;
+  last_association_ = {};
+}
+
+void ObjectLayer::Follow(const System& system) {
+  SlamMapView view;
+  view.frame_poses = system.FramePoses();
+  view.map_points = system.MapPointPositions(&view.map_point_ids);
+  view.camera_rotations = system.KeyFrameRotations();
+  mapper_->FollowSlamMap(view, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
+}
+
+}  // namespace ocg::app_detail

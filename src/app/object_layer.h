@@ -1,0 +1,78 @@
+#pragma once
+// The object layer inside a SLAM run (private to ObjectSlam): every tracked frame's
+// detections with its pose and tracked map points; at each SLAM keyframe (after its bundle
+// adjustment) the objects follow the optimized poses and the supporting plane. The OCG
+// gets every Objects.keyframe_interval-th tracked frame, as in pose-given mode, not SLAM's
+// keyframes: it counts doubt in keyframes, and SLAM's keyframe rate follows the camera's
+// motion (every 3 frames on the 10 Hz smoke preset, every 9 at 30 Hz), which would make
+// one setting remove objects three times sooner on one sequence than on another.
+//
+// Threading: the tracking thread calls everything but the readers (Views, Up, Objects,
+// Changes), which may be called from any thread (ObjectMapper locks its map).
+
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ocg/app/settings.h"
+#include "ocg/io/detections.h"
+#include "ocg/objects/object_mapper.h"
+#include "ocg/slam/system.h"
+#include "ocg/viewer/frame_view.h"
+
+namespace ocg::app_detail {
+
+// Writes the object map's files (objects.json, changes.json, ocg.json,
+// ocg_observations.jsonl) into folder; returns the counts run.json reports of it.
+nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder);
+
+// run.json's timing entry of a list of durations in seconds.
+nlohmann::json Timing(const std::vector<double>& seconds);
+
+class ObjectLayer {
+ public:
+  // enabled false: no object layer (every call does nothing). keep_first_removal: keep the
+  // objects as they were just before the OCG's first removal (for the before/after
+  // snapshots; a copy of the object list at every OCG keyframe until then).
+  ObjectLayer(const Settings& settings, bool enabled, bool keep_first_removal);
+  bool Enabled() const { return enabled_; }
+
+  void AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
+                double timestamp, const std::vector<Detection>& detections);
+  // The objects for the viewer (none without detections) and their up direction.
+  std::vector<ObjectView> Views() const;
+  std::optional<Eigen::Vector3d> Up() const;
+  // The detections of the last frame given, with the objects they were associated to.
+  std::vector<FrameDetection> LastFrameDetections() const;
+  // Once: the objects just before the OCG's first removal, if there was one.
+  std::optional<std::vector<ObjectView>> TakeFirstRemoval();
+  // After SLAM has finished: the objects take the final poses, the OCG its last keyframe.
+  void Finish(const System& system);
+  // objects.json, changes.json ("" without an object layer).
+  std::string Objects() const;
+  std::string Changes() const;
+  // Writes the object outputs; returns run.json's "objects" section (without the
+  // detection folder's fields, which the caller knows).
+  nlohmann::json Write(const std::string& output) const;
+
+ private:
+  void Start();
+  void Follow(const System& system);
+
+  const Settings& settings_;
+  bool enabled_;
+  bool keep_first_removal_;
+  std::unique_ptr<ObjectMapper> mapper_;
+  std::int64_t keyframes_ = 0;
+  std::int64_t tracked_frames_ = 0;
+  int resets_ = 0;
+  FrameAssociation last_association_;
+  std::optional<std::vector<ObjectView>> first_removal_;
+  bool removal_seen_ = false;
+  std::vector<double> seconds_;
+};
+
+}  // namespace ocg::app_detail

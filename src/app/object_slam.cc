@@ -1,0 +1,241 @@
+#include "ocg/app/object_slam.h"
+
+#include <chrono>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <utility>
+
+#include "object_layer.h"
+#include "ocg/core/file_io.h"
+#include "ocg/features/vocabulary.h"
+#include "ocg/io/point_cloud.h"
+#include "ocg/slam/initialization_report.h"
+#include "ocg/slam/system.h"
+#include "run_snapshots.h"
+
+namespace ocg {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+nlohmann::json LoopClosingSection(const Settings& settings, const LoopClosingStats& stats) {
+  nlohmann::json loops = nlohmann::json::array();
+  for (const LoopEvent& loop : stats.loops) {
+    loops.push_back({{"keyframe", loop.keyframe},
+                     {"matched_keyframe", loop.matched},
+                     {"timestamp", loop.timestamp},
+                     {"sim3_inliers", loop.sim3_inliers},
+                     {"loop_matches", loop.loop_matches},
+                     {"scale", loop.scale},
+                     {"correction", loop.correction},
+                     {"points_fused", loop.points_fused},
+                     {"seconds", loop.seconds}});
+  }
+  return {{"enabled", settings.loop_closing.enabled},
+          {"candidates_checked", stats.candidates_checked},
+          {"loops", loops},
+          {"global_adjustments", stats.global_adjustments},
+          {"global_adjustment_seconds", stats.global_adjustment_seconds},
+          {"followed_global_adjustment", stats.followed_global_adjustment}};
+}
+
+}  // namespace
+
+class ObjectSlam::Impl {
+ public:
+  Impl(const Settings& settings, Vocabulary vocabulary, const ObjectSlamOptions& options)
+      : settings_(settings),
+        vocabulary_(std::move(vocabulary)),
+        config_(MakeSystemConfig(settings_)),
+        system_(config_, vocabulary_),
+        objects_(settings_, options.map_objects, options.snapshots.Enabled()),
+        snapshots_(settings_, options.snapshots, options.snapshot_folder, options.groundtruth) {}
+
+  std::optional<SE3> Track(const cv::Mat& image, double timestamp,
+                           const std::vector<Detection>& detections, const FrameSource& source) {
+    if (!started_) {
+      started_ = true;
+      start_ = Clock::now();
+    }
+    cv::Mat gray = image;
+    if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+    const TrackingResult result = system_.TrackImage(gray, timestamp, source.timestamp_text);
+    objects_.AddFrame(system_, result, frames_, timestamp, detections);
+    snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
+    ++frames_;
+    pose_ = result.T_cw;
+    return result.T_cw;
+  }
+
+  void Shutdown() {
+    system_.Shutdown();
+    objects_.Finish(system_);
+    wall_seconds_ = started_ ? SecondsSince(start_) : 0.0;
+  }
+
+  nlohmann::json Save(const std::string& folder, const RunDescription& description,
+                      const std::string& vocabulary_file) {
+    WriteTumTrajectory(folder + "/KeyFrameTrajectory.txt", system_.KeyFrameTrajectory());
+    WriteTumTrajectory(folder + "/CameraTrajectory.txt", system_.CameraTrajectory());
+    WritePlyPoints(folder + "/map_points.ply", system_.MapPointPositions());
+    nlohmann::json report = Report(description, vocabulary_file);
+    if (objects_.Enabled()) {
+      nlohmann::json section = objects_.Write(folder);
+      section["detections"] = description.detections;
+      section["detection_files_matched"] = description.detection_files_matched;
+      report["objects"] = std::move(section);
+    }
+    report["snapshots"] = snapshots_.Finish(system_, objects_);
+    WriteFileAtomically(folder + "/run.json", report.dump(2) + "\n");
+    return report;
+  }
+
+  const Settings settings_;
+  Vocabulary vocabulary_;
+  SystemConfig config_;
+  System system_;
+  app_detail::ObjectLayer objects_;
+  app_detail::RunSnapshots snapshots_;
+  std::int64_t frames_ = 0;
+  std::optional<SE3> pose_;
+  bool started_ = false;
+  Clock::time_point start_;
+  double wall_seconds_ = 0.0;
+
+ private:
+  nlohmann::json Report(const RunDescription& description, const std::string& vocabulary_file) {
+    int tracked = 0, lost = 0, relocalized = 0, uninitialized = 0;
+    std::vector<double> tracking_seconds, mapping_seconds;
+    int first_tracked = -1;
+    for (std::size_t i = 0; i < system_.Frames().size(); ++i) {
+      const FrameRecord& record = system_.Frames()[i];
+      if (record.state == TrackingState::kOk) {
+        ++tracked;
+        if (first_tracked < 0) first_tracked = static_cast<int>(i);
+      }
+      if (record.state == TrackingState::kLost) ++lost;
+      if (record.state == TrackingState::kNotInitialized) ++uninitialized;
+      if (record.relocalized) ++relocalized;
+      tracking_seconds.push_back(record.tracking_seconds);
+      if (record.local_mapping_seconds > 0.0)
+        mapping_seconds.push_back(record.local_mapping_seconds);
+    }
+    const LocalMappingStats mapping = system_.MappingStats();
+    nlohmann::json report = {{"sequence", description.sequence},
+                             {"settings", description.settings},
+                             {"vocabulary", vocabulary_file},
+                             {"mode", config_.sequential ? "sequential" : "threaded"},
+                             {"frames", static_cast<std::size_t>(frames_)},
+                             {"frames_tracked", tracked},
+                             {"frames_lost", lost},
+                             {"frames_before_initialization", uninitialized},
+                             {"first_tracked_frame", first_tracked},
+                             {"relocalizations", relocalized},
+                             {"map_resets", system_.Resets()},
+                             {"keyframes", system_.KeyFrameCount()},
+                             {"map_points", system_.MapPointCount()},
+                             {"points_created", mapping.points_created},
+                             {"points_culled", mapping.points_culled},
+                             {"keyframes_culled", mapping.keyframes_culled},
+                             {"wall_seconds", wall_seconds_},
+                             {"timing",
+                              {{"tracking_per_frame", app_detail::Timing(tracking_seconds)},
+                               {"local_mapping_per_keyframe", app_detail::Timing(mapping_seconds)},
+                               {"local_ba_per_keyframe", app_detail::Timing(mapping.ba_seconds)}}},
+                             {"camera",
+                              {{"fx", config_.camera.fx},
+                               {"fy", config_.camera.fy},
+                               {"cx", config_.camera.cx},
+                               {"cy", config_.camera.cy},
+                               {"width", config_.camera.width},
+                               {"height", config_.camera.height}}},
+                             {"orb",
+                              {{"features", config_.orb.features},
+                               {"scale_factor", config_.orb.scale_factor},
+                               {"levels", config_.orb.levels}}},
+                             {"seed", settings_.system.seed}};
+    // A run without a map writes empty trajectories: say why, there and in run.json.
+    const InitializationAttempts& initialization = system_.Initialization();
+    report["initialized"] = first_tracked >= 0;
+    nlohmann::json failures = nlohmann::json::object();
+    for (const auto& [reason, count] : initialization.reasons) failures[reason] = count;
+    report["initialization"] = {{"frames_tried", initialization.frames},
+                                {"most_frequent_failure", initialization.MostFrequentReason()},
+                                {"failures", failures}};
+    const std::string never_initialized =
+        first_tracked < 0 ? NeverInitializedMessage(initialization) : "";
+    if (!never_initialized.empty()) report["initialization"]["message"] = never_initialized;
+    report["loop_closing"] = LoopClosingSection(settings_, system_.LoopStats());
+    return report;
+  }
+};
+
+ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
+  VocabularyOptions vocabulary = settings.vocabulary;
+  if (!options.vocabulary_path.empty()) vocabulary.path = options.vocabulary_path;
+  vocabulary_file_ = vocabulary.Resolve();
+  const auto start = Clock::now();
+  Vocabulary loaded = Vocabulary::Load(vocabulary_file_);
+  vocabulary_seconds_ = SecondsSince(start);
+  impl_ = std::make_unique<Impl>(settings, std::move(loaded), options);
+}
+
+ObjectSlam::~ObjectSlam() {
+  try {
+    Shutdown();
+  } catch (const std::exception&) {
+    // A worker's failure was the caller's to see through Shutdown(); a destructor must
+    // not throw.
+  }
+}
+
+std::optional<SE3> ObjectSlam::Track(const cv::Mat& image, double timestamp,
+                                     const std::vector<Detection>& detections,
+                                     const FrameSource& source) {
+  if (shut_down_) {
+    throw std::logic_error(
+        "ObjectSlam::Track: the system was shut down; make a new ObjectSlam for another "
+        "sequence");
+  }
+  if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
+    throw std::invalid_argument(
+        "ObjectSlam::Track: the image must be 8-bit grey (HxW) or BGR (HxWx3), not empty; got " +
+        std::to_string(image.rows) + "x" + std::to_string(image.cols) + " with " +
+        std::to_string(image.channels()) + " channel(s) of depth code " +
+        std::to_string(image.depth()));
+  }
+  return impl_->Track(image, timestamp, detections, source);
+}
+
+void ObjectSlam::Shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  impl_->Shutdown();
+}
+
+std::optional<SE3> ObjectSlam::Pose() const { return impl_->pose_; }
+std::string ObjectSlam::Objects() const { return impl_->objects_.Objects(); }
+std::string ObjectSlam::Changes() const { return impl_->objects_.Changes(); }
+std::vector<StampedPose> ObjectSlam::KeyFrameTrajectory() const {
+  return impl_->system_.KeyFrameTrajectory();
+}
+std::vector<StampedPose> ObjectSlam::CameraTrajectory() const {
+  return impl_->system_.CameraTrajectory();
+}
+std::size_t ObjectSlam::FramesGiven() const { return static_cast<std::size_t>(impl_->frames_); }
+std::size_t ObjectSlam::VocabularyWords() const { return impl_->vocabulary_.WordCount(); }
+bool ObjectSlam::Sequential() const { return impl_->config_.sequential; }
+
+nlohmann::json ObjectSlam::Save(const std::string& folder, const RunDescription& description) {
+  if (!shut_down_) {
+    throw std::logic_error("ObjectSlam::Save: call Shutdown() first (the map is still changing)");
+  }
+  return impl_->Save(folder, description, vocabulary_file_);
+}
+
+}  // namespace ocg

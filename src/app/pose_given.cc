@@ -1,0 +1,49 @@
+#include "ocg/app/pose_given.h"
+
+#include <chrono>
+#include <cstdint>
+
+#include "object_layer.h"
+#include "ocg/objects/object_mapper.h"
+
+namespace ocg {
+
+nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
+                                         const std::vector<PoseGivenFrame>& frames,
+                                         const EaoDetectionFolder& detections,
+                                         const std::string& folder,
+                                         const std::function<void(std::size_t)>& progress) {
+  ObjectMapper mapper(settings.objects, settings.ocg, settings.camera.model, true);
+  mapper.RecordObservations();
+  const auto start = std::chrono::steady_clock::now();
+  std::int64_t used = 0, without_pose = 0, keyframes = 0;
+  std::vector<double> frame_seconds;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const PoseGivenFrame& frame = frames[i];
+    if (!frame.T_cw) {
+      ++without_pose;
+      continue;
+    }
+    const auto frame_start = std::chrono::steady_clock::now();
+    mapper.AddFrame(used, frame.timestamp, *frame.T_cw, detections.ForFrame(frame.timestamp_text));
+    if (used % settings.objects.keyframe_interval == 0)
+      mapper.AddKeyframe(keyframes++, frame.timestamp, *frame.T_cw);
+    frame_seconds.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count());
+    ++used;
+    if (progress) progress(i + 1);
+  }
+  mapper.Finish();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  nlohmann::json report = {{"frames", frames.size()},
+                           {"frames_used", used},
+                           {"frames_without_pose", without_pose},
+                           {"keyframes", keyframes},
+                           {"wall_seconds", seconds},
+                           {"timing", {{"objects_per_frame", app_detail::Timing(frame_seconds)}}}};
+  report.update(app_detail::WriteObjectMap(mapper, folder));
+  return report;
+}
+
+}  // namespace ocg

@@ -1,0 +1,158 @@
+// ObjectSlam, the library entry point: the same outputs as `ocg_slam run` (which must be
+// argument parsing around it), and its contract (shutdown, errors).
+#include "ocg/app/object_slam.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "ocg/core/file_io.h"
+#include "ocg/io/sequence.h"
+#include "ocg/sim/generator.h"
+#include "ocg/sim/presets.h"
+#include "test_support.h"
+
+namespace ocg {
+namespace {
+
+constexpr int kFrames = 60;
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  EXPECT_TRUE(in) << "cannot read " << path;
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A short smoke sequence with detections, generated once for every test.
+const std::string& SmokeSequence() {
+  static const std::string folder = [] {
+    const std::string out = testing::MakeTempDir("object_slam_smoke") + "/smoke";
+    sim::GeneratorOptions options;
+    options.max_frames = kFrames;
+    options.keyframe_interval = 0;
+    sim::Generate(sim::MakePreset("smoke", 1), out, options);
+    return out;
+  }();
+  return folder;
+}
+
+Settings SmokeSettings() {
+  return LoadSettings(SmokeSequence() + "/camera.yaml", CameraNeed::kIntrinsics).settings;
+}
+
+// Feeds the sequence as `ocg_slam run` reads it; colour: the frames as BGR.
+void RunSequence(ObjectSlam& slam, bool colour) {
+  const ImageSequence sequence = ReadTumSequence(SmokeSequence());
+  const EaoDetectionFolder detections(SmokeSequence() + "/detections", [&] {
+    std::vector<std::string> names;
+    for (const TimedImage& image : sequence.images) names.push_back(image.timestamp_text);
+    return names;
+  }());
+  for (const TimedImage& image : sequence.images) {
+    cv::Mat pixels = cv::imread(image.path, cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(pixels.empty()) << image.path;
+    if (colour) cv::cvtColor(pixels, pixels, cv::COLOR_GRAY2BGR);
+    const std::optional<SE3> T_cw =
+        slam.Track(pixels, image.timestamp, detections.ForFrame(image.timestamp_text),
+                   {image.timestamp_text, image.path});
+    EXPECT_EQ(T_cw.has_value(), slam.Pose().has_value());
+  }
+}
+
+TEST(ObjectSlam, WritesWhatTheToolWrites) {
+  const std::string tool_out = testing::MakeTempDir("object_slam_tool");
+  const std::string command = std::string(OCG_SLAM_TOOL) + " run --settings " + SmokeSequence() +
+                              "/camera.yaml --sequence " + SmokeSequence() + " --detections " +
+                              SmokeSequence() + "/detections --snapshots none --out " + tool_out +
+                              " --log-level warn > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+
+  const std::string library_out = testing::MakeTempDir("object_slam_library");
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam slam(SmokeSettings(), options);
+  RunSequence(slam, false);
+  slam.Shutdown();
+  const nlohmann::json report =
+      slam.Save(library_out, {SmokeSequence(), "camera.yaml", SmokeSequence() + "/detections", 0});
+  EXPECT_EQ(report["frames"], kFrames);
+  EXPECT_GT(report["frames_tracked"].get<int>(), kFrames / 2);
+  ASSERT_TRUE(report.contains("objects"));
+  EXPECT_GT(report["objects"]["objects_created"].get<int>(), 0);
+  for (const char* file : {"KeyFrameTrajectory.txt", "CameraTrajectory.txt", "map_points.ply",
+                           "objects.json", "changes.json", "ocg.json", "ocg_observations.jsonl"}) {
+    EXPECT_EQ(ReadFile(library_out + "/" + file), ReadFile(tool_out + "/" + file))
+        << file << " differs between ObjectSlam and ocg_slam run";
+  }
+  // The readers give what Save wrote.
+  EXPECT_EQ(slam.Objects(), ReadFile(library_out + "/objects.json"));
+  EXPECT_EQ(slam.Changes(), ReadFile(library_out + "/changes.json"));
+  EXPECT_EQ(slam.KeyFrameTrajectory().size(), report["keyframes"].get<std::size_t>());
+}
+
+// Grey pixels given as BGR go through the same conversion to grey: the same trajectory.
+TEST(ObjectSlam, ColourFramesTrackLikeGrey) {
+  std::vector<std::vector<StampedPose>> trajectories;
+  for (const bool colour : {false, true}) {
+    ObjectSlamOptions options;
+    options.snapshots = ParseSnapshotPolicy("none");
+    options.map_objects = false;
+    ObjectSlam slam(SmokeSettings(), options);
+    RunSequence(slam, colour);
+    slam.Shutdown();
+    trajectories.push_back(slam.KeyFrameTrajectory());
+  }
+  ASSERT_FALSE(trajectories[0].empty());
+  ASSERT_EQ(trajectories[0].size(), trajectories[1].size());
+  for (std::size_t i = 0; i < trajectories[0].size(); ++i) {
+    EXPECT_EQ(trajectories[0][i].timestamp, trajectories[1][i].timestamp);
+    EXPECT_EQ(trajectories[0][i].T_wc.Matrix(), trajectories[1][i].T_wc.Matrix());
+  }
+}
+
+TEST(ObjectSlam, ShutdownTwiceIsSafeAndTrackAfterwardsThrows) {
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam slam(SmokeSettings(), options);
+  const cv::Mat frame(480, 640, CV_8UC1, cv::Scalar(128));
+  slam.Track(frame, 0.0, {});
+  EXPECT_THROW(slam.Save(testing::MakeTempDir("object_slam_early"), {}), std::logic_error);
+  slam.Shutdown();
+  EXPECT_NO_THROW(slam.Shutdown());
+  EXPECT_TRUE(slam.IsShutDown());
+  try {
+    slam.Track(frame, 0.1, {});
+    FAIL() << "Track after Shutdown did not throw";
+  } catch (const std::logic_error& error) {
+    EXPECT_NE(std::string(error.what()).find("shut down"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(slam.FramesGiven(), 1u);
+}
+
+TEST(ObjectSlam, RefusesImagesItCannotTrack) {
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam slam(SmokeSettings(), options);
+  EXPECT_THROW(slam.Track(cv::Mat(), 0.0, {}), std::invalid_argument);
+  EXPECT_THROW(slam.Track(cv::Mat(480, 640, CV_32FC1, cv::Scalar(0.5)), 0.0, {}),
+               std::invalid_argument);
+  EXPECT_THROW(slam.Track(cv::Mat(480, 640, CV_8UC4, cv::Scalar(1, 2, 3, 4)), 0.0, {}),
+               std::invalid_argument);
+  EXPECT_EQ(slam.FramesGiven(), 0u);
+}
+
+TEST(ObjectSlam, MissingVocabularyIsAFileError) {
+  ObjectSlamOptions options;
+  options.vocabulary_path = testing::MakeTempDir("object_slam_vocabulary") + "/none.ocgvoc";
+  EXPECT_THROW(ObjectSlam(SmokeSettings(), options), FileError);
+}
+
+}  // namespace
+}  // namespace ocg
