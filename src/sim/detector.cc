@@ -47,6 +47,7 @@ const std::vector<RealisticField>& RealisticFields() {
       {"dropouts_per_minute", &R::dropouts_per_minute},
       {"dropout_seconds", &R::dropout_seconds},
       {"dropout_logit", &R::dropout_logit},
+      {"dropout_share", &R::dropout_share},
       {"flips_per_second", &R::flips_per_second},
       {"flip_seconds", &R::flip_seconds},
       {"score_base", &R::score_base},
@@ -126,6 +127,21 @@ double RealisticDetector::DropoutAt(double t) const {
   return 0.0;
 }
 
+double RealisticDetector::DropoutAt(double t, int object_id) const {
+  for (std::size_t i = 0; i < dropouts_.size(); ++i) {
+    const DropoutStretch& stretch = dropouts_[i];
+    if (t < stretch.start || t >= stretch.end) continue;
+    // Which objects a stretch hits is drawn per stretch and object: the others stay found,
+    // so their neighbours' absence is evidence a change detector sees.
+    std::mt19937_64 rng(
+        SeedMix(SeedMix(seed_, 0xd50b0a7ULL + i), static_cast<std::uint64_t>(object_id)));
+    return std::uniform_real_distribution<double>(0.0, 1.0)(rng) < params_.dropout_share
+               ? stretch.depth
+               : 0.0;
+  }
+  return 0.0;
+}
+
 RealisticDetector::Decision RealisticDetector::Decide(int object_id, int class_id,
                                                       const ViewingConditions& conditions, double t,
                                                       std::int64_t frame) {
@@ -149,7 +165,7 @@ RealisticDetector::Decision RealisticDetector::Decide(int object_id, int class_i
   state.last_time = t;
 
   const double steady = ConditionLogit(params_, conditions) + ObjectLogit(object_id);
-  const double logit = steady + state.wander + DropoutAt(t);
+  const double logit = steady + state.wander + DropoutAt(t, object_id);
   Decision decision;
   // Detected when logit + frame_noise * (standard logistic noise) > 0.
   decision.probability = 1.0 / (1.0 + std::exp(-logit / std::max(params_.frame_noise, 1e-6)));

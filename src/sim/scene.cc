@@ -60,7 +60,8 @@ void Scene::Check() const {
   Require(path.kind == "round" || path.kind == "straight", "path.kind must be round or straight");
   Require(path.speed > 0 && path.speed <= 0.4, "path.speed must be in (0, 0.4] m/s");
   const RealisticDetection& r = noise.realistic;
-  Require(r.hard_share >= 0 && r.hard_share <= 1, "noise.realistic.hard_share must be in [0, 1]");
+  Require(r.hard_share >= 0 && r.hard_share <= 1 && r.dropout_share >= 0 && r.dropout_share <= 1,
+          "noise.realistic: hard_share and dropout_share must be in [0, 1]");
   Require(r.object_logit_std >= 0 && r.wander_logit_std >= 0 && r.score_noise >= 0,
           "noise.realistic: object_logit_std, wander_logit_std and score_noise must be >= 0");
   Require(r.wander_seconds >= 0 && r.dropouts_per_minute >= 0 && r.dropout_seconds >= 0 &&

@@ -79,8 +79,10 @@ class RealisticDetector {
 
   // The object's own detectability (a logit offset; hard objects are far below 0).
   double ObjectLogit(int object_id) const;
-  // The dropout depth in force at t (0 outside the stretches).
+  // The dropout depth in force at t (0 outside the stretches), and for one object (0 also
+  // when the stretch spares it).
   double DropoutAt(double t) const;
+  double DropoutAt(double t, int object_id) const;
   const std::vector<DropoutStretch>& dropouts() const { return dropouts_; }
 
  private:

@@ -84,10 +84,11 @@ struct RealisticDetection {
   // Slow wander of each object's logit: an AR(1) process with this time constant.
   double wander_seconds = 1.5;
   double wander_logit_std = 1.5;
-  // Stretches of seconds where the detector finds far fewer boxes (all objects at once).
+  // Stretches of seconds where the detector finds far fewer boxes.
   double dropouts_per_minute = 2.0;
   double dropout_seconds = 3.0;  // length: exponential, clamped to 1 to 3 times this
   double dropout_logit = -5.5;   // mean depth (each stretch 0.5 to 1.5 times)
+  double dropout_share = 0.7;    // share of the objects a stretch hits (drawn per stretch)
   // Class flips (cup<->bowl, book<->laptop, bottle->cup) that persist.
   double flips_per_second = 0.5;  // starting rate for a detected object
   double flip_seconds = 0.2;      // mean length (exponential)
