@@ -179,9 +179,10 @@ def measure(folder, window, max_gap, min_iou):
 
 def print_text(s):
     print("%s: %d frames over %.1f s" % (s["folder"], s["frames"], s["seconds"]))
-    print("  boxes per frame %.2f; %g-second means from %.2f to %.2f (std / mean %.2f)" %
-          (s["boxes_per_frame"], s["window_seconds"], s["window_min"], s["window_max"],
-           s["window_cv"]))
+    print("  boxes per frame %.2f; %g-second means from %.2f to %.2f (lowest / mean %.2f, "
+          "std / mean %.2f)" % (s["boxes_per_frame"], s["window_seconds"], s["window_min"],
+                                s["window_max"], s["window_min"] / s["boxes_per_frame"],
+                                s["window_cv"]))
     print("  scores mean %.3f std %.3f; < 0.5 %.0f %%, 0.5-0.7 %.0f %%, 0.7-0.9 %.0f %%, "
           ">= 0.9 %.0f %%" % (s["score_mean"], s["score_std"], 100 * s["score_below_0.5"],
                               100 * s["score_0.5_0.7"], 100 * s["score_0.7_0.9"],
@@ -196,17 +197,17 @@ def print_text(s):
 
 
 MARKDOWN_HEADER = (
-    "| detections | frames | boxes/frame | 4-s means min–max | 4-s std/mean | mean score | score std | < 0.5 "
+    "| detections | frames | boxes/frame | 4-s means min–max | lowest 4-s / mean | 4-s std/mean | mean score | score std | < 0.5 "
     "| ≥ 0.9 | miss runs /100 | runs 1 / 2 / 3–5 / 6–15 / >15 frames | mean run | "
     "flip runs /100 | mean flip |\n"
-    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def markdown_row(name, s):
-    return ("| %s | %d | %.2f | %.1f–%.1f | %.2f | %.3f | %.3f | %.0f %% | %.0f %% | %.2f | "
+    return ("| %s | %d | %.2f | %.1f–%.1f | %.2f | %.2f | %.3f | %.3f | %.0f %% | %.0f %% | %.2f | "
             "%.0f / %.0f / %.0f / %.0f / %.0f %% | %.2f fr (%.2f s) | %.2f | %.1f fr |" %
             (name, s["frames"], s["boxes_per_frame"], s["window_min"], s["window_max"],
-             s["window_cv"], s["score_mean"], s["score_std"], 100 * s["score_below_0.5"],
+             s["window_min"] / s["boxes_per_frame"], s["window_cv"], s["score_mean"], s["score_std"], 100 * s["score_below_0.5"],
              100 * s["score_from_0.9"], s["miss_runs_per_100"], 100 * s["miss_run_1"],
              100 * s["miss_run_2"], 100 * s["miss_run_3_5"], 100 * s["miss_run_6_15"],
              100 * s["miss_run_over_15"], s["miss_run_mean_frames"],
