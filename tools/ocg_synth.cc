@@ -76,14 +76,15 @@ int main(int argc, char** argv) {
   std::string detector;
   std::uint64_t detector_seed = 0;
   bool detections_only = false;
-  auto* detector_option = app.add_option(
+  app.add_option(
       "--detector", detector,
       "independent (default: per-frame misses, short bursts) or realistic (misses correlated "
       "in time and with distance, angle, blur, occlusion and size; seconds-long dropouts; "
       "persistent class flips; hard objects); overrides the scene file's noise.model");
-  app.add_option("--detector-seed", detector_seed,
-                 "realistic detector: mixed with --seed, other detections of the same scene")
-      ->needs(detector_option);
+  auto* detector_seed_option = app.add_option(
+      "--detector-seed", detector_seed,
+      "realistic detector: mixed with --seed, other detections of the same scene; overrides "
+      "the scene file's noise.realistic.seed");
   app.add_flag("--detections-only", detections_only,
                "write no images (rgb/, rgb.txt, depth/): detections and ground truth only, "
                "for measuring a detector model (tools/detection_stats.py)");
@@ -133,8 +134,10 @@ int main(int argc, char** argv) {
     }
     ocg::sim::Scene& scene = file.scene;
     if (perfect) scene.noise.perfect = true;
-    if (!detector.empty()) {
-      scene.noise.kind = ocg::sim::DetectorKindFromName(detector);
+    if (!detector.empty()) scene.noise.kind = ocg::sim::DetectorKindFromName(detector);
+    if (detector_seed_option->count() > 0) {
+      if (scene.noise.kind != ocg::sim::DetectorKind::kRealistic)
+        throw std::invalid_argument("--detector-seed needs --detector realistic");
       scene.noise.realistic.seed = detector_seed;
     }
     if (!look.empty()) scene.look.kind = ocg::sim::LookKindFromName(look);

@@ -138,6 +138,7 @@ check "scores: the book's 120 of 356 boxes from 0.9" test "$(stat score_from_0.9
 check "ocg_synth --detections-only --detector realistic" "$BIN/ocg_synth" --preset smoke --frames 5 --size 320x240 --detections-only --detector realistic --out "$WORK/realistic_det"
 check "detections written, no images" test -e "$WORK/realistic_det/detections" -a ! -e "$WORK/realistic_det/rgb"
 check "scene.yaml records the model" grep -q "model: realistic" "$WORK/realistic_det/scene.yaml"
+fails_with "--detector-seed without the realistic detector" "needs --detector realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector-seed 3 --out "$WORK/never_det"
 fails_with "an unknown detector model names the choices" "independent or realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector yolo --out "$WORK/never_det"
 
 report_and_exit

@@ -45,7 +45,8 @@ struct ViewingConditions {
 // wander and dropouts: base_logit plus one term per condition (each <= 0).
 double ConditionLogit(const RealisticDetection& p, const ViewingConditions& c);
 
-// A stretch [start, end) of seconds where every object's logit drops by depth (< 0).
+// A stretch [start, end) of seconds where the logit of the objects it hits (a share
+// dropout_share of them, drawn per stretch and object) drops by depth (< 0).
 struct DropoutStretch {
   double start = 0.0, end = 0.0, depth = 0.0;
 };
