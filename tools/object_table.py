@@ -95,10 +95,14 @@ def main():
                          run_dir, "--log-level", "warn"])
                 evaluate += ["--groundtruth", groundtruth]
             else:
+                # A sequence written with `ocg_synth --detections-only` has no rgb.txt: the
+                # detection files' names give the same frames.
+                frames = os.path.join(sequence, "rgb.txt")
                 run([os.path.join(tools, "ocg_slam"), "objects", "--trajectory", trajectory,
-                     "--detections", os.path.join(sequence, "detections"), "--frames",
-                     os.path.join(sequence, "rgb.txt"), "--settings", settings, "--mode",
-                     mode, "--out", run_dir, "--log-level", "warn"])
+                     "--detections", os.path.join(sequence, "detections")] +
+                    (["--frames", frames] if os.path.exists(frames) else []) +
+                    ["--settings", settings, "--mode", mode, "--out", run_dir,
+                     "--log-level", "warn"])
             if args.slam_runs and not args.slam:
                 # Objects were mapped in the SLAM frame: align through the trajectory. The
                 # run folder of `ocg_slam objects` holds no trajectory, so point at the

@@ -73,6 +73,21 @@ int main(int argc, char** argv) {
   app.add_option("--size", size, "image size WxH (intrinsics scaled), e.g. 320x240");
   app.add_flag("--depth", depth, "also write depth/ and depth.txt (16-bit PNG, 5000 per metre)");
   app.add_flag("--perfect", perfect, "no detector noise");
+  std::string detector;
+  std::uint64_t detector_seed = 0;
+  bool detections_only = false;
+  app.add_option(
+      "--detector", detector,
+      "independent (default: per-frame misses, short bursts) or realistic (misses correlated "
+      "in time and with distance, angle, blur, occlusion and size; seconds-long dropouts; "
+      "persistent class flips; hard objects); overrides the scene file's noise.model");
+  auto* detector_seed_option = app.add_option(
+      "--detector-seed", detector_seed,
+      "realistic detector: mixed with --seed, other detections of the same scene; overrides "
+      "the scene file's noise.realistic.seed");
+  app.add_flag("--detections-only", detections_only,
+               "write no images (rgb/, rgb.txt, depth/): detections and ground truth only, "
+               "for measuring a detector model (tools/detection_stats.py)");
   std::string look;
   double rolling_shutter_ms = -1;
   app.add_option("--look", look,
@@ -119,6 +134,12 @@ int main(int argc, char** argv) {
     }
     ocg::sim::Scene& scene = file.scene;
     if (perfect) scene.noise.perfect = true;
+    if (!detector.empty()) scene.noise.kind = ocg::sim::DetectorKindFromName(detector);
+    if (detector_seed_option->count() > 0) {
+      if (scene.noise.kind != ocg::sim::DetectorKind::kRealistic)
+        throw std::invalid_argument("--detector-seed needs --detector realistic");
+      scene.noise.realistic.seed = detector_seed;
+    }
     if (!look.empty()) scene.look.kind = ocg::sim::LookKindFromName(look);
     if (rolling_shutter_ms >= 0) {
       if (!scene.look.realistic())
@@ -151,6 +172,9 @@ int main(int argc, char** argv) {
     options.write_depth = depth;
     options.overwrite = overwrite;
     options.keyframe_interval = keyframe_interval;
+    options.write_images = !detections_only;
+    if (detections_only && depth)
+      throw std::invalid_argument("--depth needs images: drop --detections-only");
     const ocg::sim::GenerationStats stats = ocg::sim::Generate(renderer, output, options);
     std::printf("ocg_synth: %s, %d frames in %.1f s (%.1f frames/s)\n", scene.name.c_str(),
                 stats.frames, stats.seconds, stats.frames / std::max(stats.seconds, 1e-9));
@@ -169,9 +193,8 @@ int main(int argc, char** argv) {
         1e3 * stats.colour_seconds / stats.frames, 1e3 * stats.ids_seconds / stats.frames,
         1e3 * stats.detect_seconds / stats.frames, 1e3 * stats.write_seconds / stats.frames);
     std::printf(
-        "  written to %s/ (rgb/, rgb.txt, groundtruth.txt, detections/, objects_gt.json, "
-        "scene.yaml, "
+        "  written to %s/ (%sgroundtruth.txt, detections/, objects_gt.json, scene.yaml, "
         "camera.yaml, oracle_observations.jsonl%s)\n",
-        output.c_str(), depth ? ", depth/" : "");
+        output.c_str(), detections_only ? "" : "rgb/, rgb.txt, ", depth ? ", depth/" : "");
   });
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,6 +17,7 @@
 #include "ocg/core/logging.h"
 #include "ocg/io/trajectory.h"
 #include "ocg/ocg/replay_format.h"
+#include "ocg/sim/detector.h"
 #include "ocg/sim/scene_io.h"
 #include "ocg/sim/texture.h"
 
@@ -38,31 +40,6 @@ Mesh ShapeMesh(Shape shape, const Eigen::Vector3d& size) {
                           uv_scale);
   }
   return Mesh::Box(size.cast<float>(), uv_scale);
-}
-
-std::uint64_t Mix(std::uint64_t a, std::uint64_t b) {
-  std::uint64_t x = a * 0x9e3779b97f4a7c15ULL ^ (b + 0x632be59bd9b4e019ULL + (a << 6) + (a >> 2));
-  x ^= x >> 31;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  return x ^ (x >> 29);
-}
-
-// Pairs of classes a detector confuses.
-int ConfusedClass(int class_id) {
-  switch (class_id) {
-    case 41:
-      return 45;  // cup -> bowl
-    case 45:
-      return 41;
-    case 73:
-      return 63;  // book -> laptop
-    case 63:
-      return 73;
-    case 39:
-      return 41;  // bottle -> cup
-    default:
-      return class_id;
-  }
 }
 
 // Corners of an object's oriented box projected (clipped to a near plane), and the share
@@ -97,6 +74,40 @@ Projection ProjectBox(const SceneObject& object, const PlacedPose& pose, const S
   std::vector<cv::Point2f> inside;
   projection.hull_area_inside = cv::intersectConvexConvex(hull, image, inside);
   return projection;
+}
+
+// How the realistic detector sees an object (detector.h). The blur comes from the scene's
+// camera path around t: rotation moves every pixel by about f * angle, translation by
+// f * d / distance.
+ViewingConditions ConditionsOf(const Scene& scene, const SceneObject& object,
+                               const PlacedPose& pose, const SE3& T_cw, double t, double occlusion,
+                               double truncation, double box_pixels) {
+  ViewingConditions c;
+  const Eigen::Vector3d camera_centre = T_cw.Inverse().translation();
+  const Eigen::Vector3d line_of_sight = camera_centre - pose.centre;
+  c.distance = line_of_sight.norm();
+  c.has_face = object.shape == Shape::kBox;
+  // The largest vertical face: its normal is the object's y axis when x is the longer side.
+  const Eigen::Vector3d face_normal =
+      Eigen::AngleAxisd(pose.yaw, Eigen::Vector3d::UnitZ()) *
+      (object.size.x() >= object.size.y() ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX());
+  const Eigen::Vector3d horizontal(line_of_sight.x(), line_of_sight.y(), 0.0);
+  c.view_angle = horizontal.norm() > 1e-9
+                     ? std::acos(std::min(1.0, std::abs(face_normal.dot(horizontal.normalized()))))
+                     : 0.0;
+  constexpr double kStep = 0.005;
+  const SE3 motion =
+      CameraPoseAt(scene, t + kStep) * CameraPoseAt(scene, std::max(t - kStep, 0.0)).Inverse();
+  const double focal = std::max(scene.camera.fx, scene.camera.fy);
+  const double pixels_per_second =
+      focal *
+      (LogSO3(motion.rotation()).norm() + motion.translation().norm() / std::max(c.distance, 0.1)) /
+      (t >= kStep ? 2 * kStep : t + kStep);
+  c.blur_pixels = pixels_per_second * scene.noise.realistic.exposure_ms / 1000.0;
+  c.occlusion = occlusion;
+  c.truncation = truncation;
+  c.box_pixels = box_pixels;
+  return c;
 }
 
 }  // namespace
@@ -303,10 +314,17 @@ void ValidateChanges(const Scene& scene, SceneRenderer& renderer) {
 
 // ---------------------------------------------------------------- detections
 
+DetectionModel::DetectionModel(const Scene& scene) : scene_(scene) {
+  if (scene.noise.kind == DetectorKind::kRealistic) {
+    realistic_.emplace(scene.noise.realistic, scene.duration,
+                       SeedMix(scene.seed, scene.noise.realistic.seed));
+  }
+}
+
 DetectionModel::FrameResult DetectionModel::Detect(const cv::Mat& ids, double t, const SE3& T_cw,
                                                    int frame) {
   const DetectionNoise& noise = scene_.noise;
-  std::mt19937_64 rng(Mix(scene_.seed, static_cast<std::uint64_t>(frame) + 1));
+  std::mt19937_64 rng(SeedMix(scene_.seed, static_cast<std::uint64_t>(frame) + 1));
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> gaussian(0.0, 1.0);
   // Visible pixels and their bounding box, per object.
@@ -329,6 +347,42 @@ DetectionModel::FrameResult DetectionModel::Detect(const cv::Mat& ids, double t,
   }
   FrameResult result;
   const double width = scene_.camera.width, height = scene_.camera.height;
+  // Jitters the box's edges (clipped to the image), scores it (score given the jittered
+  // box; nullptr: keep its confidence), adds it and, now and then, a duplicate. One
+  // generator and distributions for the frame: the independent model's outputs depend on
+  // the order of the draws.
+  const std::function<double(const Detection&)> keep_score;
+  auto add_noisy_box = [&](Detection detection,
+                           const std::function<double(const Detection&)>& score) {
+    const double jx = noise.box_jitter * detection.width, jy = noise.box_jitter * detection.height;
+    double x1 = detection.x + jx * gaussian(rng), y1 = detection.y + jy * gaussian(rng);
+    double x2 = detection.x + detection.width + jx * gaussian(rng);
+    double y2 = detection.y + detection.height + jy * gaussian(rng);
+    x1 = std::clamp(std::round(x1), 0.0, width - 2);
+    y1 = std::clamp(std::round(y1), 0.0, height - 2);
+    x2 = std::clamp(std::round(x2), x1 + 1, width - 1);
+    y2 = std::clamp(std::round(y2), y1 + 1, height - 1);
+    detection.x = x1;
+    detection.y = y1;
+    detection.width = x2 - x1;
+    detection.height = y2 - y1;
+    if (score) detection.confidence = score(detection);
+    result.detections.push_back(detection);
+    if (uniform(rng) < noise.duplicate) {
+      Detection duplicate = detection;
+      duplicate.x =
+          std::clamp(detection.x + 0.15 * detection.width * gaussian(rng), 0.0, width - 2);
+      duplicate.y =
+          std::clamp(detection.y + 0.15 * detection.height * gaussian(rng), 0.0, height - 2);
+      duplicate.width = std::max(
+          1.0, std::min(detection.width * (0.8 + 0.3 * uniform(rng)), width - 1 - duplicate.x));
+      duplicate.height = std::max(
+          1.0, std::min(detection.height * (0.8 + 0.3 * uniform(rng)), height - 1 - duplicate.y));
+      duplicate.confidence = std::clamp(detection.confidence - 0.2, 0.25, 0.97);
+      result.detections.push_back(duplicate);
+      ++result.duplicates;
+    }
+  };
   for (const SceneObject& object : scene_.objects) {
     const auto found = stats.find(object.id);
     if (found == stats.end() || found->second.pixels < noise.min_visible_pixels) {
@@ -349,13 +403,30 @@ DetectionModel::FrameResult DetectionModel::Detect(const cv::Mat& ids, double t,
       result.detected_objects.push_back(object.id);
       continue;
     }
-    const Projection projection = ProjectBox(object, *object.PoseAt(t), T_cw, scene_.camera);
+    const PlacedPose pose = *object.PoseAt(t);
+    const Projection projection = ProjectBox(object, pose, T_cw, scene_.camera);
     const double truncation =
         projection.hull_area > 0 ? 1.0 - projection.hull_area_inside / projection.hull_area : 0.0;
     const double occlusion =
         projection.hull_area_inside > 0
             ? std::clamp(1.0 - s.pixels / projection.hull_area_inside, 0.0, 1.0)
             : 0.0;
+    if (realistic_) {
+      const ViewingConditions conditions = ConditionsOf(
+          scene_, object, pose, T_cw, t, occlusion, truncation, detection.width * detection.height);
+      const RealisticDetector::Decision decision =
+          realistic_->Decide(object.id, object.class_id, conditions, t, frame);
+      if (!decision.detected) {
+        ++result.missed;
+        continue;
+      }
+      if (decision.class_id != object.class_id) ++result.confused;
+      detection.class_id = decision.class_id;
+      detection.confidence = decision.confidence;
+      add_noisy_box(detection, keep_score);
+      result.detected_objects.push_back(object.id);
+      continue;
+    }
     double miss =
         noise.miss_base + noise.miss_occlusion * occlusion + noise.miss_truncation * truncation;
     if (detection.width * detection.height < noise.small_box_pixels) miss += noise.miss_small;
@@ -370,40 +441,15 @@ DetectionModel::FrameResult DetectionModel::Detect(const cv::Mat& ids, double t,
       detection.class_id = ConfusedClass(object.class_id);
       ++result.confused;
     }
-    // Edge jitter, clipped to the image.
-    const double jx = noise.box_jitter * detection.width, jy = noise.box_jitter * detection.height;
-    double x1 = detection.x + jx * gaussian(rng), y1 = detection.y + jy * gaussian(rng);
-    double x2 = detection.x + detection.width + jx * gaussian(rng);
-    double y2 = detection.y + detection.height + jy * gaussian(rng);
-    x1 = std::clamp(std::round(x1), 0.0, width - 2);
-    y1 = std::clamp(std::round(y1), 0.0, height - 2);
-    x2 = std::clamp(std::round(x2), x1 + 1, width - 1);
-    y2 = std::clamp(std::round(y2), y1 + 1, height - 1);
-    detection.x = x1;
-    detection.y = y1;
-    detection.width = x2 - x1;
-    detection.height = y2 - y1;
     // Calibrated on the real YOLO detections of TUM fr3 long_office (mean 0.63, 1 % above
-    // 0.9): fully visible objects score about 0.7, occlusion and truncation lower it.
-    const double small = detection.width * detection.height < noise.small_box_pixels ? 0.1 : 0.0;
-    detection.confidence = std::clamp(
-        0.72 - 0.3 * occlusion - 0.25 * truncation - small + 0.1 * gaussian(rng), 0.25, 0.97);
-    result.detections.push_back(detection);
+    // 0.9): fully visible objects score about 0.7, occlusion and truncation lower it. The
+    // independent model draws the score after the jitter: kept so its outputs stay the same.
+    add_noisy_box(detection, [&](const Detection& box) {
+      const double small = box.width * box.height < noise.small_box_pixels ? 0.1 : 0.0;
+      return std::clamp(0.72 - 0.3 * occlusion - 0.25 * truncation - small + 0.1 * gaussian(rng),
+                        0.25, 0.97);
+    });
     result.detected_objects.push_back(object.id);
-    if (uniform(rng) < noise.duplicate) {
-      Detection duplicate = detection;
-      duplicate.x =
-          std::clamp(detection.x + 0.15 * detection.width * gaussian(rng), 0.0, width - 2);
-      duplicate.y =
-          std::clamp(detection.y + 0.15 * detection.height * gaussian(rng), 0.0, height - 2);
-      duplicate.width = std::max(
-          1.0, std::min(detection.width * (0.8 + 0.3 * uniform(rng)), width - 1 - duplicate.x));
-      duplicate.height = std::max(
-          1.0, std::min(detection.height * (0.8 + 0.3 * uniform(rng)), height - 1 - duplicate.y));
-      duplicate.confidence = std::clamp(detection.confidence - 0.2, 0.25, 0.97);
-      result.detections.push_back(duplicate);
-      ++result.duplicates;
-    }
   }
   if (!noise.perfect) {
     std::poisson_distribution<int> false_positives(noise.false_positives_per_frame);
@@ -549,22 +595,25 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
       total += std::chrono::duration<double>(now - lap).count();
       lap = now;
     };
-    if (renderer.sensor() != nullptr) {
-      char line[96];
-      std::snprintf(line, sizeof(line), "%s %.3f %.3f\n", stamp.c_str(),
-                    renderer.sensor()->exposure_ms(), renderer.sensor()->gain());
-      exposure_list += line;
-    }
-    const cv::Mat colour =
-        renderer.Colour(t, T_cw, Mix(scene.seed, static_cast<std::uint64_t>(frame)));
-    stage(stats.colour_seconds);
     cv::Mat depth;
+    if (options.write_images) {
+      if (renderer.sensor() != nullptr) {
+        char line[96];
+        std::snprintf(line, sizeof(line), "%s %.3f %.3f\n", stamp.c_str(),
+                      renderer.sensor()->exposure_ms(), renderer.sensor()->gain());
+        exposure_list += line;
+      }
+      const cv::Mat colour =
+          renderer.Colour(t, T_cw, SeedMix(scene.seed, static_cast<std::uint64_t>(frame)));
+      stage(stats.colour_seconds);
+      if (!cv::imwrite(staging + "/rgb/" + stamp + ".png", colour, png_options)) {
+        throw FileError("cannot write '" + staging + "/rgb/" + stamp + ".png'");
+      }
+      rgb_list += stamp + " rgb/" + stamp + ".png\n";
+      stage(stats.write_seconds);
+    }
     const cv::Mat ids = renderer.Ids(t, T_cw, options.write_depth ? &depth : nullptr);
     stage(stats.ids_seconds);
-    if (!cv::imwrite(staging + "/rgb/" + stamp + ".png", colour, png_options)) {
-      throw FileError("cannot write '" + staging + "/rgb/" + stamp + ".png'");
-    }
-    rgb_list += stamp + " rgb/" + stamp + ".png\n";
     if (options.write_depth) {
       cv::Mat depth16;
       depth.convertTo(depth16, CV_16UC1, 5000.0);  // TUM: 5000 units per metre
@@ -596,9 +645,10 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
     progress.Update(static_cast<std::size_t>(frame + 1));
   }
   progress.Finish();
-  WriteFile(staging + "/rgb.txt", rgb_list);
+  if (options.write_images) WriteFile(staging + "/rgb.txt", rgb_list);
   if (options.write_depth) WriteFile(staging + "/depth.txt", depth_list);
-  if (renderer.sensor() != nullptr) WriteFile(staging + "/exposure.txt", exposure_list);
+  if (options.write_images && renderer.sensor() != nullptr)
+    WriteFile(staging + "/exposure.txt", exposure_list);
   WriteFileAtomically(
       staging + "/groundtruth.txt",
       "# ground truth trajectory (camera to world)\n# timestamp tx ty tz qx qy qz qw\n" +
@@ -629,7 +679,7 @@ GenerationStats Generate(SceneRenderer& renderer, const std::string& out_dir,
   }
   const std::string staging = out_dir + ".partial." + std::to_string(::getpid());
   fs::remove_all(staging, error);
-  EnsureDirectory(staging + "/rgb");
+  if (options.write_images) EnsureDirectory(staging + "/rgb");
   EnsureDirectory(staging + "/detections");
   if (options.write_depth) EnsureDirectory(staging + "/depth");
 

@@ -59,6 +59,17 @@ void Scene::Check() const {
   Require(fps > 0 && duration > 0, "fps and duration must be positive");
   Require(path.kind == "round" || path.kind == "straight", "path.kind must be round or straight");
   Require(path.speed > 0 && path.speed <= 0.4, "path.speed must be in (0, 0.4] m/s");
+  const RealisticDetection& r = noise.realistic;
+  Require(r.hard_share >= 0 && r.hard_share <= 1 && r.dropout_share >= 0 && r.dropout_share <= 1,
+          "noise.realistic: hard_share and dropout_share must be in [0, 1]");
+  Require(r.object_logit_std >= 0 && r.wander_logit_std >= 0 && r.score_noise >= 0,
+          "noise.realistic: object_logit_std, wander_logit_std and score_noise must be >= 0");
+  Require(r.wander_seconds >= 0 && r.dropouts_per_minute >= 0 && r.dropout_seconds >= 0 &&
+              r.flips_per_second >= 0 && r.flip_seconds >= 0 && r.exposure_ms >= 0,
+          "noise.realistic: wander_seconds, dropouts_per_minute, dropout_seconds, "
+          "flips_per_second, flip_seconds and exposure_ms must be >= 0");
+  Require(r.frame_noise > 0, "noise.realistic.frame_noise must be positive");
+  Require(r.reference_box_pixels > 0, "noise.realistic.reference_box_pixels must be positive");
   std::set<int> ids;
   for (const SceneObject& object : objects) {
     Require(object.id > 0 && ids.insert(object.id).second,

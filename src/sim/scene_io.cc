@@ -4,6 +4,7 @@
 
 #include "ocg/core/file_io.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/sim/detector.h"
 
 namespace ocg::sim {
 namespace {
@@ -114,6 +115,19 @@ SceneFile ReadSceneFields(const YAML::Node& root, const std::string& name) {
     read.Optional(noise, "confusion", "noise.", &n.confusion);
     read.Optional(noise, "false_positives_per_frame", "noise.", &n.false_positives_per_frame);
     read.Optional(noise, "duplicate", "noise.", &n.duplicate);
+    std::string model = DetectorKindName(n.kind);
+    read.Optional(noise, "model", "noise.", &model);
+    try {
+      n.kind = DetectorKindFromName(model);
+    } catch (const std::invalid_argument& error) {
+      read.Fail(noise["model"], "noise.model", error.what());
+    }
+    if (const YAML::Node realistic = read.Map(noise, "realistic")) {
+      read.Optional(realistic, "seed", "noise.realistic.", &n.realistic.seed);
+      for (const RealisticField& field : RealisticFields()) {
+        read.Optional(realistic, field.name, "noise.realistic.", &(n.realistic.*field.member));
+      }
+    }
   }
   if (const YAML::Node look = read.Map(root, "look")) {
     LookOptions& l = scene.look;
@@ -266,6 +280,15 @@ std::string SceneToYaml(const Scene& scene) {
   root["noise"]["confusion"] = n.confusion;
   root["noise"]["false_positives_per_frame"] = n.false_positives_per_frame;
   root["noise"]["duplicate"] = n.duplicate;
+  if (n.kind == DetectorKind::kRealistic) {  // absent otherwise: those files stay as they were
+    root["noise"]["model"] = DetectorKindName(n.kind);
+    YAML::Node realistic;
+    realistic["seed"] = n.realistic.seed;
+    for (const RealisticField& field : RealisticFields()) {
+      realistic[field.name] = n.realistic.*field.member;
+    }
+    root["noise"]["realistic"] = realistic;
+  }
   if (scene.look.realistic()) {  // absent for the procedural look: its files stay as they were
     const LookOptions& l = scene.look;
     YAML::Node look;

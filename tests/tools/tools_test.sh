@@ -114,4 +114,31 @@ fails_with "objects without a size and no readable image says so" "could be read
   "$BIN/ocg_slam" objects --trajectory "$WORK/objseq/groundtruth.txt" --detections "$WORK/objseq/detections" --settings "$WORK/no_size.yaml" --frames "$WORK/objseq/rgb_missing.txt" --out "$WORK/never_objects"
 fails_with "unknown OCG mode named" "OCG.mode" objects_run "$WORK/never_objects" "$WORK/objseq/camera.yaml" --mode sometimes
 
+# tools/detection_stats.py on a constructed folder: 8 s at 30 Hz, a cup present throughout
+# but missed for 3 frames (10-12) and 1 frame (50), reported as a bowl for 5 frames (70-74),
+# and a book in the first 4 seconds only.
+mkdir -p "$WORK/stats/detections"
+python3 - "$WORK/stats/detections" <<'PY'
+import sys
+for f in range(240):
+    lines = []
+    if f not in (10, 11, 12, 50):
+        lines.append("%d 100 100 50 60 0.60" % (45 if 70 <= f <= 74 else 41))
+    if f < 120:
+        lines.append("73 300 200 80 40 0.95")
+    open("%s/%.6f.txt" % (sys.argv[1], 1000 + f / 30.0), "w").write("".join(l + "\n" for l in lines))
+PY
+check "detection_stats.py runs" python3 "$SRC/tools/detection_stats.py" --json "$WORK/stats"
+python3 "$SRC/tools/detection_stats.py" --json "$WORK/stats" >"$WORK/stats.json"
+stat() { python3 -c "import json,sys; print('%.3f' % json.load(open(sys.argv[1]))[sys.argv[2]])" "$WORK/stats.json" "$1"; }
+check "two miss runs, of 3 and 1 frames" test "$(stat miss_run_mean_frames)" = 2.000 -a "$(stat miss_run_1)" = 0.500
+check "4-second means 1.967 (4 misses) and 1 boxes a frame" test "$(stat window_max)" = 1.967 -a "$(stat window_min)" = 1.000
+check "one class flip of 5 frames" test "$(stat flip_run_mean_frames)" = 5.000
+check "scores: the book's 120 of 356 boxes from 0.9" test "$(stat score_from_0.9)" = 0.337
+check "ocg_synth --detections-only --detector realistic" "$BIN/ocg_synth" --preset smoke --frames 5 --size 320x240 --detections-only --detector realistic --out "$WORK/realistic_det"
+check "detections written, no images" test -e "$WORK/realistic_det/detections" -a ! -e "$WORK/realistic_det/rgb"
+check "scene.yaml records the model" grep -q "model: realistic" "$WORK/realistic_det/scene.yaml"
+fails_with "--detector-seed without the realistic detector" "needs --detector realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector-seed 3 --out "$WORK/never_det"
+fails_with "an unknown detector model names the choices" "independent or realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector yolo --out "$WORK/never_det"
+
 report_and_exit

@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "ocg/io/detections.h"
 #include "ocg/render/renderer.h"
+#include "ocg/sim/detector.h"
 #include "ocg/sim/look.h"
 #include "ocg/sim/presets.h"
 #include "ocg/sim/scene.h"
@@ -67,9 +69,11 @@ void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRen
 void ValidateChanges(const Scene& scene, SceneRenderer& renderer);
 
 // The YOLO-like detector (SPEC 2 format); deterministic in the scene seed and frame.
+// scene.noise.kind chooses the independent model or the realistic one (detector.h); the
+// realistic one has memory, so frames are detected in order.
 class DetectionModel {
  public:
-  explicit DetectionModel(const Scene& scene) : scene_(scene) {}
+  explicit DetectionModel(const Scene& scene);
 
   struct FrameResult {
     std::vector<Detection> detections;
@@ -85,11 +89,15 @@ class DetectionModel {
  private:
   const Scene& scene_;
   std::map<int, bool> missed_last_frame_;
+  std::optional<RealisticDetector> realistic_;
 };
 
 struct GeneratorOptions {
   int max_frames = 0;  // 0: the whole scene
   bool write_depth = false;
+  // false: no rgb/, rgb.txt or depth (the id pass alone feeds the detections): a fast way
+  // to measure a detector model over whole sequences.
+  bool write_images = true;
   bool overwrite = false;  // replace an existing output folder
   // Every N-th frame is a keyframe of oracle_observations.jsonl (0: no file).
   int keyframe_interval = 10;

@@ -57,7 +57,55 @@ struct CameraPath {
   double jitter = 0.01;        // hand-held wobble amplitude, metres (and ~1 degree)
 };
 
+// The realistic detector model (detector.h): the probability of detecting a visible object
+// is a logistic function of a logit made of the terms below (each a logit change), an
+// object's own detectability, a slow per-object wander, and seconds-long dropout stretches
+// of the whole detector. Calibrated against real YOLO detections (docs/synthetic.md).
+struct RealisticDetection {
+  std::uint64_t seed = 0;   // mixed with the scene's seed: other draws, same scene
+  double base_logit = 4.5;  // a near, large, sharp, face-on, fully visible object
+  // Per-object detectability, drawn once per object from the seed.
+  double object_logit_std = 0.6;
+  double hard_share = 0.2;   // share of objects that are simply hard
+  double hard_logit = -4.5;  // added for them
+  // Viewing conditions.
+  double reference_distance = 1.2;  // metres; farther costs distance_logit per metre
+  double distance_logit = -0.8;
+  double reference_box_pixels = 4000;  // box area; size_logit per ln(area / reference), up to 0
+  double size_logit = 0.9;
+  double angle_logit = -1.5;       // edge-on view of the largest vertical face (box objects)
+  double exposure_ms = 20;         // motion blur = image speed over this time
+  double blur_logit = -0.08;       // per pixel of motion blur
+  double occlusion_logit = -4.0;   // per unit of occluded share
+  double truncation_logit = -4.0;  // per unit of share outside the image
+  // Scale of the frame-to-frame logistic noise on the logit (1: a coin flip with the
+  // logistic probability each frame; smaller: misses follow the slow terms, fewer flickers).
+  double frame_noise = 0.4;
+  // Slow wander of each object's logit: an AR(1) process with this time constant.
+  double wander_seconds = 1.5;
+  double wander_logit_std = 1.5;
+  // Stretches of seconds where the detector finds far fewer boxes.
+  double dropouts_per_minute = 2.0;
+  double dropout_seconds = 3.0;  // length: exponential, clamped to 1 to 3 times this
+  double dropout_logit = -5.5;   // mean depth (each stretch 0.5 to 1.5 times)
+  double dropout_share = 0.7;    // share of the objects a stretch hits (drawn per stretch)
+  // Class flips (cup<->bowl, book<->laptop, bottle->cup) that persist.
+  double flips_per_second = 0.5;  // starting rate for a detected object
+  double flip_seconds = 0.2;      // mean length (exponential)
+  // Score: score_base + score_per_logit * (logit without wander) + noise, in [0.25, 0.97].
+  double score_base = 0.57;
+  double score_per_logit = 0.03;
+  double score_noise = 0.13;
+};
+
+enum class DetectorKind { kIndependent, kRealistic };
+
 struct DetectionNoise {
+  // kIndependent: the original model (misses per frame, short bursts, the fields below);
+  // kRealistic: `realistic` decides misses, classes and scores; jitter, duplicates and
+  // false positives stay as below.
+  DetectorKind kind = DetectorKind::kIndependent;
+  RealisticDetection realistic;
   bool perfect = false;             // no noise at all: exact boxes, every visible object
   double min_visible_pixels = 150;  // fewer visible pixels: never detected
   double box_jitter = 0.03;         // std of each box edge, share of the box size
