@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "ocg/core/coco.h"
 #include "ocg/objects/assignment.h"
@@ -403,10 +404,11 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
   // Hygiene: the same object mapped twice (a lost association, a box that jumped, a class
   // the detector confused) shows as two objects at one place that were never detected in
   // the same frame. The merged object takes the class most of its sightings have.
-  for (bool merged = true; merged;) {
-    merged = false;
-    for (auto a = objects_.begin(); a != objects_.end() && !merged; ++a) {
-      for (auto b = std::next(a); b != objects_.end() && !merged; ++b) {
+  // Merge() erases an object and so invalidates the iterators: find one pair, merge it
+  // outside the loops, then look again (merges are rare).
+  const auto find_pair = [&]() -> std::optional<std::pair<ObjectId, ObjectId>> {
+    for (auto a = objects_.begin(); a != objects_.end(); ++a) {
+      for (auto b = std::next(a); b != objects_.end(); ++b) {
         const MapObject& first = a->second;
         const MapObject& second = b->second;
         if (!first.has_cuboid || !second.has_cuboid) continue;
@@ -422,12 +424,13 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
           continue;
         }
         const bool keep_first = first.sightings.size() >= second.sightings.size();
-        Merge(keep_first ? first.id : second.id, keep_first ? second.id : first.id, keyframe_id,
-              timestamp, merges);
-        merged = true;  // iterators are invalid: start over (merges are rare)
+        return std::make_pair(keep_first ? first.id : second.id, keep_first ? second.id : first.id);
       }
     }
-  }
+    return std::nullopt;
+  };
+  while (const auto pair = find_pair())
+    Merge(pair->first, pair->second, keyframe_id, timestamp, merges);
 
   for (auto it = objects_.begin(); it != objects_.end();) {
     MapObject& object = it->second;
