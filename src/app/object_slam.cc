@@ -142,6 +142,7 @@ class ObjectSlam::Impl {
                              {"points_created", mapping.points_created},
                              {"points_culled", mapping.points_culled},
                              {"keyframes_culled", mapping.keyframes_culled},
+                             {"local_adjustments_dropped", mapping.local_adjustments_dropped},
                              {"wall_seconds", wall_seconds_},
                              {"timing",
                               {{"tracking_per_frame", app_detail::Timing(tracking_seconds)},

@@ -116,12 +116,12 @@ LocalMapping::~LocalMapping() {
 }
 
 void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
-  std::lock_guard<std::mutex> lock(map_->mutex());
+  std::unique_lock<std::mutex> lock(map_->mutex());
   LinkKeyFrame(keyframe);
   CullRecentPoints(keyframe);
   TriangulateNewPoints(keyframe);
   FuseDuplicates(keyframe);
-  if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe);
+  if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe, lock);
   CullKeyFrames(keyframe);
   ++stats_.keyframes;
 }
@@ -300,13 +300,32 @@ void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
   map_->UpdateConnections(keyframe);
 }
 
-void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe) {
+// The solve, most of local mapping's time, runs without the map lock, on the copy that
+// PrepareAdjustment made: tracking goes on meanwhile instead of waiting a whole adjustment
+// for the lock. Only this thread adds keyframes and points to the map, so nothing that the
+// adjustment should carry along appears meanwhile; but a loop correction or a global
+// adjustment merged meanwhile moved the whole map, and writing the local solution over it
+// would undo that: it is dropped then. Sequentially nothing runs meanwhile, so the result
+// is the same as an adjustment under the lock.
+void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
+                                         std::unique_lock<std::mutex>& map_lock) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<KeyFramePtr> local = {keyframe};
   for (const KeyFramePtr& k : map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
     local.push_back(k);
   }
-  if (!AdjustKeyFrames(*map_, camera_, pyramid_, local, options_.local_ba_iterations)) return;
+  KeyFrameAdjustment adjustment = PrepareAdjustment(*map_, camera_, pyramid_, local);
+  const std::uint64_t corrections = map_->corrections();
+  map_lock.unlock();
+  if (before_local_solve_) before_local_solve_();
+  const bool solved = SolveAdjustment(&adjustment, options_.local_ba_iterations);
+  map_lock.lock();
+  if (!solved) return;
+  if (map_->corrections() != corrections) {
+    ++stats_.local_adjustments_dropped;
+    return;
+  }
+  ApplyAdjustment(*map_, pyramid_, adjustment);
   stats_.ba_seconds.push_back(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }

@@ -1,11 +1,14 @@
 // Bundle adjustment in three steps (prepare, solve, apply), as the global adjustment after
-// a loop runs it: on a copy, while the map goes on growing.
+// a loop and local mapping run it: on a copy, while the map goes on growing.
 
 #include "ocg/slam/map_operations.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
+
+#include "ocg/slam/local_mapping.h"
 
 #include "test_support.h"
 
@@ -41,6 +44,13 @@ class GrowingMap : public ::testing::Test {
   }
 
   KeyFramePtr AddKeyFrame(const SE3& T_cw) {
+    KeyFramePtr keyframe = MakeKeyFrame(T_cw);
+    map_.Add(keyframe);
+    return keyframe;
+  }
+
+  // A keyframe as tracking hands it to local mapping: not in the map yet.
+  KeyFramePtr MakeKeyFrame(const SE3& T_cw) {
     auto keyframe = std::make_shared<KeyFrame>();
     keyframe->id = map_.NextKeyFrameId();
     keyframe->T_cw = T_cw;
@@ -53,9 +63,29 @@ class GrowingMap : public ::testing::Test {
     }
     keyframe->features.descriptors.assign(truth_points_.size(), Descriptor{});
     keyframe->points.assign(truth_points_.size(), nullptr);
-    map_.Add(keyframe);
     return keyframe;
   }
+
+  // Keyframe 4, 5 cm off its true place, seeing every point (tracking matched them), given
+  // to local mapping; before_solve runs where the local adjustment is about to be solved.
+  // Returns how far from its true centre keyframe 4 ends.
+  double MapAFifthKeyFrame(const std::function<void()>& before_solve, LocalMappingStats* stats) {
+    const KeyFramePtr keyframe = MakeKeyFrame(SE3());
+    const SE3 truth = TruePose(static_cast<int>(keyframe->id));
+    keyframe->T_cw = SE3(Eigen::Matrix3d::Identity(), truth.translation() + kOffset);
+    for (const auto& [id, point] : map_.points()) {
+      keyframe->points[static_cast<std::size_t>(point->observations.begin()->second)] = point;
+    }
+    BowDatabase database(16);
+    LocalMapping mapping(Camera(), pyramid_, MatcherOptions{}, LocalMappingOptions{}, &map_,
+                         &database);
+    mapping.SetBeforeLocalSolve(before_solve);
+    mapping.ProcessKeyFrame(keyframe);
+    *stats = mapping.Stats();
+    return (keyframe->Centre() - truth.Inverse().translation()).norm();
+  }
+
+  const Eigen::Vector3d kOffset{0.05, 0.0, 0.0};
 
   Map map_;
   ScalePyramid pyramid_;
@@ -111,6 +141,41 @@ TEST_F(GrowingMap, WhatWasAddedDuringAnAdjustmentFollowsItsCorrection) {
   EXPECT_LT((relative.translation() - T_4_3.translation()).norm(), 1e-9);
   // The fresh point moved with its reference keyframe: same place in its camera.
   EXPECT_LT((k4->T_cw * fresh->position - Eigen::Vector3d(0.1, 0.2, 4.0)).norm(), 1e-9);
+}
+
+// Tracking must not wait a whole local adjustment for the map: the solve runs without the
+// map lock, and its result is written back.
+TEST_F(GrowingMap, LocalMappingSolvesWithoutTheMapLock) {
+  bool lock_was_free = false;
+  LocalMappingStats stats;
+  const double error = MapAFifthKeyFrame(
+      [&] {
+        std::thread tracker([&] {  // another thread, as tracking would be
+          std::unique_lock<std::mutex> lock(map_.mutex(), std::try_to_lock);
+          lock_was_free = lock.owns_lock();
+        });
+        tracker.join();
+      },
+      &stats);
+  EXPECT_TRUE(lock_was_free);
+  EXPECT_EQ(stats.ba_seconds.size(), 1u);
+  EXPECT_EQ(stats.local_adjustments_dropped, 0);
+  EXPECT_LT(error, 0.005) << "the adjustment was not applied";
+}
+
+// A loop correction merged while the local adjustment solved moved the whole map; writing
+// the local solution over it would undo the correction, so it is dropped.
+TEST_F(GrowingMap, LocalAdjustmentIsDroppedWhenALoopCorrectedTheMapMeanwhile) {
+  LocalMappingStats stats;
+  const double error = MapAFifthKeyFrame(
+      [&] {
+        std::lock_guard<std::mutex> lock(map_.mutex());
+        map_.CountCorrection();
+      },
+      &stats);
+  EXPECT_EQ(stats.local_adjustments_dropped, 1);
+  EXPECT_TRUE(stats.ba_seconds.empty());
+  EXPECT_NEAR(error, kOffset.norm(), 1e-9) << "the stale adjustment was written";
 }
 
 }  // namespace

@@ -7,7 +7,8 @@
 // Threading: in sequential mode the tracking thread calls ProcessKeyFrame directly. In
 // threaded mode Start() runs a worker that waits on a condition variable for keyframes
 // given to Insert() (a bounded queue: Insert blocks while it is full); Stop() finishes
-// the queue and joins. Every map access holds Map::mutex().
+// the queue and joins. Every map access holds Map::mutex(); local bundle adjustment
+// solves on a copy without it (tracking runs meanwhile) and writes back under it.
 
 #include <functional>
 #include <list>
@@ -47,6 +48,8 @@ struct LocalMappingStats {
   int points_fused = 0;
   int keyframes_culled = 0;
   std::vector<double> ba_seconds;  // per local bundle adjustment
+  // Solved while a loop correction or a global adjustment moved the map, and dropped.
+  int local_adjustments_dropped = 0;
 };
 
 class LocalMapping {
@@ -75,6 +78,12 @@ class LocalMapping {
     keyframe_mapped_ = std::move(callback);
   }
 
+  // Called on the mapping thread, without the map lock, right before each local
+  // adjustment is solved: for tests and profiling. Set before Start().
+  void SetBeforeLocalSolve(std::function<void()> callback) {
+    before_local_solve_ = std::move(callback);
+  }
+
   LocalMappingStats Stats() const;
 
  private:
@@ -82,7 +91,8 @@ class LocalMapping {
   void CullRecentPoints(const KeyFramePtr& keyframe);
   void TriangulateNewPoints(const KeyFramePtr& keyframe);
   void FuseDuplicates(const KeyFramePtr& keyframe);
-  void LocalBundleAdjustment(const KeyFramePtr& keyframe);
+  // Takes the map lock held and gives it back held; releases it while Ceres solves.
+  void LocalBundleAdjustment(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
   void CullKeyFrames(const KeyFramePtr& keyframe);
 
   PinholeCamera camera_;
@@ -95,6 +105,7 @@ class LocalMapping {
   LocalMappingStats stats_;
 
   std::function<void(const KeyFramePtr&)> keyframe_mapped_;
+  std::function<void()> before_local_solve_;
   KeyFrameWorker worker_;  // last: stopped before the members it uses go
 };
 
