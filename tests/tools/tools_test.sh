@@ -141,4 +141,15 @@ check "scene.yaml records the model" grep -q "model: realistic" "$WORK/realistic
 fails_with "--detector-seed without the realistic detector" "needs --detector realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector-seed 3 --out "$WORK/never_det"
 fails_with "an unknown detector model names the choices" "independent or realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector yolo --out "$WORK/never_det"
 
+# A session pair: a later visit of a rendered scene, its changes in objects_gt.json.
+check "ocg_synth session_a" "$BIN/ocg_synth" --preset session_a --frames 3 --size 320x240 --detections-only --out "$WORK/visit1"
+check "ocg_synth --session-of" "$BIN/ocg_synth" --preset session_b --session-of "$WORK/visit1" --seed 2 --frames 3 --size 320x240 --detections-only --out "$WORK/visit2"
+check "objects_gt.json lists 4 moves, 1 removal, 1 addition between the visits" python3 -c "
+import json, sys, collections
+gt = json.load(open(sys.argv[1]))
+kinds = collections.Counter(c['type'] for c in gt['session']['changes'])
+sys.exit(0 if gt['session']['index'] == 2 and kinds == {'moved': 4, 'removed': 1, 'added': 1} else 1)" "$WORK/visit2/objects_gt.json"
+check "the later visit's timestamps follow the first visit's" test "$(awk '!/^#/ {print int($1); exit}' "$WORK/visit2/groundtruth.txt")" -gt 1045
+fails_with "--session-of with an unknown preset names the choices" "session_b" "$BIN/ocg_synth" --preset zigzag --session-of "$WORK/visit1" --frames 2 --out "$WORK/never_visit"
+
 report_and_exit
