@@ -186,9 +186,7 @@ bool ObjectsJsonReader::Accepts(const std::string& path) const {
   return std::string(start).find("\"ocg-objects\"") != std::string::npos;
 }
 
-SavedObjectMap ObjectsJsonReader::Read(const std::string& path) const {
-  const std::string file = ObjectsJsonPath(path);
-  const std::string text = ReadTextFile(file);
+SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name) {
   SavedObjectMap map;
   try {
     const nlohmann::json root = nlohmann::json::parse(text);
@@ -207,12 +205,17 @@ SavedObjectMap ObjectsJsonReader::Read(const std::string& path) const {
       map.objects.push_back(record);
     }
   } catch (const std::exception& error) {
-    throw ParseError(file + ": " + error.what() +
+    throw ParseError(name + ": " + error.what() +
                      " (expected objects.json as ocg_slam writes it: {\"format\": "
                      "\"ocg-objects\", \"objects\": [{\"id\", \"class_id\", \"cuboid\": "
                      "{\"centre\", \"size\", \"yaw\"}}]})");
   }
   return map;
+}
+
+SavedObjectMap ObjectsJsonReader::Read(const std::string& path) const {
+  const std::string file = ObjectsJsonPath(path);
+  return ParseObjectsJson(ReadTextFile(file), file);
 }
 
 std::vector<std::unique_ptr<ObjectMapReader>> ObjectMapReaders() {

@@ -87,6 +87,9 @@ struct SavedObjectMap {
   std::vector<ObjectRecord> objects;
 };
 
+// objects.json's text (name: the file, for errors). Throws ParseError naming it.
+SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name);
+
 // Reads the live objects of a saved object map. One reader per kind of file, so the
 // binary map file can join without touching the diff.
 class ObjectMapReader {
