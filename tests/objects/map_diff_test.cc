@@ -34,7 +34,7 @@ std::vector<std::pair<ObjectId, ObjectId>> Pairs(const std::vector<MoveLink>& li
 }
 
 TEST(LinkMoves, SameClassNearAndAfterTheLastSightingIsAMove) {
-  const MoveLinkOptions options;  // within 10 extents, beyond half an extent
+  const MoveLinkOptions options;  // within 10 extents, beyond one
   const std::vector<ObjectRecord> removed = {Record(1, kCup, 0, 0, 0.1, 0, 10)};
   // Appeared 0.5 m away after the cup was last seen: a move, with both cuboids.
   std::vector<MoveLink> links =
@@ -47,10 +47,11 @@ TEST(LinkMoves, SameClassNearAndAfterTheLastSightingIsAMove) {
   // Seen while the cup was still seen at its place: a neighbour, not the cup moved.
   EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 0.5, 0, 0.1, 5, 30)}, options, true).empty());
   EXPECT_EQ(LinkMoves(removed, {Record(7, kCup, 0.5, 0, 0.1, 5, 30)}, options, false).size(), 1u);
-  // Another class, too far for its size (1.5 m > 10 x 0.1 m), or at the same place: none.
+  // Another class, too far for its size (1.5 m > 10 x 0.1 m), or overlapping its old
+  // place (0.08 m < one extent: the same cup re-created): none.
   EXPECT_TRUE(LinkMoves(removed, {Record(7, kBowl, 0.5, 0, 0.1, 20)}, options, true).empty());
   EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 1.5, 0, 0.1, 20)}, options, true).empty());
-  EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 0.03, 0, 0.1, 20)}, options, true).empty());
+  EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 0.08, 0, 0.1, 20)}, options, true).empty());
   // The same 1.5 m is within reach of a laptop (0.33 m: 3.3 m).
   EXPECT_EQ(LinkMoves({Record(2, kLaptop, 0, 0, 0.33, 0, 10)},
                       {Record(8, kLaptop, 1.5, 0, 0.33, 20)}, options, true)
@@ -61,11 +62,11 @@ TEST(LinkMoves, SameClassNearAndAfterTheLastSightingIsAMove) {
 TEST(LinkMoves, NearestPairsFirstEachObjectOnceAndScaleFree) {
   const std::vector<ObjectRecord> removed = {Record(1, kCup, 0, 0, 0.1, 0, 10),
                                              Record(2, kCup, 0.6, 0, 0.1, 0, 10)};
-  const std::vector<ObjectRecord> appeared = {Record(11, kCup, 0.7, 0, 0.1, 20),
+  const std::vector<ObjectRecord> appeared = {Record(11, kCup, 0.85, 0, 0.1, 20),
                                               Record(12, kCup, -0.3, 0, 0.1, 20),
-                                              Record(13, kCup, 0.65, 0.2, 0.1, 20)};
+                                              Record(13, kCup, 0.85, 0.35, 0.1, 20)};
   const auto pairs = Pairs(LinkMoves(removed, appeared, {}, true));
-  // 2 -> 11 (0.1 m) first; then 1 -> 12 (0.3 m) and 13 is left over (2 is taken).
+  // 2 -> 11 (0.25 m) first; then 1 -> 12 (0.3 m) and 13 is left over (2 is taken).
   ASSERT_EQ(pairs.size(), 2u);
   EXPECT_EQ(pairs[0], std::make_pair(ObjectId{2}, ObjectId{11}));
   EXPECT_EQ(pairs[1], std::make_pair(ObjectId{1}, ObjectId{12}));
