@@ -319,6 +319,14 @@ VisitChanges PresetVisitChanges(const std::string& name) {
 Scene MakeLaterVisit(const Scene& previous, const VisitChanges& changes, std::uint64_t seed) {
   if (changes.moves < 0 || changes.removals < 0 || changes.additions < 0)
     throw std::invalid_argument("visit changes: counts must be >= 0");
+  // The later visit starts on ground the previous one saw only if it covered a lap.
+  if (previous.duration < LapDuration(previous.path)) {
+    throw std::invalid_argument("visit changes: the previous visit ('" + previous.name +
+                                "') lasts " + std::to_string(previous.duration) +
+                                " s, less than a lap of its path (" +
+                                std::to_string(LapDuration(previous.path)) +
+                                " s): a later visit could start where it never looked");
+  }
   Scene scene = previous;
   scene.seed = seed;
   scene.session.index = previous.session.index + 1;

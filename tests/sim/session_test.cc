@@ -120,6 +120,22 @@ TEST(LaterVisit, DeterministicInTheSeedAndSavedWithTheScene) {
   VisitChanges too_many = changes;
   too_many.removals = 1000;
   EXPECT_THROW(MakeLaterVisit(first, too_many, 3), std::invalid_argument);
+  Scene short_visit = first;
+  short_visit.duration = 0.5 * LapDuration(first.path);
+  EXPECT_THROW(MakeLaterVisit(short_visit, changes, 3), std::invalid_argument);
+}
+
+TEST(LaterVisit, KeepsTheRealisticLookAndDetector) {
+  Scene first = MakePreset("session_a", 1);
+  first.look.kind = LookKind::kRealistic;
+  first.noise.kind = DetectorKind::kRealistic;
+  const Scene second = MakeLaterVisit(first, PresetVisitChanges("session_b"), 2);
+  EXPECT_TRUE(second.look.realistic());
+  EXPECT_EQ(second.noise.kind, DetectorKind::kRealistic);
+  // Rendered through the realistic camera: the first frame is a picture, not black.
+  SceneRenderer renderer(second);
+  const cv::Mat frame = renderer.Colour(0.0, CameraPoseAt(second, 0.0), 1);
+  EXPECT_GT(cv::mean(frame)[0], 20.0);
 }
 
 }  // namespace

@@ -50,7 +50,8 @@ VisitChanges PresetVisitChanges(const std::string& name);
 // starts changes.path_start of a lap further on the same path, so it starts elsewhere but
 // looks at what the previous visit mapped (its duration must cover a lap). Frame 0 comes
 // changes.gap seconds after the previous visit's end. Ids of kept objects stay; added
-// objects take new ones. Throws std::invalid_argument when the changes do not fit.
+// objects take new ones. Throws std::invalid_argument when the changes do not fit or the
+// previous visit lasts less than a lap.
 Scene MakeLaterVisit(const Scene& previous, const VisitChanges& changes, std::uint64_t seed);
 
 }  // namespace ocg::sim
