@@ -33,7 +33,9 @@ def score(sequence, graph_path):
     removed = observed - live
     outdated, current = set(), set()
     for obj in truth["objects"]:
-        history = obj["history"]
+        # A later visit's history starts with the previous visit's pose ("session"): the
+        # oracle numbers only the visit's own poses.
+        history = [pose for pose in obj["history"] if "session" not in pose]
         for index, pose in enumerate(history):
             if not pose["present"]:
                 continue

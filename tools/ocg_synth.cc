@@ -61,10 +61,19 @@ int main(int argc, char** argv) {
   ocg::tools::AddLogLevelOption(app, &log_level);
   auto* preset_option = app.add_option("--preset", preset,
                                        "a built-in scene: smoke, straight_1, straight_2, "
-                                       "round_1, round_2, desk_static");
-  app.add_option("--scene", scene_path, "a scene file (YAML)")
-      ->check(CLI::ExistingFile)
-      ->excludes(preset_option);
+                                       "round_1, round_2, desk_static, session_a; with "
+                                       "--session-of: session_b or a room preset");
+  auto* scene_option = app.add_option("--scene", scene_path, "a scene file (YAML)")
+                           ->check(CLI::ExistingFile)
+                           ->excludes(preset_option);
+  std::string session_of;
+  app.add_option("--session-of", session_of,
+                 "render a later visit of the scene rendered into this folder (its scene.yaml): "
+                 "objects moved, removed or added between the visits as --preset says (default "
+                 "session_b: 4 moves, 1 removal, 1 addition; a room preset: its changes), drawn "
+                 "from --seed; the camera starts half a lap further on")
+      ->check(CLI::ExistingDirectory)
+      ->excludes(scene_option);
   app.add_option("--out", output, "output folder");
   app.add_option("--seed", seed, "seed of the preset's layout, camera wobble and detector noise")
       ->capture_default_str();
@@ -116,6 +125,7 @@ int main(int argc, char** argv) {
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
     if (list) {
       for (const std::string& name : ocg::sim::PresetNames()) std::cout << name << "\n";
+      std::cout << "session_b (with --session-of)\n";
       return;
     }
     if (!measure.empty()) {
@@ -123,10 +133,15 @@ int main(int argc, char** argv) {
       return;
     }
     if (output.empty()) throw std::invalid_argument("--out is required");
-    if (preset.empty() == scene_path.empty())
-      throw std::invalid_argument("give --preset or --scene");
     ocg::sim::SceneFile file;
-    if (!preset.empty()) {
+    if (!session_of.empty()) {
+      const ocg::sim::SceneFile previous = ocg::sim::LoadSceneFile(session_of + "/scene.yaml");
+      file.scene = ocg::sim::MakeLaterVisit(
+          previous.scene, ocg::sim::PresetVisitChanges(preset.empty() ? "session_b" : preset),
+          seed);
+    } else if (preset.empty() == scene_path.empty()) {
+      throw std::invalid_argument("give --preset or --scene");
+    } else if (!preset.empty()) {
       file.scene = ocg::sim::MakePreset(preset, seed);
       file.moves = ocg::sim::PresetMoves(preset, file.scene, seed);
     } else {

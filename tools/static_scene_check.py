@@ -89,7 +89,7 @@ def check_run(folder, min_observations, reach_factor, scene_counts, tolerance):
     restored = {entry["object_id"] for entry in changes if entry.get("type") == "restored"}
     removals = []
     for entry in changes:
-        if field(entry, "type", changes_path) != "removed":
+        if field(entry, "type", changes_path) not in ("removed", "moved"):  # a move removes too
             continue
         object_id = entry["object_id"]
         centre = field(entry, "centroid", changes_path)

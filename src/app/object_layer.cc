@@ -19,9 +19,12 @@ nlohmann::json Timing(const std::vector<double>& seconds) {
            seconds.empty() ? 0.0 : 1000.0 * *std::max_element(seconds.begin(), seconds.end())}};
 }
 
-nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder) {
-  WriteFileAtomically(folder + "/objects.json", mapper.ObjectsJson());
-  WriteFileAtomically(folder + "/changes.json", mapper.ChangesJson());
+nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder,
+                              const ChangeLogContext& change_log) {
+  const std::string objects = mapper.ObjectsJson();
+  WriteFileAtomically(folder + "/objects.json", objects);
+  WriteFileAtomically(folder + "/changes.json",
+                      ReviseChangeLog(mapper.ChangesJson(), objects, change_log));
   WriteFileAtomically(folder + "/ocg.json", mapper.GraphJson());
   WriteFileAtomically(folder + "/ocg_observations.jsonl", mapper.ObservationsJsonl());
   const ObjectLayerStats stats = mapper.Stats();
@@ -40,6 +43,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
                            double timestamp, const std::vector<Detection>& detections) {
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
+  if (!session_start_) session_start_ = timestamp;
   if (result.reset) {
     // The SLAM map the objects were built in is gone; so are they.
     spdlog::warn("frame {}: the SLAM map was reset: the object map starts over", frame);
@@ -99,10 +103,13 @@ void ObjectLayer::Finish(const System& system) {
 }
 
 std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }
-std::string ObjectLayer::Changes() const { return enabled_ ? mapper_->ChangesJson() : ""; }
+std::string ObjectLayer::Changes() const {
+  return enabled_ ? ReviseChangeLog(mapper_->ChangesJson(), mapper_->ObjectsJson(), ChangeLog())
+                  : "";
+}
 
 nlohmann::json ObjectLayer::Write(const std::string& output) const {
-  nlohmann::json section = WriteObjectMap(*mapper_, output);
+  nlohmann::json section = WriteObjectMap(*mapper_, output, ChangeLog());
   const ObjectLayerStats stats = mapper_->Stats();
   section.update({{"ocg_mode", settings_.ocg.mode},
                   {"keyframes", keyframes_},
@@ -120,6 +127,12 @@ void ObjectLayer::Start() {
   keyframes_ = 0;
   tracked_frames_ = 0;
   last_association_ = {};
+}
+
+ChangeLogContext ObjectLayer::ChangeLog() const {
+  ChangeLogContext context;  // session 1 until runs continue a loaded map (issue 19)
+  context.session_start = session_start_.value_or(0.0);
+  return context;
 }
 
 void ObjectLayer::Follow(const System& system) {

@@ -19,15 +19,17 @@
 
 #include "ocg/app/settings.h"
 #include "ocg/io/detections.h"
+#include "ocg/objects/change_log.h"
 #include "ocg/objects/object_mapper.h"
 #include "ocg/slam/system.h"
 #include "ocg/viewer/frame_view.h"
 
 namespace ocg::app_detail {
 
-// Writes the object map's files (objects.json, changes.json, ocg.json,
-// ocg_observations.jsonl) into folder; returns the counts run.json reports of it.
-nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder);
+// Writes the object map's files (objects.json, changes.json revised as ReviseChangeLog says,
+// ocg.json, ocg_observations.jsonl) into folder; returns the counts run.json reports of it.
+nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder,
+                              const ChangeLogContext& change_log);
 
 // run.json's timing entry of a list of durations in seconds.
 nlohmann::json Timing(const std::vector<double>& seconds);
@@ -61,6 +63,7 @@ class ObjectLayer {
  private:
   void Start();
   void Follow(const System& system);
+  ChangeLogContext ChangeLog() const;
 
   const Settings& settings_;
   bool enabled_;
@@ -73,6 +76,7 @@ class ObjectLayer {
   std::optional<std::vector<ObjectView>> first_removal_;
   bool removal_seen_ = false;
   std::vector<double> seconds_;
+  std::optional<double> session_start_;  // timestamp of the first frame given
 };
 
 }  // namespace ocg::app_detail

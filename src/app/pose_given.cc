@@ -42,7 +42,9 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                            {"keyframes", keyframes},
                            {"wall_seconds", seconds},
                            {"timing", {{"objects_per_frame", app_detail::Timing(frame_seconds)}}}};
-  report.update(app_detail::WriteObjectMap(mapper, folder));
+  ChangeLogContext change_log;
+  if (!frames.empty()) change_log.session_start = frames.front().timestamp;
+  report.update(app_detail::WriteObjectMap(mapper, folder, change_log));
   return report;
 }
 

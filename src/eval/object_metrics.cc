@@ -84,7 +84,9 @@ std::vector<RunObject> ReadRunObjects(const std::string& run_dir) {
   const nlohmann::json changes = ParseJsonFile(changes_path);
   try {
     for (const nlohmann::json& change : changes.at("changes")) {
-      if (change.at("type").get<std::string>() != "removed" || change.at("centroid").is_null()) {
+      // A move's entry holds the object removed from its old place ("centroid").
+      const std::string type = change.at("type").get<std::string>();
+      if ((type != "removed" && type != "moved") || change.at("centroid").is_null()) {
         continue;
       }
       objects.push_back({change.at("object_id").get<long long>(), change.at("class_id").get<int>(),

@@ -490,6 +490,7 @@ void ObjectMap::Remove(const RemovalEvent& event) {
   change.cuboid = it->second.cuboid;
   change.sightings = it->second.sightings.size();
   change.doubt = event.doubt;
+  change.last_seen = it->second.last_timestamp;
   changes_.push_back(change);
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
@@ -543,6 +544,7 @@ std::string ObjectChangesJson(const std::vector<ObjectChange>& changes) {
                             {"observations", change.sightings}};
     if (change.type == "removed") {
       entry["doubt"] = change.doubt;
+      entry["last_seen"] = change.last_seen;
       entry["reason"] = "outlier";
     } else if (change.type == "merged") {
       entry["merged_into"] = change.merged_into;

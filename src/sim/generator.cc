@@ -26,7 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kTimestampStart = 1000.0;
 constexpr double kSensorNoise = 2.0;  // grey levels, std
 
 SE3 PoseOf(const PlacedPose& pose) {
@@ -480,7 +479,7 @@ std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double 
                               const std::vector<int>& detected_objects) {
   KeyframeObservation observation;
   observation.keyframe_id = keyframe;
-  observation.timestamp = kTimestampStart + t;
+  observation.timestamp = scene.time_origin + t;
   observation.T_cw = T_cw;
   observation.camera = OutputCamera(scene);
   for (int id : detected_objects) {
@@ -501,40 +500,75 @@ std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double 
 
 std::string FrameTimestamp(const Scene& scene, int frame) {
   char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6f", kTimestampStart + frame / scene.fps);
+  std::snprintf(buffer, sizeof(buffer), "%.6f", scene.time_origin + frame / scene.fps);
   return buffer;
 }
 
+namespace {
+
+nlohmann::json PlacementJson(const PlacedPose& pose, double time) {
+  return {{"time", time},
+          {"present", pose.present},
+          {"centre", {pose.centre.x(), pose.centre.y(), pose.centre.z()}},
+          {"yaw", pose.yaw}};
+}
+
+std::string StatusOf(const std::vector<PlacedPose>& history) {
+  if (history.size() < 2) return "static";
+  const bool starts = history.front().present;
+  const bool ends = history.back().present;
+  return starts && ends ? "moved" : starts ? "removed" : "added";
+}
+
+}  // namespace
+
 std::string ObjectsGroundTruthJson(const Scene& scene) {
   nlohmann::json objects = nlohmann::json::array();
+  nlohmann::json between = nlohmann::json::array();
   for (const SceneObject& object : scene.objects) {
+    // A later visit's history starts with the previous visit's last pose, so the places
+    // left between the visits are outdated places for `ocg_eval objects`.
+    std::vector<PlacedPose> combined;
     nlohmann::json history = nlohmann::json::array();
-    for (const PlacedPose& pose : object.history) {
-      history.push_back({{"time", kTimestampStart + pose.time},
-                         {"present", pose.present},
-                         {"centre", {pose.centre.x(), pose.centre.y(), pose.centre.z()}},
-                         {"yaw", pose.yaw}});
+    if (object.before_session) {
+      combined.push_back(*object.before_session);
+      history.push_back(PlacementJson(*object.before_session, scene.session.previous_end));
+      history.back()["session"] = scene.session.index - 1;
+      const std::vector<PlacedPose> visit = {*object.before_session, object.history.front()};
+      const PlacedPose& after = object.history.front();
+      between.push_back(
+          {{"id", object.id},
+           {"class", CocoClassName(object.class_id)},
+           {"type", StatusOf(visit)},
+           {"before", object.before_session->present
+                          ? PlacementJson(*object.before_session, scene.session.previous_end)
+                          : nlohmann::json(nullptr)},
+           {"after",
+            after.present ? PlacementJson(after, scene.time_origin) : nlohmann::json(nullptr)}});
     }
-    std::string status = "static";
-    if (object.Moves()) {
-      const bool starts = object.history.front().present;
-      const bool ends = object.history.back().present;
-      status = starts && ends ? "moved" : starts ? "removed" : "added";
+    for (const PlacedPose& pose : object.history) {
+      combined.push_back(pose);
+      history.push_back(PlacementJson(pose, scene.time_origin + pose.time));
     }
     objects.push_back({{"id", object.id},
                        {"class_id", object.class_id},
                        {"class", CocoClassName(object.class_id)},
                        {"shape", object.shape == Shape::kBox ? "box" : "cylinder"},
                        {"size", {object.size.x(), object.size.y(), object.size.z()}},
-                       {"status", status},
+                       {"status", StatusOf(combined)},
                        {"history", history}});
   }
-  return nlohmann::json({{"scene", scene.name},
+  nlohmann::json root = {{"scene", scene.name},
                          {"seed", scene.seed},
-                         {"time_origin", kTimestampStart},
-                         {"objects", objects}})
-             .dump(1) +
-         "\n";
+                         {"time_origin", scene.time_origin},
+                         {"objects", objects}};
+  if (scene.session.index > 1) {
+    root["session"] = {{"index", scene.session.index},
+                       {"previous", scene.session.previous},
+                       {"previous_end", scene.session.previous_end},
+                       {"changes", between}};
+  }
+  return root.dump(1) + "\n";
 }
 
 std::string CameraSettingsYaml(const Scene& scene) {
@@ -637,7 +671,7 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
                 "\n";
     }
     StampedPose pose;
-    pose.timestamp = kTimestampStart + t;
+    pose.timestamp = scene.time_origin + t;
     pose.timestamp_text = stamp;
     pose.T_wc = T_cw.Inverse();
     groundtruth.push_back(pose);

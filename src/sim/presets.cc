@@ -116,7 +116,8 @@ class Placer {
     if (!centre && !absent_at_start) centre = FreePlaceOnCabinet(kind);
     if (!centre) return false;
     SceneObject object;
-    object.id = static_cast<int>(scene_.objects.size()) + 1;
+    object.id = 1;  // after every id in use: a later visit's scene may have gaps
+    for (const SceneObject& other : scene_.objects) object.id = std::max(object.id, other.id + 1);
     object.class_id = kind.class_id;
     object.shape = kind.shape;
     object.size = kind.size;
@@ -195,6 +196,8 @@ const PresetSpec kPresets[] = {
     {"round_1", "round", 100.0, 30.0, 38, 6, 0, 0},
     {"round_2", "round", 120.0, 30.0, 40, 9, 1, 1},
     {"desk_static", "round", 60.0, 30.0, 30, 0, 0, 0},
+    // A lap and a quarter (35.9 s laps): the whole room mapped, for a later visit.
+    {"session_a", "round", 45.0, 30.0, 24, 0, 0, 0},
 };
 
 const PresetSpec* LookupPreset(const std::string& name) {
@@ -295,6 +298,106 @@ std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene
     moves.push_back(move);
   }
   return moves;
+}
+
+VisitChanges PresetVisitChanges(const std::string& name) {
+  VisitChanges changes;
+  if (name == "session_b") return changes;
+  const PresetSpec* spec = LookupPreset(name);
+  if (spec == nullptr) {
+    std::string names = "session_b";
+    for (const PresetSpec& known : kPresets) names += ", " + known.name;
+    throw std::invalid_argument("unknown preset '" + name + "' for a later visit (use " + names +
+                                ")");
+  }
+  changes.moves = spec->moves;
+  changes.removals = spec->removals;
+  changes.additions = spec->additions;
+  return changes;
+}
+
+Scene MakeLaterVisit(const Scene& previous, const VisitChanges& changes, std::uint64_t seed) {
+  if (changes.moves < 0 || changes.removals < 0 || changes.additions < 0)
+    throw std::invalid_argument("visit changes: counts must be >= 0");
+  // The later visit starts on ground the previous one saw only if it covered a lap.
+  if (previous.duration < LapDuration(previous.path)) {
+    throw std::invalid_argument("visit changes: the previous visit ('" + previous.name +
+                                "') lasts " + std::to_string(previous.duration) +
+                                " s, less than a lap of its path (" +
+                                std::to_string(LapDuration(previous.path)) +
+                                " s): a later visit could start where it never looked");
+  }
+  Scene scene = previous;
+  scene.seed = seed;
+  scene.session.index = previous.session.index + 1;
+  scene.session.previous = previous.name;
+  scene.session.previous_end = previous.time_origin + previous.duration;
+  scene.name = previous.name + "_visit" + std::to_string(scene.session.index);
+  scene.time_origin = scene.session.previous_end + changes.gap;
+  if (changes.duration > 0) scene.duration = changes.duration;
+  scene.path.start = std::fmod(previous.path.start + changes.path_start, 1.0);
+  // Where the previous visit left every object: objects gone by then stay gone.
+  scene.objects.clear();
+  for (const SceneObject& object : previous.objects) {
+    const PlacedPose last = object.history.back();
+    if (!last.present) continue;
+    SceneObject kept = object;
+    kept.history = {last};
+    kept.history[0].time = 0.0;
+    kept.before_session.reset();
+    scene.objects.push_back(kept);
+  }
+  std::mt19937_64 rng(seed * 31 + 11);
+  std::vector<std::size_t> order(scene.objects.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::shuffle(order.begin(), order.end(), rng);
+  if (static_cast<std::size_t>(changes.moves + changes.removals) > order.size())
+    throw std::invalid_argument("visit changes: more moves and removals than objects");
+  Placer placer(scene, rng);
+  int moved = 0, removed = 0;
+  for (std::size_t index : order) {
+    if (moved == changes.moves && removed == changes.removals) break;
+    SceneObject& object = scene.objects[index];
+    const PlacedPose before = object.history[0];
+    if (removed < changes.removals && moved == changes.moves) {
+      object.before_session = before;
+      object.history[0].present = false;
+      ++removed;
+      continue;
+    }
+    const ObjectKind kind{object.class_id, object.shape, object.size};
+    const int side = before.centre.y() < 0 ? -1 : 1;
+    auto place = placer.FreePlace(kind, side, object.id, &before.centre);
+    if (!place) place = placer.FreePlace(kind, -side, object.id, &before.centre);
+    if (!place) continue;  // no room for it: another object moves instead
+    object.before_session = before;
+    object.history[0].centre = *place;
+    object.history[0].yaw = std::uniform_real_distribution<double>(-kMaxYaw, kMaxYaw)(rng);
+    // The old place stays reserved while the rest is placed (Placer avoids every pose of a
+    // history), so no addition lands where an object was; dropped below.
+    PlacedPose reserve = before;
+    reserve.time = 1.0;
+    object.history.push_back(reserve);
+    ++moved;
+  }
+  if (moved < changes.moves)
+    throw std::invalid_argument("visit changes: no free place on the table for every move");
+  for (int i = 0; i < changes.additions; ++i) {
+    const int side = i % 2 == 0 ? 1 : -1;
+    bool placed = placer.Add(side);
+    if (!placed) {  // a full table: the places moved objects left are free after all
+      for (SceneObject& object : scene.objects) object.history.resize(1);
+      placed = placer.Add(side);
+    }
+    if (!placed)
+      throw std::invalid_argument("visit changes: no free place on the table for an addition");
+    SceneObject& added = scene.objects.back();
+    added.before_session = added.history[0];
+    added.before_session->present = false;
+  }
+  for (SceneObject& object : scene.objects) object.history.resize(1);
+  scene.Check();
+  return scene;
 }
 
 }  // namespace ocg::sim

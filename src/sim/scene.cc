@@ -59,6 +59,8 @@ void Scene::Check() const {
   Require(fps > 0 && duration > 0, "fps and duration must be positive");
   Require(path.kind == "round" || path.kind == "straight", "path.kind must be round or straight");
   Require(path.speed > 0 && path.speed <= 0.4, "path.speed must be in (0, 0.4] m/s");
+  Require(path.start >= 0 && path.start < 1, "path.start must be in [0, 1)");
+  Require(session.index >= 1, "session.index must be at least 1");
   const RealisticDetection& r = noise.realistic;
   Require(r.hard_share >= 0 && r.hard_share <= 1 && r.dropout_share >= 0 && r.dropout_share <= 1,
           "noise.realistic: hard_share and dropout_share must be in [0, 1]");
@@ -94,8 +96,9 @@ double LapDuration(const CameraPath& path) {
   return 2.0 * (kStraightLength + M_PI * path.side_offset) / path.speed;
 }
 
-SE3 CameraPoseAt(const Scene& scene, double t) {
+SE3 CameraPoseAt(const Scene& scene, double time) {
   const CameraPath& path = scene.path;
+  const double t = time + path.start * LapDuration(path);
   const std::uint64_t seed = scene.seed;
   Eigen::Vector3d eye, target;
   if (path.kind == "round") {

@@ -82,6 +82,12 @@ SceneFile ReadSceneFields(const YAML::Node& root, const std::string& name) {
   read.Optional(root, "seed", "", &scene.seed);
   read.Optional(root, "fps", "", &scene.fps);
   read.Optional(root, "duration", "", &scene.duration);
+  read.Optional(root, "time_origin", "", &scene.time_origin);
+  if (const YAML::Node session = read.Map(root, "session")) {
+    read.Optional(session, "index", "session.", &scene.session.index);
+    read.Optional(session, "previous", "session.", &scene.session.previous);
+    read.Optional(session, "previous_end", "session.", &scene.session.previous_end);
+  }
   read.Optional(root, "ambient", "", &scene.ambient);
   read.Vector(root, "room_size", "", &scene.room_size);
   read.Vector(root, "light_direction", "", &scene.light_direction);
@@ -100,6 +106,7 @@ SceneFile ReadSceneFields(const YAML::Node& root, const std::string& name) {
     read.Optional(path, "height", "path.", &scene.path.height);
     read.Optional(path, "speed", "path.", &scene.path.speed);
     read.Optional(path, "jitter", "path.", &scene.path.jitter);
+    read.Optional(path, "start", "path.", &scene.path.start);
   }
   if (const YAML::Node noise = read.Map(root, "noise")) {
     DetectionNoise& n = scene.noise;
@@ -193,6 +200,13 @@ SceneFile ReadSceneFields(const YAML::Node& root, const std::string& name) {
       read.Optional(history[k], "yaw", pose_path, &pose.yaw);
       object.history.push_back(pose);
     }
+    if (const YAML::Node before = read.Map(node, "before_session")) {
+      PlacedPose pose;
+      read.Optional(before, "present", path + "before_session.", &pose.present);
+      read.Vector(before, "centre", path + "before_session.", &pose.centre, pose.present);
+      read.Optional(before, "yaw", path + "before_session.", &pose.yaw);
+      object.before_session = pose;
+    }
     scene.objects.push_back(object);
   }
   const YAML::Node moves = read.List(root, "moves", "");
@@ -251,6 +265,13 @@ std::string SceneToYaml(const Scene& scene) {
   root["seed"] = scene.seed;
   root["fps"] = scene.fps;
   root["duration"] = scene.duration;
+  // Later visits only: first visits' files stay as they were.
+  if (scene.time_origin != Scene().time_origin) root["time_origin"] = scene.time_origin;
+  if (scene.session.index > 1) {
+    root["session"]["index"] = scene.session.index;
+    root["session"]["previous"] = scene.session.previous;
+    root["session"]["previous_end"] = scene.session.previous_end;
+  }
   root["room_size"] = VectorNode(scene.room_size);
   root["light_direction"] = VectorNode(scene.light_direction);
   root["ambient"] = scene.ambient;
@@ -267,6 +288,7 @@ std::string SceneToYaml(const Scene& scene) {
   root["path"]["height"] = scene.path.height;
   root["path"]["speed"] = scene.path.speed;
   root["path"]["jitter"] = scene.path.jitter;
+  if (scene.path.start != 0.0) root["path"]["start"] = scene.path.start;
   const DetectionNoise& n = scene.noise;
   root["noise"]["perfect"] = n.perfect;
   root["noise"]["min_visible_pixels"] = n.min_visible_pixels;
@@ -335,6 +357,11 @@ std::string SceneToYaml(const Scene& scene) {
       entry["centre"] = VectorNode(pose.centre);
       entry["yaw"] = pose.yaw;
       node["history"].push_back(entry);
+    }
+    if (object.before_session) {
+      node["before_session"]["present"] = object.before_session->present;
+      node["before_session"]["centre"] = VectorNode(object.before_session->centre);
+      node["before_session"]["yaw"] = object.before_session->yaw;
     }
     root["objects"].push_back(node);
   }

@@ -40,6 +40,10 @@ void SceneBounds(const MapScene& scene, const Eigen::Matrix3d& R_wg, bool trim_p
   for (const Eigen::Vector3d& p : scene.trajectory) include(p);
   for (const SE3& T_wc : scene.keyframes) include(T_wc.translation());
   for (const ObjectView& object : scene.objects) include(object.cuboid.centre);
+  for (const auto& [from, to] : scene.moves) {
+    include(from);
+    include(to);
+  }
   if ((*low)[0] > (*high)[0]) {  // nothing at all
     *low = Eigen::Vector3d::Constant(-1.0);
     *high = Eigen::Vector3d::Constant(1.0);
@@ -58,6 +62,22 @@ void AddSegment(LineBatch& batch, const Eigen::Vector3d& a, const Eigen::Vector3
 
 void AddCuboidEdges(LineBatch& batch, const Cuboid& cuboid, const Eigen::Matrix3d& R_wg) {
   for (const auto& [a, b] : CuboidEdges(cuboid, R_wg)) AddSegment(batch, a, b);
+}
+
+// A shaft and a two-stroke head in the horizontal plane, the head a fifth of the length
+// within [head, 3 x head], so short moves still read as arrows and long ones stay clean.
+void AddArrow(LineBatch& batch, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+              const Eigen::Vector3d& up, double head_min) {
+  AddSegment(batch, from, to);
+  const Eigen::Vector3d along = to - from;
+  if (along.norm() < 1e-9) return;
+  const Eigen::Vector3d back = -along.normalized();
+  Eigen::Vector3d side = up.cross(back);
+  if (side.norm() < 1e-9) side = back.unitOrthogonal();
+  side.normalize();
+  const double head = std::clamp(0.2 * along.norm(), head_min, 3 * head_min);
+  AddSegment(batch, to, to + head * (back + 0.5 * side));
+  AddSegment(batch, to, to + head * (back - 0.5 * side));
 }
 
 void AddFrustum(LineBatch& batch, const SE3& T_wc, double size) {
@@ -201,6 +221,15 @@ cv::Mat RenderMapView(Renderer& renderer, const MapScene& scene, const ViewerOpt
     line.width = static_cast<float>(options.graph_line_width) + 1.0f;
     for (std::size_t i = 1; i < path->size(); ++i) AddSegment(line, (*path)[i - 1], (*path)[i]);
     overlay.lines.push_back(std::move(line));
+  }
+
+  if (!scene.moves.empty()) {
+    LineBatch arrows;
+    arrows.colour = Eigen::Vector3f(0.85f, 0.1f, 0.75f);
+    arrows.width = 3.0f;
+    for (const auto& [from, to] : scene.moves)
+      AddArrow(arrows, from, to, R_wg.col(2), 0.015 * (high - low).maxCoeff());
+    overlay.lines.push_back(std::move(arrows));
   }
 
   std::vector<DrawItem> faces;

@@ -66,7 +66,8 @@ MapScene ReadRunScene(const std::string& run_dir) {
     const nlohmann::json changes = ReadJson(changes_path);
     try {
       for (const nlohmann::json& entry : changes.at("changes")) {
-        if (entry.at("type").get<std::string>() != "removed") continue;
+        const std::string type = entry.at("type").get<std::string>();
+        if (type != "removed" && type != "moved") continue;
         ObjectView view;
         view.id = entry.at("object_id").get<ObjectId>();
         view.class_id = entry.at("class_id").get<int>();
@@ -74,6 +75,9 @@ MapScene ReadRunScene(const std::string& run_dir) {
         view.state = 5;
         view.removed = true;
         scene.objects.push_back(view);
+        if (type == "moved")
+          scene.moves.emplace_back(view.cuboid.centre,
+                                   ReadCuboid(entry.at("to").at("cuboid")).centre);
       }
     } catch (const nlohmann::json::exception& error) {
       throw ParseError(changes_path + ": " + error.what());

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "ocg/core/file_io.h"
 #include "ocg/eval/object_metrics.h"
+#include "test_support.h"
 
 namespace ocg {
 namespace {
@@ -108,6 +110,28 @@ TEST(ObjectMetrics, PaperTableRowsFromTheirCounts) {
     EXPECT_NEAR(m.prec, row.prec, 5e-4) << row.corr_s << " " << row.redun_s;
     EXPECT_NEAR(m.recall, row.recall, 5e-4) << row.corr_s << " " << row.redun_s;
   }
+}
+
+TEST(ObjectMetrics, AMoveEntryCountsItsOldPlaceAsRemoved) {
+  const std::string run = testing::MakeTempDir("moved_entry");
+  WriteFile(run + "/objects.json",
+            R"({"objects": [{"id": 9, "class_id": 41, "cuboid": {"centre": [0.4, 0, 0]}}]})");
+  WriteFile(run + "/changes.json", R"({"changes": [
+      {"type": "moved", "object_id": 3, "class_id": 41, "centroid": [0, 0, 0],
+       "to": {"object_id": 9}},
+      {"type": "merged", "object_id": 5, "class_id": 41, "centroid": [2, 0, 0]}]})");
+  const std::vector<RunObject> objects = ReadRunObjects(run);
+  ASSERT_EQ(objects.size(), 2u);
+  EXPECT_TRUE(objects[0].live);
+  EXPECT_EQ(objects[1].id, 3);
+  EXPECT_FALSE(objects[1].live);
+  // Scored against a move's ground truth: the old place removed, the new one found.
+  ObjectGroundTruth truth;
+  truth.static_places = {Place(1, 41, 0.4)};
+  truth.outdated_places = {Place(1, 41, 0.0)};
+  const ObjectMetrics m = ComputeObjectMetrics(truth, objects);
+  EXPECT_EQ(m.corr_m, 1);
+  EXPECT_EQ(m.corr_s, 1);
 }
 
 }  // namespace

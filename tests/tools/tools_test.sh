@@ -6,7 +6,7 @@ BIN=$1
 SRC=$2
 source "$(dirname "${BASH_SOURCE[0]}")/check_helpers.sh"
 
-for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab ocg_slam; do
+for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab ocg_slam ocg_diff; do
   check "$tool --help" "$BIN/$tool" --help
 done
 
@@ -140,5 +140,36 @@ check "detections written, no images" test -e "$WORK/realistic_det/detections" -
 check "scene.yaml records the model" grep -q "model: realistic" "$WORK/realistic_det/scene.yaml"
 fails_with "--detector-seed without the realistic detector" "needs --detector realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector-seed 3 --out "$WORK/never_det"
 fails_with "an unknown detector model names the choices" "independent or realistic" "$BIN/ocg_synth" --preset smoke --frames 2 --detector yolo --out "$WORK/never_det"
+
+# A session pair: a later visit of a rendered scene, its changes in objects_gt.json.
+check "ocg_synth session_a" "$BIN/ocg_synth" --preset session_a --frames 3 --size 320x240 --detections-only --out "$WORK/visit1"
+check "ocg_synth --session-of" "$BIN/ocg_synth" --preset session_b --session-of "$WORK/visit1" --seed 2 --frames 3 --size 320x240 --detections-only --out "$WORK/visit2"
+check "objects_gt.json lists 4 moves, 1 removal, 1 addition between the visits" python3 -c "
+import json, sys, collections
+gt = json.load(open(sys.argv[1]))
+kinds = collections.Counter(c['type'] for c in gt['session']['changes'])
+sys.exit(0 if gt['session']['index'] == 2 and kinds == {'moved': 4, 'removed': 1, 'added': 1} else 1)" "$WORK/visit2/objects_gt.json"
+check "the later visit's timestamps follow the first visit's" test "$(awk '!/^#/ {print int($1); exit}' "$WORK/visit2/groundtruth.txt")" -gt 1045
+fails_with "--session-of with an unknown preset names the choices" "session_b" "$BIN/ocg_synth" --preset zigzag --session-of "$WORK/visit1" --frames 2 --out "$WORK/never_visit"
+
+# ocg_diff on two hand-made object maps: the cup stays, the laptop moves 1.5 m, the book goes.
+mkdir -p "$WORK/diff"
+cat >"$WORK/diff/before.json" <<'JSON'
+{"format": "ocg-objects", "version": 1, "up": [0, 0, 1], "objects": [
+ {"id": 1, "class_id": 41, "cuboid": {"centre": [0, 0, 0.8], "size": [0.09, 0.09, 0.1], "yaw": 0}},
+ {"id": 2, "class_id": 63, "cuboid": {"centre": [1, 0, 0.8], "size": [0.33, 0.23, 0.03], "yaw": 0}},
+ {"id": 3, "class_id": 73, "cuboid": {"centre": [-1, 0, 0.8], "size": [0.16, 0.23, 0.04], "yaw": 0}}]}
+JSON
+cat >"$WORK/diff/after.json" <<'JSON'
+{"format": "ocg-objects", "version": 1, "up": [0, 0, 1], "objects": [
+ {"id": 7, "class_id": 41, "cuboid": {"centre": [0.01, 0, 0.8], "size": [0.09, 0.09, 0.1], "yaw": 0}},
+ {"id": 8, "class_id": 63, "cuboid": {"centre": [1, 1.5, 0.8], "size": [0.33, 0.23, 0.03], "yaw": 0}}]}
+JSON
+check "ocg_diff" "$BIN/ocg_diff" --before "$WORK/diff/before.json" --after "$WORK/diff/after.json" --snapshots "$WORK/diff/png"
+output_has "one of each" "removed 1, added 0, moved 1, unchanged 1"
+output_has "the laptop moved" "moved      2 laptop at (1.000, 0.000, 0.800) -> 8 laptop"
+check "ocg_diff wrote the before/after pair" test -s "$WORK/diff/png/diff_before_top.png" -a -s "$WORK/diff/png/diff_after_objects.png"
+echo "not a map" >"$WORK/diff/before.txt"
+fails_with "ocg_diff refuses a foreign file, naming it" "before.txt' is not an object map" "$BIN/ocg_diff" --before "$WORK/diff/before.txt" --after "$WORK/diff/after.json"
 
 report_and_exit

@@ -10,6 +10,7 @@
 
 #include "ocg/core/file_io.h"
 #include "ocg/io/point_cloud.h"
+#include "ocg/viewer/diff_view.h"
 #include "ocg/viewer/frame_view.h"
 #include "ocg/viewer/map_view.h"
 #include "ocg/viewer/run_scene.h"
@@ -256,6 +257,66 @@ TEST(RunScene, ReadsARunFolderAndWritesItsSnapshots) {
   const cv::Mat image = cv::imread(paths[1]);
   EXPECT_EQ(image.size(), cv::Size(480, 360));
   std::filesystem::remove_all(run);
+}
+
+ObjectRecord Record(ObjectId id, int class_id, const Eigen::Vector3d& centre) {
+  ObjectRecord record;
+  record.id = id;
+  record.class_id = class_id;
+  record.cuboid.centre = centre;
+  record.cuboid.size = Eigen::Vector3d(0.4, 0.4, 0.4);
+  return record;
+}
+
+bool IsMagenta(const cv::Vec3b& bgr) { return bgr[2] > 150 && bgr[0] > 120 && bgr[1] < 90; }
+
+TEST(DiffView, RemovedObjectsAreGhostsAndMovesArrowsAfterOnly) {
+  MapDiff diff;
+  const ObjectRecord cup = Record(1, 41, {-1, 0, 0.2}), book = Record(2, 73, {1, 0, 0.2});
+  diff.unchanged.push_back({cup, cup, 0.0});
+  diff.removed.push_back(book);
+  diff.moved.push_back({Record(3, 63, {0, -1.2, 0.2}), Record(9, 63, {0, 1.2, 0.2}), 2.4});
+  diff.added.push_back(Record(10, 64, {-1, 1.2, 0.2}));
+  MapScene background;
+  for (int i = 0; i < 400; ++i)
+    background.points.emplace_back(-2 + 0.2 * (i % 20), -2 + 0.2 * (i / 20), 0);
+  const DiffScenes scenes = MakeDiffScenes(diff, background);
+  ASSERT_EQ(scenes.before.objects.size(), 3u);  // cup, book, laptop at its old place
+  for (const ObjectView& object : scenes.before.objects) EXPECT_FALSE(object.removed);
+  EXPECT_TRUE(scenes.before.moves.empty());
+  ASSERT_EQ(scenes.after.objects.size(), 5u);  // cup, book ghost, laptop ghost and new, mouse
+  ASSERT_EQ(scenes.after.moves.size(), 1u);
+  EXPECT_EQ(scenes.after.moves[0].second, Eigen::Vector3d(0, 1.2, 0.2));
+  EXPECT_EQ(scenes.after.points.size(), 400u);
+
+  Renderer renderer(480, 360);
+  const ViewerOptions options = SmallSnapshots();
+  const cv::Mat before = RenderMapView(renderer, scenes.before, options, MapViewpoint::kTopDown);
+  const cv::Mat after = RenderMapView(renderer, scenes.after, options, MapViewpoint::kTopDown);
+  const ViewCamera before_view = MapViewCamera(scenes.before, options, MapViewpoint::kTopDown);
+  const ViewCamera after_view = MapViewCamera(scenes.after, options, MapViewpoint::kTopDown);
+  // The arrow's shaft, halfway, in the after snapshot only.
+  EXPECT_TRUE(IsMagenta(PixelAt(after, after_view, {0, 0.1, 0.2})));
+  EXPECT_FALSE(IsMagenta(PixelAt(before, before_view, {0, 0.1, 0.2})));
+  // The removed book: solid before, a ghost (edges only) after.
+  EXPECT_FALSE(IsWhite(PixelAt(before, before_view, {1.02, 0.02, 0.4})));
+  EXPECT_TRUE(IsWhite(PixelAt(after, after_view, {1.02, 0.02, 0.4})));
+}
+
+TEST(RunScene, AMovedEntryIsAGhostWithAnArrow) {
+  const std::string run = testing::MakeTempDir("ocg_viewer_moved");
+  WriteFileAtomically(run + "/KeyFrameTrajectory.txt", "1.0 0 0 1 0 0 0 1\n");
+  WriteFileAtomically(run + "/changes.json", R"({"changes": [
+      {"type": "moved", "object_id": 6, "class_id": 63,
+       "cuboid": {"centre": [2, 0, 0.5], "size": [0.3, 0.2, 0.05], "yaw": 0},
+       "to": {"object_id": 8,
+              "cuboid": {"centre": [0, 1, 0.5], "size": [0.3, 0.2, 0.05], "yaw": 0}}}]})");
+  const MapScene scene = ReadRunScene(run);
+  ASSERT_EQ(scene.objects.size(), 1u);
+  EXPECT_TRUE(scene.objects[0].removed);
+  ASSERT_EQ(scene.moves.size(), 1u);
+  EXPECT_EQ(scene.moves[0].first, Eigen::Vector3d(2, 0, 0.5));
+  EXPECT_EQ(scene.moves[0].second, Eigen::Vector3d(0, 1, 0.5));
 }
 
 }  // namespace

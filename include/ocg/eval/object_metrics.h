@@ -43,7 +43,7 @@ struct RunObject {
   bool live = false;  // in the final map (else removed by change detection)
 };
 
-// A run folder's objects.json (live) and changes.json ("removed" entries; merged
+// A run folder's objects.json (live) and changes.json ("removed" and "moved" entries; merged
 // duplicates are part of the object they joined). Throws FileError / ParseError.
 std::vector<RunObject> ReadRunObjects(const std::string& run_dir);
 

@@ -77,7 +77,8 @@ struct ObjectChange {
   int class_id = 0;
   Cuboid cuboid;  // the last estimate
   std::size_t sightings = 0;
-  double doubt = 0.0;  // "removed" only
+  double doubt = 0.0;      // "removed" only
+  double last_seen = 0.0;  // "removed" only: timestamp of the last sighting
 };
 
 struct FrameAssociation {

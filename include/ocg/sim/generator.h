@@ -133,7 +133,9 @@ std::int64_t OracleMapId(int object_id, std::size_t pose_index);
 std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double t, const SE3& T_cw,
                               const std::vector<int>& detected_objects);
 
-// objects_gt.json text for the scene.
+// objects_gt.json text for the scene; for a later visit, each changed object's history
+// starts with its pose when the previous visit ended, and "session" lists the changes
+// between the visits (docs/sessions.md).
 std::string ObjectsGroundTruthJson(const Scene& scene);
 // A settings file (our format) for the rendered camera.
 std::string CameraSettingsYaml(const Scene& scene);

@@ -33,6 +33,9 @@ struct SceneObject {
   Eigen::Vector3d size = Eigen::Vector3d(0.1, 0.1, 0.1);  // full extents (cylinder: d, d, h)
   std::uint64_t texture_seed = 0;
   std::vector<PlacedPose> history;  // ascending time; history[0].time == 0
+  // A later visit (Scene::session.index > 1): where the object stood when the previous
+  // visit ended (present false: it was not there), when that differs from history[0].
+  std::optional<PlacedPose> before_session;
 
   // The pose in force at time t, nullopt when the object is absent.
   std::optional<PlacedPose> PoseAt(double t) const;
@@ -55,6 +58,7 @@ struct CameraPath {
   double height = 1.35;        // camera height, metres
   double speed = 0.3;          // metres per second along the path (<= 0.4)
   double jitter = 0.01;        // hand-held wobble amplitude, metres (and ~1 degree)
+  double start = 0.0;          // share of a lap already covered at t = 0, in [0, 1)
 };
 
 // The realistic detector model (detector.h): the probability of detecting a visible object
@@ -120,12 +124,21 @@ struct DetectionNoise {
   double duplicate = 0.03;  // a second, shifted box for the same object
 };
 
+// Which visit of a room a scene is (ocg_synth --session-of renders later visits).
+struct SessionLink {
+  int index = 1;              // 1: a first visit
+  std::string previous;       // the previous visit's scene name (index > 1)
+  double previous_end = 0.0;  // timestamp of the previous visit's end, seconds
+};
+
 struct Scene {
   std::string name = "custom";
   std::uint64_t seed = 1;
   PinholeCamera camera;  // intrinsics; the realistic look adds its lens distortion (OutputCamera)
   double fps = 30.0;
-  double duration = 60.0;  // seconds
+  double duration = 60.0;       // seconds
+  double time_origin = 1000.0;  // timestamp of frame 0, seconds (later visits: later origins)
+  SessionLink session;
   Eigen::Vector3d room_size = Eigen::Vector3d(6.0, 5.0, 2.8);
   Eigen::Vector3d light_direction = Eigen::Vector3d(0.3, 0.5, -1.0);
   double ambient = 0.45;

@@ -1,12 +1,14 @@
 #pragma once
 // The 3-D map snapshot: map points, keyframe frustums, the trajectory (and the ground
 // truth's), and the object cuboids coloured by OCG state, removed objects as grey dashed
-// ghosts, with class labels. Rendered off-screen (OSMesa) into an image.
+// ghosts, moves as arrows from the old place to the new, with class labels. Rendered off-screen
+// (OSMesa) into an image.
 //
 // Threading: RenderMapView uses the caller's Renderer (one thread per Renderer).
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -26,6 +28,8 @@ struct MapScene {
   std::vector<Eigen::Vector3d> trajectory;   // camera centres, in order
   std::vector<Eigen::Vector3d> groundtruth;  // aligned to the map, in order; may be empty
   std::vector<ObjectView> objects;
+  // Moved objects: old centre to new centre, drawn as magenta arrows.
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> moves;
   std::optional<SE3> current_camera;  // T_wc of the last tracked frame, drawn in green
 };
 

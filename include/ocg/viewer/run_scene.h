@@ -9,8 +9,9 @@ namespace ocg {
 
 // Reads RUN_DIR/map_points.ply, KeyFrameTrajectory.txt, CameraTrajectory.txt,
 // objects.json (live objects, their state, "up") and changes.json (removed objects, as
-// ghosts). Every file but KeyFrameTrajectory.txt may be missing (a SLAM run without
-// detections has no objects). Throws FileError / ParseError naming the file.
+// ghosts; moved ones as ghosts with an arrow to where they went). Every file but
+// KeyFrameTrajectory.txt may be missing (a SLAM run without detections has no objects). Throws
+// FileError / ParseError naming the file.
 MapScene ReadRunScene(const std::string& run_dir);
 
 }  // namespace ocg

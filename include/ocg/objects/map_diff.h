@@ -1,0 +1,124 @@
+#pragma once
+// What changed in an object map: removals and appearances linked into moves (the change
+// log, changes.json) and the diff of two saved object maps (ocg_diff, docs/sessions.md).
+//
+// Distances scale with the objects' sizes, never in metres: a monocular map has its own
+// scale, and a cup and a laptop are moved over different distances.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ocg/objects/box.h"
+#include "ocg/ocg/observation.h"
+
+namespace ocg {
+
+// An object as change reports see it.
+struct ObjectRecord {
+  ObjectId id = 0;
+  int class_id = 0;         // COCO-80
+  Cuboid cuboid;            // in the map's world frame and units
+  double first_seen = 0.0;  // timestamps of its first and last sighting, seconds
+  double last_seen = 0.0;
+};
+
+struct MoveLinkOptions {
+  // An object of the same class is the removed one moved when their centres are at most
+  // search_factor x the larger largest extent of the two apart (a cup, 0.09 m: 0.9 m; a
+  // laptop, 0.33 m: 3.3 m)...
+  double search_factor = 10.0;
+  // ...and farther than same_place_factor x that extent: closer, it overlaps where the
+  // removed one stood: the same object re-created (cuboid estimates err by about half an
+  // extent; static_scene_check.py calls such a removal false with the same reach), not a
+  // move. The generator moves objects at least their largest extent (docs/synthetic.md).
+  double same_place_factor = 1.0;
+  // Throws std::invalid_argument naming the field.
+  void Check() const;
+};
+
+// A move: the object that left a place and the one that appeared at another.
+struct MoveLink {
+  ObjectRecord from;
+  ObjectRecord to;
+  double distance = 0.0;  // between the centres, map units
+};
+
+// The larger of the two objects' largest extents (map units), at least 1e-6.
+double LargerExtent(const ObjectRecord& a, const ObjectRecord& b);
+
+// Pairs removed objects with appeared ones into moves: same class, centres within the
+// distances of options. require_order: the appeared one must have been first seen after
+// the removed one was last seen (within one session: it appeared after its old place was
+// last seen with it; a same-class neighbour seen at the same time is no move). Nearest
+// pairs (in units of LargerExtent) first, ties by ids; each object in at most one move.
+std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
+                                const std::vector<ObjectRecord>& appeared,
+                                const MoveLinkOptions& options, bool require_order);
+
+struct MapDiffOptions {
+  // The same object at the same place: same class, centres within this many larger
+  // extents (as MoveLinkOptions). Separate runs number their objects apart, so ids are
+  // not needed.
+  double same_place_factor = 1.0;
+  MoveLinkOptions moves;
+  void Check() const;
+};
+
+struct MapDiff {
+  std::vector<MoveLink> unchanged;  // from = before, to = after (distance: how far apart)
+  std::vector<MoveLink> moved;
+  std::vector<ObjectRecord> removed;  // in before only
+  std::vector<ObjectRecord> added;    // in after only
+};
+
+// The diff of two object maps in one world frame (a later session continuing a loaded
+// map; two separate runs are not in one frame). Objects at the same place are unchanged
+// (pairs with equal ids first, then nearest first); of the rest, removals and additions
+// of one class near each other are moves (LinkMoves without order: two maps hold no
+// times to compare); the others are removed or added.
+MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
+                       const std::vector<ObjectRecord>& after, const MapDiffOptions& options);
+
+// {"format": "ocg-map-diff", "version": 1, "counts", "removed", "added", "moved",
+// "unchanged"}: ids, classes, cuboids.
+std::string MapDiffJson(const MapDiff& diff);
+
+// A saved object map's live objects and its up direction (world frame).
+struct SavedObjectMap {
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  std::vector<ObjectRecord> objects;
+};
+
+// objects.json's text (name: the file, for errors). Throws ParseError naming it.
+SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name);
+
+// Reads the live objects of a saved object map. One reader per kind of file, so the
+// binary map file can join without touching the diff.
+class ObjectMapReader {
+ public:
+  virtual ~ObjectMapReader() = default;
+  virtual std::string Name() const = 0;
+  // Whether path is a file (or folder) of this reader's kind; reads at most its start.
+  virtual bool Accepts(const std::string& path) const = 0;
+  // Throws FileError / ParseError naming the file.
+  virtual SavedObjectMap Read(const std::string& path) const = 0;
+};
+
+// objects.json ("format": "ocg-objects", as runs write it), or a run folder holding one.
+class ObjectsJsonReader : public ObjectMapReader {
+ public:
+  std::string Name() const override { return "objects.json"; }
+  bool Accepts(const std::string& path) const override;
+  SavedObjectMap Read(const std::string& path) const override;
+};
+
+// The readers this build has, in the order they are tried.
+std::vector<std::unique_ptr<ObjectMapReader>> ObjectMapReaders();
+
+// The live objects of path, read by the first reader that accepts it. Throws FileError
+// naming the path and the kinds of file accepted when none does.
+SavedObjectMap ReadObjectMap(const std::string& path,
+                             const std::vector<std::unique_ptr<ObjectMapReader>>& readers);
+
+}  // namespace ocg

@@ -1,0 +1,88 @@
+#include "ocg/objects/change_log.h"
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "ocg/core/coco.h"
+
+namespace ocg {
+namespace {
+
+nlohmann::json CuboidJson(const Cuboid& cuboid) {
+  const Eigen::Vector3d& c = cuboid.centre;
+  const Eigen::Vector3d& s = cuboid.size;
+  return {{"centre", {c.x(), c.y(), c.z()}}, {"size", {s.x(), s.y(), s.z()}}, {"yaw", cuboid.yaw}};
+}
+
+Cuboid CuboidOf(const nlohmann::json& json) {
+  Cuboid cuboid;
+  const auto centre = json.at("centre").get<std::vector<double>>();
+  const auto size = json.at("size").get<std::vector<double>>();
+  cuboid.centre = Eigen::Vector3d(centre.at(0), centre.at(1), centre.at(2));
+  cuboid.size = Eigen::Vector3d(size.at(0), size.at(1), size.at(2));
+  cuboid.yaw = json.at("yaw").get<double>();
+  return cuboid;
+}
+
+}  // namespace
+
+std::string ReviseChangeLog(const std::string& changes_json, const std::string& objects_json,
+                            const ChangeLogContext& context) {
+  nlohmann::json root = nlohmann::json::parse(changes_json);
+  const SavedObjectMap live = ParseObjectsJson(objects_json, "objects.json");
+  std::vector<ObjectRecord> removed;
+  for (const nlohmann::json& entry : root.at("changes")) {
+    if (entry.at("type") != "removed" || entry.at("cuboid").is_null()) continue;
+    ObjectRecord record;
+    record.id = entry.at("object_id").get<ObjectId>();
+    record.class_id = entry.at("class_id").get<int>();
+    record.cuboid = CuboidOf(entry.at("cuboid"));
+    record.last_seen = entry.value("last_seen", entry.at("timestamp").get<double>());
+    removed.push_back(record);
+  }
+  std::map<ObjectId, MoveLink> moves_from;
+  std::set<ObjectId> moved_to;
+  for (const MoveLink& link : LinkMoves(removed, live.objects, context.moves, true)) {
+    moves_from.emplace(link.from.id, link);
+    moved_to.insert(link.to.id);
+  }
+  nlohmann::json list = nlohmann::json::array();
+  const auto stamp = [&](nlohmann::json entry) {
+    entry["session"] = context.session;
+    entry["time"] = entry.at("timestamp").get<double>() - context.session_start;
+    list.push_back(std::move(entry));
+  };
+  for (nlohmann::json entry : root.at("changes")) {
+    const auto move = entry.at("type") == "removed"
+                          ? moves_from.find(entry.at("object_id").get<ObjectId>())
+                          : moves_from.end();
+    if (move != moves_from.end()) {
+      const ObjectRecord& to = move->second.to;
+      entry["type"] = "moved";
+      entry["reason"] = "removed here, same class appeared near after its last sighting";
+      entry["to"] = {
+          {"object_id", to.id}, {"cuboid", CuboidJson(to.cuboid)}, {"first_seen", to.first_seen}};
+      entry["distance"] = move->second.distance;
+    }
+    stamp(std::move(entry));
+  }
+  if (context.session > 1) {
+    for (const ObjectRecord& object : live.objects) {
+      if (object.first_seen < context.session_start || moved_to.count(object.id) > 0) continue;
+      stamp({{"type", "added"},
+             {"timestamp", object.first_seen},
+             {"object_id", object.id},
+             {"class_id", object.class_id},
+             {"class", CocoClassName(object.class_id)},
+             {"centroid",
+              {object.cuboid.centre.x(), object.cuboid.centre.y(), object.cuboid.centre.z()}},
+             {"cuboid", CuboidJson(object.cuboid)},
+             {"reason", "first seen in this session"}});
+    }
+  }
+  root["changes"] = list;
+  return root.dump(1) + "\n";
+}
+
+}  // namespace ocg

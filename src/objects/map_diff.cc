@@ -1,0 +1,239 @@
+#include "ocg/objects/map_diff.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <stdexcept>
+#include <tuple>
+
+#include "ocg/core/coco.h"
+#include "ocg/core/file_io.h"
+#include "ocg/io/text_lines.h"
+
+namespace ocg {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A candidate pair: its distance in units of the larger extent, then the ids, so the
+// greedy choice is the same whatever order the inputs come in.
+struct Candidate {
+  double relative = 0.0;
+  std::size_t a = 0, b = 0;
+  ObjectId id_a = 0, id_b = 0;
+  bool operator<(const Candidate& other) const {
+    return std::tie(relative, id_a, id_b) < std::tie(other.relative, other.id_a, other.id_b);
+  }
+};
+
+double Relative(const ObjectRecord& a, const ObjectRecord& b) {
+  return (a.cuboid.centre - b.cuboid.centre).norm() / LargerExtent(a, b);
+}
+
+// Greedy one-to-one pairing of the candidates, nearest first.
+std::vector<Candidate> PairNearest(std::vector<Candidate> candidates) {
+  std::sort(candidates.begin(), candidates.end());
+  std::set<std::size_t> used_a, used_b;
+  std::vector<Candidate> pairs;
+  for (const Candidate& candidate : candidates) {
+    if (used_a.count(candidate.a) > 0 || used_b.count(candidate.b) > 0) continue;
+    used_a.insert(candidate.a);
+    used_b.insert(candidate.b);
+    pairs.push_back(candidate);
+  }
+  return pairs;
+}
+
+MoveLink Link(const ObjectRecord& from, const ObjectRecord& to) {
+  return {from, to, (from.cuboid.centre - to.cuboid.centre).norm()};
+}
+
+nlohmann::json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json RecordJson(const ObjectRecord& record) {
+  return {{"id", record.id},
+          {"class_id", record.class_id},
+          {"class", CocoClassName(record.class_id)},
+          {"cuboid",
+           {{"centre", Vector(record.cuboid.centre)},
+            {"size", Vector(record.cuboid.size)},
+            {"yaw", record.cuboid.yaw}}}};
+}
+
+nlohmann::json LinkJson(const MoveLink& link) {
+  return {
+      {"from", RecordJson(link.from)}, {"to", RecordJson(link.to)}, {"distance", link.distance}};
+}
+
+Eigen::Vector3d ReadVector(const nlohmann::json& json) {
+  const auto values = json.get<std::vector<double>>();
+  if (values.size() != 3) throw std::invalid_argument("expected 3 numbers");
+  return {values[0], values[1], values[2]};
+}
+
+std::string ObjectsJsonPath(const std::string& path) {
+  return fs::is_directory(path) ? path + "/objects.json" : path;
+}
+
+}  // namespace
+
+void MoveLinkOptions::Check() const {
+  if (!(search_factor > 0)) throw std::invalid_argument("moves.search_factor must be positive");
+  if (!(same_place_factor >= 0 && same_place_factor < search_factor))
+    throw std::invalid_argument("moves.same_place_factor must be in [0, search_factor)");
+}
+
+void MapDiffOptions::Check() const {
+  if (!(same_place_factor > 0)) throw std::invalid_argument("same_place_factor must be positive");
+  moves.Check();
+}
+
+double LargerExtent(const ObjectRecord& a, const ObjectRecord& b) {
+  return std::max({a.cuboid.size.maxCoeff(), b.cuboid.size.maxCoeff(), 1e-6});
+}
+
+std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
+                                const std::vector<ObjectRecord>& appeared,
+                                const MoveLinkOptions& options, bool require_order) {
+  options.Check();
+  std::vector<Candidate> candidates;
+  for (std::size_t r = 0; r < removed.size(); ++r) {
+    for (std::size_t a = 0; a < appeared.size(); ++a) {
+      const ObjectRecord& from = removed[r];
+      const ObjectRecord& to = appeared[a];
+      if (from.class_id != to.class_id) continue;
+      if (require_order && !(to.first_seen > from.last_seen)) continue;
+      const double relative = Relative(from, to);
+      if (relative <= options.same_place_factor || relative > options.search_factor) continue;
+      candidates.push_back({relative, r, a, from.id, to.id});
+    }
+  }
+  std::vector<MoveLink> moves;
+  for (const Candidate& pair : PairNearest(std::move(candidates)))
+    moves.push_back(Link(removed[pair.a], appeared[pair.b]));
+  return moves;
+}
+
+MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
+                       const std::vector<ObjectRecord>& after, const MapDiffOptions& options) {
+  options.Check();
+  // Same place: equal ids rank before any other pair (relative - 1 < 0).
+  std::vector<Candidate> candidates;
+  for (std::size_t b = 0; b < before.size(); ++b) {
+    for (std::size_t a = 0; a < after.size(); ++a) {
+      if (before[b].class_id != after[a].class_id) continue;
+      const double relative = Relative(before[b], after[a]);
+      if (relative > options.same_place_factor) continue;
+      const double rank = before[b].id == after[a].id ? relative - 1.0 : relative;
+      candidates.push_back({rank, b, a, before[b].id, after[a].id});
+    }
+  }
+  MapDiff diff;
+  std::vector<bool> kept_before(before.size(), false), kept_after(after.size(), false);
+  for (const Candidate& pair : PairNearest(std::move(candidates))) {
+    kept_before[pair.a] = kept_after[pair.b] = true;
+    diff.unchanged.push_back(Link(before[pair.a], after[pair.b]));
+  }
+  std::vector<ObjectRecord> gone, appeared;
+  for (std::size_t b = 0; b < before.size(); ++b)
+    if (!kept_before[b]) gone.push_back(before[b]);
+  for (std::size_t a = 0; a < after.size(); ++a)
+    if (!kept_after[a]) appeared.push_back(after[a]);
+  MoveLinkOptions moves = options.moves;
+  moves.same_place_factor = std::min(moves.same_place_factor, options.same_place_factor);
+  std::set<ObjectId> moved_from, moved_to;
+  for (const MoveLink& link : LinkMoves(gone, appeared, moves, false)) {
+    moved_from.insert(link.from.id);
+    moved_to.insert(link.to.id);
+    diff.moved.push_back(link);
+  }
+  for (const ObjectRecord& record : gone)
+    if (moved_from.count(record.id) == 0) diff.removed.push_back(record);
+  for (const ObjectRecord& record : appeared)
+    if (moved_to.count(record.id) == 0) diff.added.push_back(record);
+  return diff;
+}
+
+std::string MapDiffJson(const MapDiff& diff) {
+  nlohmann::json removed = nlohmann::json::array(), added = nlohmann::json::array(),
+                 moved = nlohmann::json::array(), unchanged = nlohmann::json::array();
+  for (const ObjectRecord& record : diff.removed) removed.push_back(RecordJson(record));
+  for (const ObjectRecord& record : diff.added) added.push_back(RecordJson(record));
+  for (const MoveLink& link : diff.moved) moved.push_back(LinkJson(link));
+  for (const MoveLink& link : diff.unchanged) unchanged.push_back(LinkJson(link));
+  return nlohmann::json({{"format", "ocg-map-diff"},
+                         {"version", 1},
+                         {"counts",
+                          {{"removed", diff.removed.size()},
+                           {"added", diff.added.size()},
+                           {"moved", diff.moved.size()},
+                           {"unchanged", diff.unchanged.size()}}},
+                         {"removed", removed},
+                         {"added", added},
+                         {"moved", moved},
+                         {"unchanged", unchanged}})
+             .dump(1) +
+         "\n";
+}
+
+bool ObjectsJsonReader::Accepts(const std::string& path) const {
+  const std::string file = ObjectsJsonPath(path);
+  std::ifstream stream(file);
+  char start[512] = {};
+  stream.read(start, sizeof(start) - 1);
+  return std::string(start).find("\"ocg-objects\"") != std::string::npos;
+}
+
+SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name) {
+  SavedObjectMap map;
+  try {
+    const nlohmann::json root = nlohmann::json::parse(text);
+    if (root.value("format", "") != "ocg-objects")
+      throw std::invalid_argument("\"format\" is not \"ocg-objects\"");
+    if (root.contains("up")) map.up = ReadVector(root.at("up"));
+    for (const nlohmann::json& entry : root.at("objects")) {
+      ObjectRecord record;
+      record.id = entry.at("id").get<ObjectId>();
+      record.class_id = entry.at("class_id").get<int>();
+      record.cuboid.centre = ReadVector(entry.at("cuboid").at("centre"));
+      record.cuboid.size = ReadVector(entry.at("cuboid").at("size"));
+      record.cuboid.yaw = entry.at("cuboid").at("yaw").get<double>();
+      record.first_seen = entry.value("first_seen", 0.0);
+      record.last_seen = entry.value("last_seen", 0.0);
+      map.objects.push_back(record);
+    }
+  } catch (const std::exception& error) {
+    throw ParseError(name + ": " + error.what() +
+                     " (expected objects.json as ocg_slam writes it: {\"format\": "
+                     "\"ocg-objects\", \"objects\": [{\"id\", \"class_id\", \"cuboid\": "
+                     "{\"centre\", \"size\", \"yaw\"}}]})");
+  }
+  return map;
+}
+
+SavedObjectMap ObjectsJsonReader::Read(const std::string& path) const {
+  const std::string file = ObjectsJsonPath(path);
+  return ParseObjectsJson(ReadTextFile(file), file);
+}
+
+std::vector<std::unique_ptr<ObjectMapReader>> ObjectMapReaders() {
+  std::vector<std::unique_ptr<ObjectMapReader>> readers;
+  readers.push_back(std::make_unique<ObjectsJsonReader>());
+  return readers;
+}
+
+SavedObjectMap ReadObjectMap(const std::string& path,
+                             const std::vector<std::unique_ptr<ObjectMapReader>>& readers) {
+  if (!fs::exists(path)) throw FileError("'" + path + "': no such file or folder");
+  std::string kinds;
+  for (const auto& reader : readers) {
+    if (reader->Accepts(path)) return reader->Read(path);
+    kinds += (kinds.empty() ? "" : ", ") + reader->Name();
+  }
+  throw FileError("'" + path + "' is not an object map this build reads (" + kinds +
+                  ", or a run folder holding objects.json)");
+}
+
+}  // namespace ocg

@@ -1,0 +1,108 @@
+// changes.json revised: moves linked, additions of a later session, session and time.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "ocg/objects/change_log.h"
+#include "ocg/objects/object_map.h"
+
+namespace ocg {
+namespace {
+
+constexpr int kCup = 41, kBook = 73, kMouse = 64;
+
+ObjectChange Removed(ObjectId id, int class_id, double x, double removed_at, double last_seen) {
+  ObjectChange change;
+  change.type = "removed";
+  change.object_id = id;
+  change.class_id = class_id;
+  change.timestamp = removed_at;
+  change.last_seen = last_seen;
+  change.cuboid.centre = Eigen::Vector3d(x, 0, 0.8);
+  change.cuboid.size = Eigen::Vector3d(0.1, 0.1, 0.1);
+  change.sightings = 20;
+  return change;
+}
+
+nlohmann::json Live(ObjectId id, int class_id, double x, double first_seen) {
+  return {{"id", id},
+          {"class_id", class_id},
+          {"cuboid", {{"centre", {x, 0.0, 0.8}}, {"size", {0.1, 0.1, 0.1}}, {"yaw", 0.0}}},
+          {"first_seen", first_seen},
+          {"last_seen", first_seen + 5}};
+}
+
+// A cup removed at x = 0 and a cup that appeared at x = 0.4 after the first one's last
+// sighting; a book removed with no book near; a merged duplicate; a mouse first seen at
+// 1025 and a cup seen since 900.
+struct Log {
+  std::string changes, objects;
+};
+Log Constructed() {
+  ObjectChange merged = Removed(5, kCup, 2.0, 1012, 1011);
+  merged.type = "merged";
+  merged.merged_into = 11;
+  const std::string changes = ObjectChangesJson(
+      {Removed(3, kCup, 0.0, 1030, 1010), Removed(4, kBook, 1.0, 1031, 1012), merged});
+  nlohmann::json objects = {
+      {"format", "ocg-objects"},
+      {"version", 1},
+      {"objects",
+       {Live(9, kCup, 0.4, 1020), Live(10, kMouse, -1.0, 1025), Live(11, kCup, 2.0, 900)}}};
+  return {changes, objects.dump()};
+}
+
+TEST(ChangeLog, AMoveIsOneEntryWithBothObjectsAndEveryEntryHasSessionAndTime) {
+  const Log log = Constructed();
+  ChangeLogContext context;
+  context.session_start = 1000;
+  const nlohmann::json revised =
+      nlohmann::json::parse(ReviseChangeLog(log.changes, log.objects, context));
+  const nlohmann::json& changes = revised.at("changes");
+  ASSERT_EQ(changes.size(), 3u) << revised.dump(1);  // no additions in a first session
+  const nlohmann::json& move = changes[0];
+  EXPECT_EQ(move["type"], "moved");
+  EXPECT_EQ(move["object_id"], 3);
+  EXPECT_EQ(move["cuboid"]["centre"][0], 0.0);  // from
+  EXPECT_EQ(move["to"]["object_id"], 9);
+  EXPECT_EQ(move["to"]["cuboid"]["centre"][0], 0.4);
+  EXPECT_NEAR(move["distance"].get<double>(), 0.4, 1e-12);
+  EXPECT_EQ(changes[1]["type"], "removed");  // nothing of its class near
+  EXPECT_EQ(changes[1]["object_id"], 4);
+  EXPECT_EQ(changes[2]["type"], "merged");
+  for (const nlohmann::json& entry : changes) {
+    EXPECT_EQ(entry["session"], 1);
+    EXPECT_NEAR(entry["time"].get<double>(), entry["timestamp"].get<double>() - 1000, 1e-9);
+  }
+  EXPECT_NEAR(move["time"].get<double>(), 30.0, 1e-9);
+}
+
+TEST(ChangeLog, ALaterSessionAddsWhatItFirstSawThatIsNoMove) {
+  const Log log = Constructed();
+  ChangeLogContext context;
+  context.session = 2;
+  context.session_start = 1015;
+  const nlohmann::json changes =
+      nlohmann::json::parse(ReviseChangeLog(log.changes, log.objects, context)).at("changes");
+  std::vector<ObjectId> added;
+  for (const nlohmann::json& entry : changes) {
+    EXPECT_EQ(entry["session"], 2);
+    if (entry["type"] == "added") added.push_back(entry["object_id"].get<ObjectId>());
+  }
+  // The mouse; not the cup the move went to (1020), nor the one seen since 900.
+  EXPECT_EQ(added, std::vector<ObjectId>{10});
+  EXPECT_EQ(changes[0]["type"], "moved");
+}
+
+TEST(ChangeLog, SeenTogetherIsNoMove) {
+  // The nearby cup was first seen while the removed one was still seen: a neighbour.
+  const std::string changes = ObjectChangesJson({Removed(3, kCup, 0.0, 1030, 1010)});
+  const std::string objects =
+      nlohmann::json({{"format", "ocg-objects"}, {"objects", {Live(9, kCup, 0.4, 1005)}}}).dump();
+  const nlohmann::json revised = nlohmann::json::parse(ReviseChangeLog(changes, objects, {}));
+  EXPECT_EQ(revised["changes"][0]["type"], "removed");
+}
+
+}  // namespace
+}  // namespace ocg
