@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cereal/cereal.hpp>
+#include <cmath>
 
 #include "ocg/core/lie.h"
 
@@ -34,6 +35,7 @@ void load(Archive& archive, Eigen::Quaterniond& rotation) {
 
 namespace ocg {
 
+// Throws cereal::Exception when the rotation read is not a unit quaternion.
 template <class Archive>
 void save(Archive& archive, const SE3& pose) {
   archive(pose.quaternion(), pose.translation());
@@ -43,8 +45,10 @@ void load(Archive& archive, SE3& pose) {
   Eigen::Quaterniond rotation;
   Eigen::Vector3d translation;
   archive(rotation, translation);
-  // The constructor normalizes again: a stored unit quaternion changes by rounding at most.
-  pose = SE3(rotation, translation);
+  if (std::abs(rotation.squaredNorm() - 1.0) > 1e-9) {
+    throw cereal::Exception("a pose's rotation is not a unit quaternion");
+  }
+  pose = SE3::FromUnitQuaternion(rotation, translation);
 }
 
 }  // namespace ocg
