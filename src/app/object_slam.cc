@@ -278,13 +278,14 @@ class ObjectSlam::Impl {
 
 ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
   // The map file before the vocabulary: a wrong file fails now, not seconds later.
-  std::istringstream map_stream;
+  std::unique_ptr<PayloadStream> map_stream;
   std::optional<app_detail::SessionRecord> record;
   const std::string& map_path = options.load_map;
   if (!map_path.empty()) {
-    map_stream.str(ReadMapFile(map_path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
+    map_stream = std::make_unique<PayloadStream>(
+        ReadMapFile(map_path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
     record = ReadMapPart(map_path, "session record",
-                         [&] { return app_detail::LoadSessionRecord(map_stream); });
+                         [&] { return app_detail::LoadSessionRecord(*map_stream); });
     app_detail::CheckSameCamera(*record, settings, map_path);
   }
   VocabularyOptions vocabulary = settings.vocabulary;
@@ -301,7 +302,7 @@ ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
                        ": its BoW vectors need the vocabulary they were made with");
   }
   impl_ = std::make_unique<Impl>(settings, std::move(loaded), options);
-  if (record) impl_->ContinueMap(map_stream, *record, map_path);
+  if (record) impl_->ContinueMap(*map_stream, *record, map_path);
 }
 
 ObjectSlam::~ObjectSlam() {

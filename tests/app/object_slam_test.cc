@@ -159,9 +159,9 @@ TEST(ObjectSlam, MissingVocabularyIsAFileError) {
 // Map files (docs/sessions.md): the session record, and the rest of the payload (the SLAM
 // map and the object layer's state) as bytes.
 std::pair<app_detail::SessionRecord, std::string> ReadSessionMap(const std::string& path) {
-  std::istringstream in(ReadMapFile(path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
+  PayloadStream in(ReadMapFile(path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
   const app_detail::SessionRecord record = app_detail::LoadSessionRecord(in);
-  return {record, in.str().substr(static_cast<std::size_t>(in.tellg()))};
+  return {record, in.payload().substr(static_cast<std::size_t>(in.tellg()))};
 }
 
 std::string MapFileErrorOf(const Settings& settings, const ObjectSlamOptions& options) {

@@ -86,11 +86,30 @@ TEST(MapFileEnvelope, FlippedByteIsDetected) {
   EXPECT_NE(message.find("damaged: the payload's checksum"), std::string::npos) << message;
 }
 
-TEST(MapFileEnvelope, Fnv1a64MatchesThePublishedValues) {
-  // Test vectors of the FNV reference (isthe.com/chongo/tech/comp/fnv).
-  EXPECT_EQ(Fnv1a64(""), 0xcbf29ce484222325ull);
-  EXPECT_EQ(Fnv1a64("a"), 0xaf63dc4c8601ec8cull);
-  EXPECT_EQ(Fnv1a64("foobar"), 0x85944171f73967e8ull);
+TEST(MapFileEnvelope, ChecksumIsFnv1aOnShortTailsAndSeesEveryByte) {
+  // Under 8 bytes it is FNV-1a: the FNV reference's vectors (isthe.com/chongo/tech/comp/fnv).
+  EXPECT_EQ(PayloadChecksum(""), 0xcbf29ce484222325ull);
+  EXPECT_EQ(PayloadChecksum("a"), 0xaf63dc4c8601ec8cull);
+  EXPECT_EQ(PayloadChecksum("foobar"), 0x85944171f73967e8ull);
+  // Any one bit changed anywhere in words or tail changes it.
+  const std::string bytes = BinaryPayload().substr(0, 45);
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    std::string changed = bytes;
+    changed[i] ^= 0x01;
+    EXPECT_NE(PayloadChecksum(changed), PayloadChecksum(bytes)) << "byte " << i;
+  }
+}
+
+TEST(MapFileEnvelope, PayloadStreamReadsWithoutCopyAndTellsItsPosition) {
+  PayloadStream in(BinaryPayload());
+  char first[10];
+  in.read(first, sizeof first);
+  EXPECT_EQ(std::string(first, 10), BinaryPayload().substr(0, 10));
+  EXPECT_EQ(in.tellg(), 10);
+  std::string rest(990, '\0');
+  in.read(rest.data(), 990);
+  EXPECT_EQ(rest, BinaryPayload().substr(10));
+  EXPECT_FALSE(in.read(first, 1));  // the end
 }
 
 }  // namespace

@@ -7,10 +7,12 @@
 //   OCG-SLAM map file\n
 //   kind <kind>\n
 //   version <version>\n
-//   payload <bytes> fnv1a64 <16 hex digits>\n
+//   payload <bytes> checksum <16 hex digits>\n
 //   <payload>
 
 #include <cstdint>
+#include <istream>
+#include <streambuf>
 #include <string>
 
 #include "ocg/core/file_io.h"
@@ -24,8 +26,30 @@ class MapFileError : public FileError {
 
 inline constexpr const char* kMapFileMagic = "OCG-SLAM map file";
 
-// FNV-1a, 64 bits: the payload's checksum (catches damage, not tampering).
-std::uint64_t Fnv1a64(const std::string& bytes);
+// The payload's checksum (catches damage, not tampering): FNV-1a's step over 64-bit
+// words (little-endian), then over the last bytes one by one; a word at a time, because
+// the byte-wise FNV-1a took 150 ms of a 70 MB map's load.
+std::uint64_t PayloadChecksum(const std::string& bytes);
+
+// A map file's payload as an input stream, without copying it (cereal reads streams).
+// tellg() works; other seeks do not.
+class PayloadStream : public std::istream {
+ public:
+  explicit PayloadStream(std::string payload);
+  const std::string& payload() const { return payload_; }
+
+ private:
+  class Buffer : public std::streambuf {
+   public:
+    void Set(const std::string& bytes);
+
+   protected:
+    pos_type seekoff(off_type offset, std::ios_base::seekdir direction,
+                     std::ios_base::openmode mode) override;
+  };
+  std::string payload_;
+  Buffer buffer_;
+};
 
 // Writes header and payload atomically (temporary file, then rename). Throws FileError
 // naming the path.
