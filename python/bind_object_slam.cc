@@ -72,7 +72,8 @@ std::vector<Detection> ToDetections(const py::object& given) {
 class PyObjectSlam {
  public:
   PyObjectSlam(const std::string& settings_path, const std::optional<std::string>& vocabulary,
-               const std::optional<std::string>& mode, bool map_objects)
+               const std::optional<std::string>& mode, bool map_objects,
+               const std::optional<std::string>& load_map)
       : settings_path_(settings_path) {
     Settings settings = LoadSettings(settings_path, CameraNeed::kIntrinsics).settings;
     if (mode) {
@@ -83,6 +84,7 @@ class PyObjectSlam {
     if (vocabulary) options.vocabulary_path = *vocabulary;
     options.map_objects = map_objects;
     options.snapshots = SnapshotPolicy{false, 0};
+    if (load_map) options.load_map = *load_map;
     py::gil_scoped_release release;
     slam_ = std::make_unique<ObjectSlam>(settings, options);
   }
@@ -187,16 +189,19 @@ void BindObjectSlam(py::module_& module) {
       "In sequential mode (System.sequential, the default) identical inputs give identical "
       "outputs; otherwise local mapping, loop closing and the OCG have threads of their own.")
       .def(py::init<const std::string&, const std::optional<std::string>&,
-                    const std::optional<std::string>&, bool>(),
+                    const std::optional<std::string>&, bool, const std::optional<std::string>&>(),
            py::arg("settings"), py::kw_only(), py::arg("vocabulary") = py::none(),
            py::arg("mode") = py::none(), py::arg("map_objects") = true,
+           py::arg("load_map") = py::none(),
            "settings: a settings file (ours or ORB-SLAM2's; docs/settings.md) with the camera "
            "intrinsics. vocabulary: a vocabulary file instead of the settings' "
            "Vocabulary.path. mode: OCG.mode instead of the file's (off, visibility, paper, "
-           "...). map_objects: False runs SLAM alone.\n"
+           "...). map_objects: False runs SLAM alone. load_map: a map file (save_map()) to "
+           "continue as its next session: it relocalizes in it (docs/sessions.md).\n"
            "Raises ocg.SettingsError naming file, line and key (also for a missing settings "
-           "file); ocg.FileError when the vocabulary cannot be read; ValueError for an "
-           "unknown mode.")
+           "file); ocg.FileError when the vocabulary cannot be read or the map file is not "
+           "one, of another version, truncated, damaged or made with another camera; "
+           "ValueError for an unknown mode.")
       .def("track", &PyObjectSlam::Track, py::arg("image"), py::arg("timestamp"),
            py::arg("detections") = py::none(),
            "One frame. image: (H, W) grey or (H, W, 3) BGR uint8 array of the camera in the "
@@ -264,7 +269,23 @@ void BindObjectSlam(py::module_& module) {
           "After shutdown(): writes what `ocg_slam run` writes into folder (an existing, "
           "writable one): KeyFrameTrajectory.txt, CameraTrajectory.txt, map_points.ply, the "
           "object files and run.json; returns run.json as a dict. Raises RuntimeError "
-          "before shutdown(), ocg.FileError when a file cannot be written.");
+          "before shutdown(), ocg.FileError when a file cannot be written.")
+      .def(
+          "save_map",
+          [](PyObjectSlam& self, const py::object& path) {
+            const std::string file = py::str(py::module_::import("os").attr("fspath")(path));
+            self.Locked<int>([&](ObjectSlam& slam) {
+              slam.SaveMap(file);
+              return 0;
+            });
+          },
+          py::arg("path"),
+          "After shutdown(): the whole state (SLAM map, objects, OCG, settings) as a map file "
+          "(docs/sessions.md), written atomically; call before save() so that run.json names "
+          "it. Raises RuntimeError before shutdown(), ocg.FileError when it cannot be written.")
+      .def_property_readonly(
+          "session", [](PyObjectSlam& self) { return self.slam().Session(); },
+          "This run's session index: 0 for a new map, the loaded map's sessions otherwise.");
 }
 
 }  // namespace ocg::python

@@ -13,6 +13,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev
   libbenchmark-dev
   nlohmann-json3-dev
+  libcereal-dev        # map files (docs/sessions.md): binary archives, header-only
   libcli11-dev
   libspdlog-dev libfmt-dev
   clang libclang-rt-14-dev  # libFuzzer and the sanitizers of tools/fuzz.sh

@@ -195,6 +195,14 @@ int main(int argc, char** argv) {
                   "OCG.mode override for the object layer (off, visibility, paper, ...)");
   run->add_flag("--realtime", realtime,
                 "feed images at the pace of their timestamps (never drops frames)");
+  std::string load_map, save_map;
+  run->add_option("--load-map", load_map,
+                  "map file to continue (docs/sessions.md): relocalize in it, then track and "
+                  "map in its coordinates as its next session")
+      ->check(CLI::ExistingFile);
+  run->add_option("--save-map", save_map,
+                  "write the whole state at the end to this map file (SLAM map, objects, OCG, "
+                  "settings)");
 
   auto* objects = app.add_subcommand(
       "objects",
@@ -260,8 +268,13 @@ int main(int argc, char** argv) {
       detection_folder.emplace(detections, frame_names, read_options);
     }
     ocg::CheckWritableFolder(output);
+    if (!save_map.empty()) {
+      const std::filesystem::path folder = std::filesystem::path(save_map).parent_path();
+      ocg::CheckWritableFolder(folder.empty() ? "." : folder.string());
+    }
     ocg::ObjectSlamOptions options;
     options.vocabulary_path = vocabulary_path;
+    options.load_map = load_map;
     options.map_objects = detection_folder.has_value();
     if (!snapshots.empty()) {
       options.snapshots = ocg::ParseSnapshotPolicy(snapshots);
@@ -274,6 +287,10 @@ int main(int argc, char** argv) {
     if (format == "tum" && std::filesystem::exists(groundtruth_path))
       options.groundtruth = ocg::ReadTumTrajectory(groundtruth_path);
     ocg::ObjectSlam slam(settings, options);
+    if (!load_map.empty()) {
+      std::cout << "ocg_slam: session " << slam.Session() << " of the map " << load_map
+                << " (relocalizing in it)\n";
+    }
     std::cout << "ocg_slam: " << frames << " frames of " << sequence_path << ", vocabulary "
               << slam.VocabularyFile() << " (" << slam.VocabularyWords() << " words, loaded in "
               << slam.VocabularyLoadSeconds() << " s), "
@@ -299,6 +316,7 @@ int main(int argc, char** argv) {
     }
     progress.Finish();
     slam.Shutdown();
+    if (!save_map.empty()) slam.SaveMap(save_map);
     const nlohmann::json report =
         slam.Save(output, {sequence_path, settings_path, detections,
                            detection_folder ? detection_folder->FilesMatched() : 0});
@@ -321,6 +339,13 @@ int main(int argc, char** argv) {
                       ? ", objects.json, changes.json, ocg.json, ocg_observations.jsonl"
                       : "")
               << "\n";
+    if (report["session"].contains("message")) {
+      spdlog::warn("{}", report["session"]["message"].get<std::string>());
+    } else if (!load_map.empty()) {
+      std::cout << "session " << slam.Session() << ": relocalized in " << load_map << " after "
+                << report["session"]["frames_until_relocalized"] << " frame(s)\n";
+    }
+    if (!save_map.empty()) std::cout << "wrote the map file " << save_map << "\n";
     if (report["initialization"].contains("message"))
       spdlog::warn("{}", report["initialization"]["message"].get<std::string>());
   });

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <utility>
 
+#include "object_map_file.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/statistics.h"
 
@@ -55,7 +56,8 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
   points.reserve(result.points.size());
   for (const TrackedPoint& point : result.points)
     points.push_back({point.id, point.pixel, point.position});
-  last_association_ = mapper_->AddFrame(frame, timestamp, *result.T_cw, detections, &points);
+  last_association_ =
+      mapper_->AddFrame(frame_offset_ + frame, timestamp, *result.T_cw, detections, &points);
   if (result.new_keyframe) Follow(system);
   if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
     // The map as it was just before the OCG's first removal, for the before/after
@@ -98,7 +100,10 @@ std::optional<std::vector<ObjectView>> ObjectLayer::TakeFirstRemoval() {
 
 void ObjectLayer::Finish(const System& system) {
   if (!enabled_) return;
-  Follow(system);
+  // A loaded object map already follows the loaded SLAM map, which only a tracked frame
+  // changes; following it again would move the objects anyway (up and cuboids refine
+  // each other a little more at every call).
+  if (!loaded_ || tracked_frames_ > loaded_tracked_frames_) Follow(system);
   mapper_->Finish();
 }
 
@@ -124,20 +129,44 @@ void ObjectLayer::Start() {
   mapper_ = std::make_unique<ObjectMapper>(settings_.objects, settings_.ocg, settings_.camera.model,
                                            settings_.system.sequential);
   mapper_->RecordObservations();
+  app_detail::SetObjectSession(mapper_.get(), session_);
   keyframes_ = 0;
   tracked_frames_ = 0;
   last_association_ = {};
 }
 
 ChangeLogContext ObjectLayer::ChangeLog() const {
-  ChangeLogContext context;  // session 1 until runs continue a loaded map (issue 19)
+  ChangeLogContext context;
+  context.session = session_;
   context.session_start = session_start_.value_or(0.0);
   return context;
 }
 
+void ObjectLayer::SaveState(std::ostream& out) const {
+  SaveObjectMapper(*mapper_, {keyframes_, tracked_frames_}, out);
+}
+
+void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_offset) {
+  StartSession(session, frame_offset);
+  const ObjectLayerCounters counters = LoadObjectMapper(in, mapper_.get());
+  SetObjectSession(mapper_.get(), session);
+  keyframes_ = counters.keyframes;
+  tracked_frames_ = loaded_tracked_frames_ = counters.tracked_frames;
+  loaded_ = true;
+}
+
+void ObjectLayer::StartSession(int session, std::int64_t frame_offset) {
+  session_ = session;
+  frame_offset_ = frame_offset;
+  if (enabled_) SetObjectSession(mapper_.get(), session);
+}
+
 void ObjectLayer::Follow(const System& system) {
   SlamMapView view;
-  view.frame_poses = system.FramePoses();
+  // The earlier sessions' frames have no pose in this run: their sightings keep theirs.
+  view.frame_poses.assign(static_cast<std::size_t>(frame_offset_), std::nullopt);
+  const std::vector<std::optional<SE3>> poses = system.FramePoses();
+  view.frame_poses.insert(view.frame_poses.end(), poses.begin(), poses.end());
   view.map_points = system.MapPointPositions(&view.map_point_ids);
   view.camera_rotations = system.KeyFrameRotations();
   mapper_->FollowSlamMap(view, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));

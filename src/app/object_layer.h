@@ -11,6 +11,7 @@
 // Changes), which may be called from any thread (ObjectMapper locks its map).
 
 #include <cstdint>
+#include <iosfwd>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -60,6 +61,15 @@ class ObjectLayer {
   // detection folder's fields, which the caller knows).
   nlohmann::json Write(const std::string& output) const;
 
+  // Map files (object_map_file.h). SaveState after Finish(). LoadState, before the first
+  // frame, continues the saved object map and OCG; StartSession alone when the file held
+  // no objects. session: this run's index; frame_offset: the frames the earlier sessions
+  // were given (AddFrame's frame numbers continue after theirs, so their sightings keep
+  // their own frames).
+  void SaveState(std::ostream& out) const;
+  void LoadState(std::istream& in, int session, std::int64_t frame_offset);
+  void StartSession(int session, std::int64_t frame_offset);
+
  private:
   void Start();
   void Follow(const System& system);
@@ -72,6 +82,10 @@ class ObjectLayer {
   std::int64_t keyframes_ = 0;
   std::int64_t tracked_frames_ = 0;
   int resets_ = 0;
+  int session_ = 0;
+  std::int64_t frame_offset_ = 0;
+  bool loaded_ = false;  // LoadState() gave the object map
+  std::int64_t loaded_tracked_frames_ = 0;
   FrameAssociation last_association_;
   std::optional<std::vector<ObjectView>> first_removal_;
   bool removal_seen_ = false;

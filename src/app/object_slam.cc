@@ -1,17 +1,22 @@
 #include "ocg/app/object_slam.h"
 
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
 #include "object_layer.h"
 #include "ocg/core/file_io.h"
+#include "ocg/core/map_file.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/io/point_cloud.h"
 #include "ocg/slam/initialization_report.h"
 #include "ocg/slam/system.h"
 #include "run_snapshots.h"
+#include "session_file.h"
 
 namespace ocg {
 
@@ -44,6 +49,20 @@ nlohmann::json LoopClosingSection(const Settings& settings, const LoopClosingSta
           {"followed_global_adjustment", stats.followed_global_adjustment}};
 }
 
+// Runs one part of reading a map file whose envelope was sound: what fails now is a file
+// written by a build with the same format version but another layout (or a bug).
+template <class Read>
+auto ReadMapPart(const std::string& path, const char* part, Read read) {
+  try {
+    return read();
+  } catch (const MapFileError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw MapFileError("map file '" + path + "': cannot read its " + part + " (" + error.what() +
+                       "): the file is damaged or was written by an incompatible build");
+  }
+}
+
 }  // namespace
 
 class ObjectSlam::Impl {
@@ -66,6 +85,7 @@ class ObjectSlam::Impl {
     if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     const TrackingResult result = system_.TrackImage(gray, timestamp, source.timestamp_text);
     objects_.AddFrame(system_, result, frames_, timestamp, detections);
+    if (result.T_cw && !first_tracked_) first_tracked_ = frames_;
     snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
     ++frames_;
     pose_ = result.T_cw;
@@ -95,6 +115,56 @@ class ObjectSlam::Impl {
     return report;
   }
 
+  // The rest of a map file's payload after its session record: the SLAM map, then the
+  // object layer's state when it holds one.
+  void ContinueMap(std::istream& in, const app_detail::SessionRecord& record,
+                   const std::string& path) {
+    ReadMapPart(path, "SLAM map", [&] {
+      system_.LoadMap(in);
+      return 0;
+    });
+    session_ = record.sessions;
+    frame_offset_ = record.frames;
+    loaded_map_ = path;
+    loaded_keyframes_ = system_.KeyFrameCount();
+    if (record.has_objects && objects_.Enabled()) {
+      ReadMapPart(path, "object map", [&] {
+        objects_.LoadState(in, session_, frame_offset_);
+        return 0;
+      });
+    } else {
+      objects_.StartSession(session_, frame_offset_);
+      if (record.has_objects) {
+        spdlog::warn(
+            "map file '{}' holds objects, but this run maps none (no detections): a "
+            "map saved from it will hold none",
+            path);
+      }
+    }
+  }
+
+  void SaveMap(const std::string& path, const std::string& vocabulary_file) {
+    app_detail::SessionRecord record;
+    record.settings_source = settings_.source;
+    try {
+      record.settings_text = ReadTextFile(settings_.source);
+    } catch (const FileError&) {
+      record.settings_text.clear();  // settings made in code (Python), not read from a file
+    }
+    record.camera = settings_.camera.model;
+    record.vocabulary_words = vocabulary_.WordCount();
+    record.vocabulary_file = vocabulary_file;
+    record.sessions = session_ + 1;
+    record.frames = frame_offset_ + frames_;
+    record.has_objects = objects_.Enabled();
+    std::ostringstream out;
+    app_detail::SaveSessionRecord(record, out);
+    system_.SaveMap(out);
+    if (objects_.Enabled()) objects_.SaveState(out);
+    WriteMapFile(path, app_detail::kMapFileKind, app_detail::kMapFileVersion, out.str());
+    saved_map_ = path;
+  }
+
   const Settings settings_;
   Vocabulary vocabulary_;
   SystemConfig config_;
@@ -102,6 +172,11 @@ class ObjectSlam::Impl {
   app_detail::ObjectLayer objects_;
   app_detail::RunSnapshots snapshots_;
   std::int64_t frames_ = 0;
+  std::optional<std::int64_t> first_tracked_;  // frames before the first with a pose
+  int session_ = 0;
+  std::int64_t frame_offset_ = 0;  // frames of the earlier sessions
+  std::string loaded_map_, saved_map_;
+  std::size_t loaded_keyframes_ = 0;
   std::optional<SE3> pose_;
   bool started_ = false;
   Clock::time_point start_;
@@ -168,22 +243,67 @@ class ObjectSlam::Impl {
     report["initialization"] = {{"frames_tried", initialization.frames},
                                 {"most_frequent_failure", initialization.MostFrequentReason()},
                                 {"failures", failures}};
+    // A session in a loaded map does not initialize: session.message says why it did not
+    // relocalize instead.
     const std::string never_initialized =
-        first_tracked < 0 ? NeverInitializedMessage(initialization) : "";
+        first_tracked < 0 && !system_.MapLoaded() ? NeverInitializedMessage(initialization) : "";
     if (!never_initialized.empty()) report["initialization"]["message"] = never_initialized;
     report["loop_closing"] = LoopClosingSection(settings_, system_.LoopStats());
+    report["session"] = SessionSection();
     return report;
+  }
+
+  // run.json's "session": which session of which map this run was; after a loaded map,
+  // the frames it took to relocalize in it ("never": it kept trying to the end and made
+  // no map of its own).
+  nlohmann::json SessionSection() const {
+    nlohmann::json section = {
+        {"index", session_},
+        {"map_loaded", loaded_map_.empty() ? nullptr : nlohmann::json(loaded_map_)},
+        {"map_saved", saved_map_.empty() ? nullptr : nlohmann::json(saved_map_)},
+        {"frames_before", frame_offset_}};
+    if (!loaded_map_.empty()) {
+      section["keyframes_loaded"] = loaded_keyframes_;
+      section["frames_until_relocalized"] =
+          first_tracked_ ? nlohmann::json(*first_tracked_) : nlohmann::json("never");
+      if (!first_tracked_) {
+        section["message"] = "never relocalized in " + loaded_map_ + " in " +
+                             std::to_string(frames_) +
+                             " frame(s): no frame showed a place its keyframes hold (the run "
+                             "kept trying and made no map of its own)";
+      }
+    }
+    return section;
   }
 };
 
 ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
+  // The map file before the vocabulary: a wrong file fails now, not seconds later.
+  std::unique_ptr<PayloadStream> map_stream;
+  std::optional<app_detail::SessionRecord> record;
+  const std::string& map_path = options.load_map;
+  if (!map_path.empty()) {
+    map_stream = std::make_unique<PayloadStream>(
+        ReadMapFile(map_path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
+    record = ReadMapPart(map_path, "session record",
+                         [&] { return app_detail::LoadSessionRecord(*map_stream); });
+    app_detail::CheckSameCamera(*record, settings, map_path);
+  }
   VocabularyOptions vocabulary = settings.vocabulary;
   if (!options.vocabulary_path.empty()) vocabulary.path = options.vocabulary_path;
   vocabulary_file_ = vocabulary.Resolve();
   const auto start = Clock::now();
   Vocabulary loaded = Vocabulary::Load(vocabulary_file_);
   vocabulary_seconds_ = SecondsSince(start);
+  if (record && record->vocabulary_words != loaded.WordCount()) {
+    throw MapFileError("map file '" + map_path + "' was made with a vocabulary of " +
+                       std::to_string(record->vocabulary_words) + " words ('" +
+                       record->vocabulary_file + "'), but '" + vocabulary_file_ + "' has " +
+                       std::to_string(loaded.WordCount()) +
+                       ": its BoW vectors need the vocabulary they were made with");
+  }
   impl_ = std::make_unique<Impl>(settings, std::move(loaded), options);
+  if (record) impl_->ContinueMap(*map_stream, *record, map_path);
 }
 
 ObjectSlam::~ObjectSlam() {
@@ -231,6 +351,16 @@ std::vector<StampedPose> ObjectSlam::CameraTrajectory() const {
 std::size_t ObjectSlam::FramesGiven() const { return static_cast<std::size_t>(impl_->frames_); }
 std::size_t ObjectSlam::VocabularyWords() const { return impl_->vocabulary_.WordCount(); }
 bool ObjectSlam::Sequential() const { return impl_->config_.sequential; }
+
+void ObjectSlam::SaveMap(const std::string& path) {
+  if (!shut_down_) {
+    throw std::logic_error(
+        "ObjectSlam::SaveMap: call Shutdown() first (the map is still changing)");
+  }
+  impl_->SaveMap(path, vocabulary_file_);
+}
+
+int ObjectSlam::Session() const { return impl_->session_; }
 
 nlohmann::json ObjectSlam::Save(const std::string& folder, const RunDescription& description) {
   if (!shut_down_) {

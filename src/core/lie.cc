@@ -1,5 +1,6 @@
 #include "ocg/core/lie.h"
 
+#include <cassert>
 #include <cmath>
 
 namespace ocg {
@@ -88,6 +89,15 @@ SE3::SE3(const Eigen::Quaterniond& rotation, const Eigen::Vector3d& translation)
 
 SE3::SE3(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation)
     : rotation_(NormalizedRotation(rotation)), translation_(translation) {}
+
+SE3 SE3::FromUnitQuaternion(const Eigen::Quaterniond& rotation,
+                            const Eigen::Vector3d& translation) {
+  assert(std::abs(rotation.squaredNorm() - 1.0) < 1e-9);
+  SE3 pose;
+  pose.rotation_ = rotation;
+  pose.translation_ = translation;
+  return pose;
+}
 
 SE3 SE3::FromMatrix(const Eigen::Matrix4d& matrix) {
   return SE3(Eigen::Matrix3d(matrix.topLeftCorner<3, 3>()), matrix.topRightCorner<3, 1>());

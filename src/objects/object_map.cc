@@ -232,8 +232,8 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
 
   for (std::size_t d = 0; d < detections.size(); ++d) {
     const ObjectDetection& detection = detections[d];
-    const ObjectSighting sighting{frame, T_cw, detection.box, detection.truncated,
-                                  detection.class_id};
+    const ObjectSighting sighting{
+        frame, T_cw, detection.box, detection.truncated, detection.class_id, session_};
     if (assignment[d] < 0) {
       MapObject candidate;
       candidate.id = next_candidate_id_--;
@@ -502,6 +502,15 @@ std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& s
   for (const ObjectStatus& status : states) by_id[status.id] = &status;
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& [id, object] : map.objects()) {
+    // Sessions (map files): the first and the last that saw it.
+    int first_session = 0, last_session = 0;
+    if (!object.sightings.empty()) {
+      const auto [first, last] = std::minmax_element(
+          object.sightings.begin(), object.sightings.end(),
+          [](const ObjectSighting& a, const ObjectSighting& b) { return a.session < b.session; });
+      first_session = first->session;
+      last_session = last->session;
+    }
     nlohmann::json entry = {
         {"id", id},
         {"class_id", object.class_id},
@@ -512,6 +521,8 @@ std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& s
         {"map_points", ObjectPointSet(object, map.options().min_point_votes).size()},
         {"first_seen", object.first_timestamp},
         {"last_seen", object.last_timestamp},
+        {"first_session", first_session},
+        {"last_session", last_session},
         {"state", nullptr},
         {"doubt", nullptr}};
     const auto status = by_id.find(id);

@@ -1,6 +1,10 @@
 #include "ocg/slam/system.h"
 
+#include <algorithm>
 #include <chrono>
+#include <stdexcept>
+
+#include "ocg/slam/map_file.h"
 
 namespace ocg {
 namespace {
@@ -208,6 +212,25 @@ std::size_t System::KeyFrameCount() const {
 std::size_t System::MapPointCount() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   return map_.points().size();
+}
+
+void System::SaveMap(std::ostream& out) const { ocg::SaveMap(map_, out); }
+
+void System::LoadMap(std::istream& in) {
+  if (!frames_.empty()) {
+    throw std::logic_error("System::LoadMap: a map can only be loaded before the first frame");
+  }
+  ocg::LoadMap(in, &map_);
+  std::uint64_t first_frame_id = 0;
+  {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    for (const auto& [id, keyframe] : map_.keyframes()) {
+      first_frame_id = std::max(first_frame_id, keyframe->frame_id + 1);
+      if (!keyframe->bad) database_.Add(static_cast<int>(id), keyframe->bow);
+    }
+  }
+  tracking_->StartInLoadedMap(first_frame_id);
+  map_loaded_ = true;
 }
 
 const InitializationAttempts& System::Initialization() const {

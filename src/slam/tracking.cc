@@ -195,7 +195,8 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
         std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
         keyframes = dependencies_.map->keyframes().size();
       }
-      if (keyframes <= static_cast<std::size_t>(options_.min_keyframes_to_keep_map)) {
+      if (!map_loaded_ &&
+          keyframes <= static_cast<std::size_t>(options_.min_keyframes_to_keep_map)) {
         // The owner stops local mapping first, then calls Reset(): clearing the map under
         // a worker that still holds queued keyframes would let them into the new map.
         spdlog::warn("frame {}: lost with only {} keyframes: the map will be reset", frame.id,
@@ -644,6 +645,12 @@ void Tracking::ReanchorLastFrame() {
     spdlog::debug("frame {}: the map was corrected; re-anchored on keyframe {}", last_frame_->id,
                   anchor_keyframe_);
   }
+}
+
+void Tracking::StartInLoadedMap(std::uint64_t first_frame_id) {
+  state_ = TrackingState::kLost;
+  map_loaded_ = true;
+  next_frame_id_ = first_frame_id;
 }
 
 void Tracking::Reset() {

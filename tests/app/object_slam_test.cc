@@ -12,9 +12,11 @@
 #include <stdexcept>
 
 #include "ocg/core/file_io.h"
+#include "ocg/core/map_file.h"
 #include "ocg/io/sequence.h"
 #include "ocg/sim/generator.h"
 #include "ocg/sim/presets.h"
+#include "session_file.h"  // src/app: the map file's session record
 #include "test_support.h"
 
 namespace ocg {
@@ -152,6 +154,100 @@ TEST(ObjectSlam, MissingVocabularyIsAFileError) {
   ObjectSlamOptions options;
   options.vocabulary_path = testing::MakeTempDir("object_slam_vocabulary") + "/none.ocgvoc";
   EXPECT_THROW(ObjectSlam(SmokeSettings(), options), FileError);
+}
+
+// Map files (docs/sessions.md): the session record, and the rest of the payload (the SLAM
+// map and the object layer's state) as bytes.
+std::pair<app_detail::SessionRecord, std::string> ReadSessionMap(const std::string& path) {
+  PayloadStream in(ReadMapFile(path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
+  const app_detail::SessionRecord record = app_detail::LoadSessionRecord(in);
+  return {record, in.payload().substr(static_cast<std::size_t>(in.tellg()))};
+}
+
+std::string MapFileErrorOf(const Settings& settings, const ObjectSlamOptions& options) {
+  try {
+    ObjectSlam slam(settings, options);
+  } catch (const MapFileError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no MapFileError for " << options.load_map;
+  return "";
+}
+
+TEST(ObjectSlamMapFile, LoadingAndSavingAgainKeepsTheWholeState) {
+  const std::string folder = testing::MakeTempDir("object_slam_map");
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam first(SmokeSettings(), options);
+  EXPECT_EQ(first.Session(), 0);
+  RunSequence(first, false);
+  first.Shutdown();
+  first.SaveMap(folder + "/a.ocgmap");
+
+  options.load_map = folder + "/a.ocgmap";
+  ObjectSlam second(SmokeSettings(), options);
+  EXPECT_EQ(second.Session(), 1);
+  second.Shutdown();
+  second.SaveMap(folder + "/b.ocgmap");
+
+  const auto [a_record, a_state] = ReadSessionMap(folder + "/a.ocgmap");
+  const auto [b_record, b_state] = ReadSessionMap(folder + "/b.ocgmap");
+  EXPECT_EQ(a_record.sessions, 1);
+  EXPECT_EQ(b_record.sessions, 2);
+  EXPECT_EQ(a_record.frames, kFrames);
+  EXPECT_EQ(b_record.frames, kFrames);  // the second session was given none
+  EXPECT_TRUE(a_record.has_objects);
+  EXPECT_EQ(a_record.settings_source, SmokeSequence() + "/camera.yaml");
+  EXPECT_EQ(a_record.settings_text, ReadFile(SmokeSequence() + "/camera.yaml"));
+  EXPECT_EQ(a_record.camera.fx, SmokeSettings().camera.model.fx);
+  EXPECT_EQ(a_record.vocabulary_words, first.VocabularyWords());
+  // Every byte of the SLAM map, the object map and the OCG came back.
+  EXPECT_GT(a_state.size(), 100000u);
+  EXPECT_TRUE(a_state == b_state) << "the state saved after loading differs from the loaded one";
+  // The readers agree: objects with their OCG states and doubts, the change log, keyframes.
+  EXPECT_EQ(second.Objects(), first.Objects());
+  EXPECT_EQ(second.Changes(), first.Changes());
+  EXPECT_NE(first.Objects().find("\"first_session\": 0"), std::string::npos);
+  ASSERT_EQ(second.KeyFrameTrajectory().size(), first.KeyFrameTrajectory().size());
+  for (std::size_t i = 0; i < first.KeyFrameTrajectory().size(); ++i) {
+    EXPECT_EQ(second.KeyFrameTrajectory()[i].T_wc.Matrix(),
+              first.KeyFrameTrajectory()[i].T_wc.Matrix());
+  }
+}
+
+// A foreign file fails before the vocabulary is read (here: there is none to read).
+TEST(ObjectSlamMapFile, ForeignFileFailsFirst) {
+  ObjectSlamOptions options;
+  options.vocabulary_path = testing::MakeTempDir("object_slam_map") + "/none.ocgvoc";
+  options.load_map = ReadTumSequence(SmokeSequence()).images.front().path;
+  const std::string message = MapFileErrorOf(SmokeSettings(), options);
+  EXPECT_NE(message.find(options.load_map), std::string::npos) << message;
+  EXPECT_NE(message.find("not an OCG-SLAM map file"), std::string::npos) << message;
+}
+
+TEST(ObjectSlamMapFile, SoundEnvelopeWithUnreadablePayloadIsDamaged) {
+  ObjectSlamOptions options;
+  options.load_map = testing::MakeTempDir("object_slam_map") + "/garbage.ocgmap";
+  WriteMapFile(options.load_map, app_detail::kMapFileKind, app_detail::kMapFileVersion, "abc");
+  const std::string message = MapFileErrorOf(SmokeSettings(), options);
+  EXPECT_NE(message.find("cannot read its session record"), std::string::npos) << message;
+}
+
+TEST(ObjectSlamMapFile, AnotherCameraIsRefused) {
+  const std::string folder = testing::MakeTempDir("object_slam_map");
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  options.map_objects = false;
+  {
+    ObjectSlam slam(SmokeSettings(), options);
+    slam.Shutdown();
+    slam.SaveMap(folder + "/empty.ocgmap");
+  }
+  Settings other = SmokeSettings();
+  other.camera.model.fx += 1.0;
+  options.load_map = folder + "/empty.ocgmap";
+  const std::string message = MapFileErrorOf(other, options);
+  EXPECT_NE(message.find("was made with the camera"), std::string::npos) << message;
 }
 
 }  // namespace

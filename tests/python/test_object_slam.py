@@ -133,6 +133,23 @@ def test_errors_name_what_to_fix(smoke, tmp_path):
     assert slam.pose() is None
 
 
+def test_map_file_continues_as_the_next_session(smoke, tmp_path):
+    sequence, _ = smoke
+    first = ocg.ObjectSlam(sequence + "/camera.yaml")
+    assert first.session == 0
+    for timestamp, image, detections in frames(sequence):
+        first.track(ocg.read_image(image), timestamp, detections)
+    first.shutdown()
+    first.save_map(tmp_path / "a.ocgmap")
+    second = ocg.ObjectSlam(sequence + "/camera.yaml", load_map=str(tmp_path / "a.ocgmap"))
+    assert second.session == 1
+    # The loaded map as it was saved, before any frame of the new session.
+    np.testing.assert_array_equal(second.keyframe_trajectory(), first.keyframe_trajectory())
+    assert second.pose() is None
+    with pytest.raises(ocg.FileError, match="not an OCG-SLAM map file"):
+        ocg.ObjectSlam(sequence + "/camera.yaml", load_map=sequence + "/rgb.txt")
+
+
 def test_example_script_runs_the_sequence(smoke, source_dir, tmp_path):
     sequence, _ = smoke
     script = os.path.join(source_dir, "examples", "object_slam.py")

@@ -46,6 +46,10 @@ struct ObjectSlamOptions {
   std::string snapshot_folder;
   // Ground truth (camera to world, TUM) drawn in the final snapshots, aligned by Sim(3).
   std::vector<StampedPose> groundtruth;
+  // A map file (SaveMap) to continue: this run is its next session. It relocalizes in the
+  // loaded map, then tracks, maps and closes loops in its coordinates; keyframes and
+  // objects of every session live in one map. Empty: a new map.
+  std::string load_map;
 };
 
 // What Track() is told about a frame besides its pixels (all optional).
@@ -66,8 +70,11 @@ struct RunDescription {
 
 class ObjectSlam {
  public:
-  // Loads the vocabulary and starts SLAM (and, in threaded mode, its threads). Throws
-  // FileError when the vocabulary cannot be read, SettingsError for impossible settings.
+  // Reads the map file to load (options.load_map) first, then loads the vocabulary and
+  // starts SLAM (and, in threaded mode, its threads). Throws MapFileError naming the map
+  // file when it is not one, of another version, truncated or damaged, or made with
+  // another camera or vocabulary; FileError when the vocabulary cannot be read,
+  // SettingsError for impossible settings.
   explicit ObjectSlam(const Settings& settings, ObjectSlamOptions options = {});
   ~ObjectSlam();
   ObjectSlam(const ObjectSlam&) = delete;
@@ -106,6 +113,13 @@ class ObjectSlam {
   // (docs/slam.md) into folder; returns run.json's content. Throws std::logic_error
   // before Shutdown(), FileError when a file cannot be written.
   nlohmann::json Save(const std::string& folder, const RunDescription& description);
+  // After Shutdown(): the whole state (SLAM map, object map, OCG, the settings) as a map
+  // file (docs/sessions.md), written atomically; call before Save() so that run.json
+  // names it. Throws std::logic_error before Shutdown(), FileError when it cannot be
+  // written.
+  void SaveMap(const std::string& path);
+  // This run's session index: 0 for a new map, one more than the loaded file's last.
+  int Session() const;
 
  private:
   class Impl;

@@ -33,6 +33,10 @@ class SE3 {
   static SE3 FromMatrix(const Eigen::Matrix4d& matrix);
   static SE3 Identity() { return SE3(); }
   static SE3 Exp(const Vector6d& xi);
+  // From a quaternion of unit norm already (map files): kept bit for bit, where the
+  // constructors normalize again and may move its last bits.
+  static SE3 FromUnitQuaternion(const Eigen::Quaterniond& rotation,
+                                const Eigen::Vector3d& translation);
 
   Vector6d Log() const;
   SE3 Inverse() const;

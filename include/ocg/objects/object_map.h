@@ -22,12 +22,15 @@
 
 namespace ocg {
 
+struct MapFileAccess;  // map files (src/app/object_map_file.cc) save and restore the state
+
 struct ObjectSighting {
   std::int64_t frame = 0;
   SE3 T_cw;
   Box2 box;
   bool truncated = false;
   int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
+  int session = 0;   // the session (map files: 0 for the first run) that saw it
 };
 
 // A SLAM map point seen inside an object's boxes (SLAM runs only).
@@ -128,8 +131,11 @@ class ObjectMap {
   const ObjectsOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return camera_; }
   const Eigen::Matrix3d& gravity_frame() const { return R_wg_; }
+  // The session whose frames AddFrame() is given (0 in a run that loaded no map file).
+  void SetSession(int session) { session_ = session; }
 
  private:
+  friend struct MapFileAccess;
   // Re-estimates centre and cuboid from the sightings (yaw from the point set when it
   // tells one); false when they do not meet.
   bool Reestimate(MapObject& object, bool candidate) const;
@@ -152,6 +158,7 @@ class ObjectMap {
   std::vector<ObjectChange> changes_;
   ObjectId next_object_id_ = 1;
   ObjectId next_candidate_id_ = -1;
+  int session_ = 0;
 };
 
 // objects.json (SPEC 5): the live objects with their cuboid and OCG state.

@@ -19,6 +19,8 @@
 
 namespace ocg {
 
+struct MapFileAccess;
+
 // What a SLAM run shows the object layer at a keyframe, after its bundle adjustment.
 struct SlamMapView {
   std::vector<std::optional<SE3>> frame_poses;    // by the frame numbers given to AddFrame
@@ -75,6 +77,7 @@ class ObjectMapper {
   std::size_t LiveObjectCount() const;
 
  private:
+  friend struct MapFileAccess;    // map files (src/app/object_map_file.cc)
   mutable std::mutex map_mutex_;  // guards map_ and stats_
   ObjectMap map_;
   ObjectLayerStats stats_;

@@ -20,6 +20,8 @@
 
 namespace ocg {
 
+struct MapFileAccess;
+
 struct ObjectStatus {
   ObjectId id = 0;
   ObjectState state = ObjectState::kObserved;
@@ -77,6 +79,7 @@ class ObjectChangeDetector {
   static ObjectChangeDetector FromJson(const std::string& text);
 
  private:
+  friend struct MapFileAccess;  // map files (src/app/object_map_file.cc)
   struct Record {
     StateAndDoubt state;
     double rate = 0.0;

@@ -29,6 +29,8 @@
 
 namespace ocg {
 
+struct MapFileAccess;
+
 class OcgManager {
  public:
   using RemovalCallback = std::function<void(const KeyframeResult&)>;
@@ -55,6 +57,7 @@ class OcgManager {
   bool sequential() const { return sequential_; }
 
  private:
+  friend struct MapFileAccess;  // map files (src/app/object_map_file.cc)
   void WorkerLoop();
   void ProcessOne(const KeyframeObservation& observation);
   void RethrowWorkerError();

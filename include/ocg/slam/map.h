@@ -108,6 +108,14 @@ class Map {
 
   KeyFrameId NextKeyFrameId() { return next_keyframe_id_++; }
   MapPointId NextMapPointId() { return next_point_id_++; }
+  // Map files (map_file.h): the id counters, so that a loaded map's new keyframes and
+  // points never take the id of a saved one.
+  KeyFrameId next_keyframe_id() const { return next_keyframe_id_; }
+  MapPointId next_map_point_id() const { return next_point_id_; }
+  void RestoreIdCounters(KeyFrameId next_keyframe, MapPointId next_point) {
+    next_keyframe_id_ = next_keyframe;
+    next_point_id_ = next_point;
+  }
   void Add(const KeyFramePtr& keyframe) { keyframes_[keyframe->id] = keyframe; }
   void Add(const MapPointPtr& point) { points_[point->id] = point; }
   KeyFramePtr GetKeyFrame(KeyFrameId id) const;

@@ -8,6 +8,7 @@
 // on its own thread, fed through a bounded queue, and loop closing on another, fed by
 // local mapping.
 
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -91,6 +92,15 @@ class System {
   // Call after Shutdown() in threaded mode (the worker writes it).
   const LoopClosingStats& LoopStats() const { return loop_closing_->Stats(); }
   int Resets() const { return resets_; }
+
+  // Map files (slam/map_file.h, docs/sessions.md). SaveMap: same conditions as
+  // KeyFrames(). LoadMap: before the first TrackImage, into the empty map; the keyframe
+  // database is rebuilt from the keyframes' BoW vectors, and tracking starts lost: it
+  // relocalizes in the loaded map and never initializes one of its own. Throws what
+  // ocg::LoadMap throws (the map stays empty then) and std::logic_error after a frame.
+  void SaveMap(std::ostream& out) const;
+  void LoadMap(std::istream& in);
+  bool MapLoaded() const { return map_loaded_; }
   // The frames given before a map existed and why they did not initialize one.
   const InitializationAttempts& Initialization() const;
 
@@ -106,6 +116,7 @@ class System {
   double pending_mapping_seconds_ = 0.0;
   int resets_ = 0;
   bool shut_down_ = false;
+  bool map_loaded_ = false;
 };
 
 }  // namespace ocg

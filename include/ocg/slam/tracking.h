@@ -112,6 +112,11 @@ class Tracking {
   // Forgets the map and starts over (clears the map and the database too). Call with
   // local mapping stopped or idle.
   void Reset();
+  // The map was loaded from a map file, not made here: tracking starts lost, relocalizes
+  // in it, and never resets it however long relocalization fails (no second map is
+  // initialized beside it). Frame ids continue from first_frame_id, after the saved
+  // keyframes'. Call before the first Track().
+  void StartInLoadedMap(std::uint64_t first_frame_id);
   const ScalePyramid& pyramid() const { return extractor_.pyramid(); }
 
  private:
@@ -159,6 +164,7 @@ class Tracking {
   std::uint64_t anchored_corrections_ = 0;  // Map::corrections() when it was placed
   std::uint64_t last_keyframe_frame_id_ = 0;
   std::uint64_t last_relocalization_frame_id_ = 0;
+  bool map_loaded_ = false;
 };
 
 }  // namespace ocg

@@ -1,0 +1,196 @@
+#include "object_map_file.h"
+
+#include <algorithm>
+#include <cereal/archives/binary.hpp>
+#include <cereal/types/map.hpp>
+#include <cereal/types/optional.hpp>
+#include <cereal/types/string.hpp>
+#include <cereal/types/utility.hpp>
+#include <cereal/types/vector.hpp>
+#include <istream>
+#include <ostream>
+
+#include "ocg/core/cereal_types.h"
+
+namespace ocg {
+
+template <class Archive>
+void serialize(Archive& archive, Box2& box) {
+  archive(box.x0, box.y0, box.x1, box.y1);
+}
+template <class Archive>
+void serialize(Archive& archive, Cuboid& cuboid) {
+  archive(cuboid.centre, cuboid.size, cuboid.yaw);
+}
+template <class Archive>
+void serialize(Archive& archive, ObjectSighting& sighting) {
+  archive(sighting.frame, sighting.T_cw, sighting.box, sighting.truncated, sighting.class_id,
+          sighting.session);
+}
+template <class Archive>
+void serialize(Archive& archive, ObjectPoint& point) {
+  archive(point.votes, point.position);
+}
+template <class Archive>
+void serialize(Archive& archive, MapObject& object) {
+  archive(object.id, object.class_id, object.sightings, object.cuboid, object.has_cuboid,
+          object.yaw_from_points, object.first_frame, object.last_frame, object.first_timestamp,
+          object.last_timestamp, object.keyframes_in_map, object.points);
+}
+template <class Archive>
+void serialize(Archive& archive, ObjectChange& change) {
+  archive(change.type, change.keyframe_id, change.timestamp, change.object_id, change.merged_into,
+          change.class_id, change.cuboid, change.sightings, change.doubt);
+}
+template <class Archive>
+void serialize(Archive& archive, ObjectLayerStats& stats) {
+  archive(stats.frames, stats.keyframes, stats.detections_used, stats.detections_matched,
+          stats.objects_created, stats.objects_removed, stats.plane_inliers, stats.up);
+}
+template <class Archive>
+void serialize(Archive& archive, ObjectGeometry& geometry) {
+  archive(geometry.centroid, geometry.size, geometry.max_observed_distance,
+          geometry.view_directions);
+}
+template <class Archive>
+void serialize(Archive& archive, ObjectGeometryUpdate& update) {
+  archive(update.centroid, update.size, update.class_id);
+}
+template <class Archive>
+void serialize(Archive& archive, StateAndDoubt& state) {
+  archive(state.state, state.doubt);
+}
+template <class Archive>
+void serialize(Archive& archive, RemovalEvent& event) {
+  archive(event.keyframe_id, event.timestamp, event.object_id, event.class_id, event.centroid,
+          event.doubt, event.reason);
+}
+
+// Friend of ObjectMap, ObjectMapper, OcgManager and ObjectChangeDetector: their state
+// goes to map files from here alone, so those modules hold no serialization code.
+struct MapFileAccess {
+  template <class Archive, class Map>
+  static void ObjectMapState(Archive& archive, Map& map) {
+    archive(map.R_wg_, map.objects_, map.candidates_, map.observed_since_keyframe_,
+            map.geometry_changed_, map.changes_, map.next_object_id_, map.next_candidate_id_);
+  }
+
+  template <class Archive, class Record>
+  static void RecordState(Archive& archive, Record& record) {
+    archive(record.state, record.rate, record.rate_keyframe, record.judged_by_geometry,
+            record.class_id, record.geometry, record.observations, record.first_keyframe,
+            record.last_observed_keyframe);
+  }
+
+  static void SaveDetector(cereal::BinaryOutputArchive& archive,
+                           const ObjectChangeDetector& detector) {
+    // The graph through its public interface: nodes, then each edge once.
+    const ObjectCovisibilityGraph& graph = detector.graph_;
+    const std::vector<ObjectId> nodes = graph.NodeIds();
+    std::vector<std::pair<std::pair<ObjectId, ObjectId>, std::uint32_t>> edges;
+    for (const ObjectId id : nodes) {
+      for (const CovisibilityEdge& edge : graph.Neighbours(id)) {
+        if (id < edge.neighbour) edges.push_back({{id, edge.neighbour}, edge.weight});
+      }
+    }
+    archive(nodes, edges);
+    archive(cereal::make_size_tag(static_cast<cereal::size_type>(detector.records_.size())));
+    for (const ObjectId id : SortedKeys(detector.records_)) {
+      archive(id);
+      RecordState(archive, detector.records_.at(id));
+    }
+    // Unordered containers in id order: a loaded set iterates in another order than the
+    // saved one did, so the same state would not give the same bytes.
+    std::vector<std::pair<ObjectId, ObjectGeometryUpdate>> pending;
+    for (const ObjectId id : SortedKeys(detector.pending_))
+      pending.emplace_back(id, detector.pending_.at(id));
+    archive(pending, Sorted(detector.active_), Sorted(detector.isolated_), detector.last_keyframe_,
+            detector.any_keyframe_);
+  }
+
+  static void LoadDetector(cereal::BinaryInputArchive& archive, ObjectChangeDetector* detector) {
+    std::vector<ObjectId> nodes;
+    std::vector<std::pair<std::pair<ObjectId, ObjectId>, std::uint32_t>> edges;
+    archive(nodes, edges);
+    ObjectCovisibilityGraph graph;
+    for (const ObjectId id : nodes) graph.AddNode(id);
+    for (const auto& [pair, weight] : edges) graph.SetEdge(pair.first, pair.second, weight);
+    detector->graph_ = std::move(graph);
+    cereal::size_type count = 0;
+    archive(cereal::make_size_tag(count));
+    detector->records_.clear();
+    for (cereal::size_type i = 0; i < count; ++i) {
+      ObjectId id = 0;
+      archive(id);
+      RecordState(archive, detector->records_[id]);
+    }
+    std::vector<std::pair<ObjectId, ObjectGeometryUpdate>> pending;
+    std::vector<ObjectId> active, isolated;
+    archive(pending, active, isolated, detector->last_keyframe_, detector->any_keyframe_);
+    detector->pending_ = {pending.begin(), pending.end()};
+    detector->active_ = {active.begin(), active.end()};
+    detector->isolated_ = {isolated.begin(), isolated.end()};
+  }
+
+  // The keys of an unordered map in id order, so that the same state gives the same bytes.
+  template <class Records>
+  static std::vector<ObjectId> SortedKeys(const Records& records) {
+    std::vector<ObjectId> ids;
+    ids.reserve(records.size());
+    for (const auto& entry : records) ids.push_back(entry.first);
+    std::sort(ids.begin(), ids.end());
+    return ids;
+  }
+  static std::vector<ObjectId> Sorted(const std::unordered_set<ObjectId>& ids) {
+    std::vector<ObjectId> sorted(ids.begin(), ids.end());
+    std::sort(sorted.begin(), sorted.end());
+    return sorted;
+  }
+
+  static void Save(const ObjectMapper& mapper, const app_detail::ObjectLayerCounters& counters,
+                   std::ostream& out) {
+    std::lock_guard<std::mutex> map_lock(mapper.map_mutex_);
+    std::lock_guard<std::mutex> ocg_lock(mapper.manager_.state_mutex_);
+    cereal::BinaryOutputArchive archive(out);
+    archive(counters.keyframes, counters.tracked_frames);
+    ObjectMapState(archive, mapper.map_);
+    archive(mapper.stats_, mapper.observations_jsonl_, mapper.manager_.removals_);
+    SaveDetector(archive, mapper.manager_.detector_);
+  }
+
+  static app_detail::ObjectLayerCounters Load(std::istream& in, ObjectMapper* mapper) {
+    std::lock_guard<std::mutex> map_lock(mapper->map_mutex_);
+    std::lock_guard<std::mutex> ocg_lock(mapper->manager_.state_mutex_);
+    cereal::BinaryInputArchive archive(in);
+    app_detail::ObjectLayerCounters counters;
+    archive(counters.keyframes, counters.tracked_frames);
+    ObjectMapState(archive, mapper->map_);
+    archive(mapper->stats_, mapper->observations_jsonl_, mapper->manager_.removals_);
+    LoadDetector(archive, &mapper->manager_.detector_);
+    return counters;
+  }
+
+  static void SetSession(ObjectMapper* mapper, int session) {
+    std::lock_guard<std::mutex> lock(mapper->map_mutex_);
+    mapper->map_.SetSession(session);
+  }
+};
+
+}  // namespace ocg
+
+namespace ocg::app_detail {
+
+void SaveObjectMapper(const ObjectMapper& mapper, const ObjectLayerCounters& counters,
+                      std::ostream& out) {
+  MapFileAccess::Save(mapper, counters, out);
+}
+
+ObjectLayerCounters LoadObjectMapper(std::istream& in, ObjectMapper* mapper) {
+  return MapFileAccess::Load(in, mapper);
+}
+
+void SetObjectSession(ObjectMapper* mapper, int session) {
+  MapFileAccess::SetSession(mapper, session);
+}
+
+}  // namespace ocg::app_detail

@@ -1,0 +1,164 @@
+#include "ocg/slam/map_file.h"
+
+#include <cereal/archives/binary.hpp>
+#include <cereal/types/array.hpp>
+#include <cereal/types/map.hpp>
+#include <cereal/types/set.hpp>
+#include <cereal/types/string.hpp>
+#include <cereal/types/utility.hpp>
+#include <cereal/types/vector.hpp>
+#include <istream>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+#include <type_traits>
+
+#include "ocg/core/cereal_types.h"
+
+namespace ocg {
+namespace {
+
+constexpr MapPointId kNoPoint = std::numeric_limits<MapPointId>::max();
+
+// Vectors of plain values (keypoints, pixels, descriptors) as one block each: a map of
+// 500 keyframes holds half a million of each, and element-wise archiving would cost most
+// of the load time. cv::KeyPoint and Eigen's fixed vectors declare copy constructors, so
+// they are not "trivially copyable", but they are plain fields in standard layout.
+template <class T>
+void SaveBlock(cereal::BinaryOutputArchive& archive, const std::vector<T>& values) {
+  static_assert(std::is_standard_layout_v<T>, "blocks of plain values only");
+  archive(cereal::make_size_tag(static_cast<cereal::size_type>(values.size())));
+  archive(cereal::binary_data(values.data(), sizeof(T) * values.size()));
+}
+template <class T>
+void LoadBlock(cereal::BinaryInputArchive& archive, std::vector<T>* values) {
+  cereal::size_type size = 0;
+  archive(cereal::make_size_tag(size));
+  values->resize(static_cast<std::size_t>(size));
+  archive(cereal::binary_data(values->data(), sizeof(T) * values->size()));
+}
+
+void SavePoint(cereal::BinaryOutputArchive& archive, const MapPoint& point) {
+  archive(point.id, point.position, point.descriptor, point.normal, point.min_distance,
+          point.max_distance, point.observations, point.reference, point.first_keyframe,
+          point.first_frame, point.visible, point.found, point.bad);
+}
+
+void LoadPoint(cereal::BinaryInputArchive& archive, MapPoint* point) {
+  archive(point->id, point->position, point->descriptor, point->normal, point->min_distance,
+          point->max_distance, point->observations, point->reference, point->first_keyframe,
+          point->first_frame, point->visible, point->found, point->bad);
+}
+
+void SaveKeyFrame(cereal::BinaryOutputArchive& archive, const KeyFrame& keyframe, const Map& map) {
+  archive(keyframe.id, keyframe.frame_id, keyframe.timestamp, keyframe.timestamp_text,
+          keyframe.T_cw);
+  SaveBlock(archive, keyframe.features.keypoints);
+  SaveBlock(archive, keyframe.features.undistorted);
+  SaveBlock(archive, keyframe.features.descriptors);
+  const FeatureGrid& grid = keyframe.features.grid;
+  archive(grid.bounds().min_x, grid.bounds().max_x, grid.bounds().min_y, grid.bounds().max_y,
+          grid.columns(), grid.rows());
+  SaveBlock(archive, keyframe.bow.entries);
+  archive(keyframe.feature_vector);
+  std::vector<MapPointId> points(keyframe.points.size(), kNoPoint);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    // A link to a point no longer in the map would come back as a dangling id.
+    const MapPointPtr& point = keyframe.points[i];
+    if (point && map.points().count(point->id) > 0) points[i] = point->id;
+  }
+  SaveBlock(archive, points);
+  archive(keyframe.covisible, keyframe.ordered_covisible, keyframe.parent, keyframe.has_parent,
+          keyframe.children, keyframe.loop_edges, keyframe.bad, keyframe.T_c_parent);
+}
+
+void LoadKeyFrame(cereal::BinaryInputArchive& archive, KeyFrame* keyframe, const Map& map) {
+  archive(keyframe->id, keyframe->frame_id, keyframe->timestamp, keyframe->timestamp_text,
+          keyframe->T_cw);
+  ExtractedFeatures& features = keyframe->features;
+  LoadBlock(archive, &features.keypoints);
+  LoadBlock(archive, &features.undistorted);
+  LoadBlock(archive, &features.descriptors);
+  if (features.undistorted.size() != features.keypoints.size() ||
+      features.descriptors.size() != features.keypoints.size()) {
+    throw std::runtime_error("keyframe " + std::to_string(keyframe->id) +
+                             ": keypoints, positions and descriptors differ in number");
+  }
+  ImageBounds bounds;
+  int columns = 0, rows = 0;
+  archive(bounds.min_x, bounds.max_x, bounds.min_y, bounds.max_y, columns, rows);
+  features.grid = FeatureGrid(features.undistorted, features.Levels(), bounds, columns, rows);
+  LoadBlock(archive, &keyframe->bow.entries);
+  archive(keyframe->feature_vector);
+  std::vector<MapPointId> points;
+  LoadBlock(archive, &points);
+  if (points.size() != features.keypoints.size()) {
+    throw std::runtime_error("keyframe " + std::to_string(keyframe->id) + ": " +
+                             std::to_string(points.size()) + " point links for " +
+                             std::to_string(features.keypoints.size()) + " features");
+  }
+  keyframe->points.assign(points.size(), nullptr);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i] == kNoPoint) continue;
+    const auto it = map.points().find(points[i]);
+    if (it == map.points().end()) {
+      throw std::runtime_error("keyframe " + std::to_string(keyframe->id) + " links point " +
+                               std::to_string(points[i]) + ", which the file does not hold");
+    }
+    keyframe->points[i] = it->second;
+  }
+  archive(keyframe->covisible, keyframe->ordered_covisible, keyframe->parent, keyframe->has_parent,
+          keyframe->children, keyframe->loop_edges, keyframe->bad, keyframe->T_c_parent);
+}
+
+}  // namespace
+
+void SaveMap(const Map& map, std::ostream& out) {
+  std::lock_guard<std::mutex> lock(map.mutex());
+  cereal::BinaryOutputArchive archive(out);
+  archive(map.next_keyframe_id(), map.next_map_point_id());
+  archive(cereal::make_size_tag(static_cast<cereal::size_type>(map.points().size())));
+  for (const auto& [id, point] : map.points()) SavePoint(archive, *point);
+  archive(cereal::make_size_tag(static_cast<cereal::size_type>(map.keyframes().size())));
+  for (const auto& [id, keyframe] : map.keyframes()) SaveKeyFrame(archive, *keyframe, map);
+}
+
+void LoadMap(std::istream& in, Map* map) {
+  std::lock_guard<std::mutex> lock(map->mutex());
+  if (!map->keyframes().empty() || !map->points().empty()) {
+    throw std::logic_error("LoadMap: the map must be empty");
+  }
+  try {
+    cereal::BinaryInputArchive archive(in);
+    KeyFrameId next_keyframe = 0;
+    MapPointId next_point = 0;
+    archive(next_keyframe, next_point);
+    cereal::size_type count = 0;
+    archive(cereal::make_size_tag(count));
+    for (cereal::size_type i = 0; i < count; ++i) {
+      auto point = std::make_shared<MapPoint>();
+      LoadPoint(archive, point.get());
+      map->Add(point);
+    }
+    archive(cereal::make_size_tag(count));
+    for (cereal::size_type i = 0; i < count; ++i) {
+      auto keyframe = std::make_shared<KeyFrame>();
+      LoadKeyFrame(archive, keyframe.get(), *map);
+      map->Add(keyframe);
+    }
+    for (const auto& [id, point] : map->points()) {
+      for (const auto& [keyframe, feature] : point->observations) {
+        if (!map->GetKeyFrame(keyframe)) {
+          throw std::runtime_error("point " + std::to_string(id) + " is observed by keyframe " +
+                                   std::to_string(keyframe) + ", which the file does not hold");
+        }
+      }
+    }
+    map->RestoreIdCounters(next_keyframe, next_point);
+  } catch (...) {
+    map->Clear();
+    throw;
+  }
+}
+
+}  // namespace ocg

@@ -1,0 +1,116 @@
+#include "ocg/core/map_file.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "test_support.h"
+
+namespace ocg {
+namespace {
+
+std::string BinaryPayload() {
+  std::string payload;
+  for (int i = 0; i < 1000; ++i) payload += static_cast<char>(i * 7);  // NULs and newlines too
+  return payload;
+}
+
+void WriteRaw(const std::string& path, const std::string& content) {
+  std::ofstream(path, std::ios::binary) << content;
+}
+
+// The message of the MapFileError reading path throws; fails the test when none is thrown.
+std::string ReadError(const std::string& path, const std::string& kind = "test-map",
+                      std::uint32_t version = 3) {
+  try {
+    ReadMapFile(path, kind, version);
+  } catch (const MapFileError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no MapFileError for " << path;
+  return "";
+}
+
+TEST(MapFileEnvelope, PayloadComesBackByteForByte) {
+  const std::string path = testing::MakeTempDir("map_file") + "/a.ocgmap";
+  WriteMapFile(path, "test-map", 3, BinaryPayload());
+  EXPECT_EQ(ReadMapFile(path, "test-map", 3), BinaryPayload());
+}
+
+TEST(MapFileEnvelope, ForeignFileIsNamedAndRefused) {
+  const std::string path = testing::MakeTempDir("map_file") + "/image.png";
+  WriteRaw(path, "\x89PNG\r\n\x1a\n" + BinaryPayload());
+  const std::string message = ReadError(path);
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_NE(message.find("is not an OCG-SLAM map file"), std::string::npos) << message;
+}
+
+TEST(MapFileEnvelope, AnotherKindIsRefused) {
+  const std::string path = testing::MakeTempDir("map_file") + "/other.ocgmap";
+  WriteMapFile(path, "other-map", 3, BinaryPayload());
+  const std::string message = ReadError(path);
+  EXPECT_NE(message.find("holds a 'other-map', not a 'test-map'"), std::string::npos) << message;
+}
+
+TEST(MapFileEnvelope, AnotherVersionSaysWhichAndWhatToDo) {
+  const std::string path = testing::MakeTempDir("map_file") + "/v.ocgmap";
+  WriteMapFile(path, "test-map", 4, BinaryPayload());
+  std::string message = ReadError(path);
+  EXPECT_NE(message.find("format version 4, this build reads version 3"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("newer build"), std::string::npos) << message;
+  WriteMapFile(path, "test-map", 2, BinaryPayload());
+  message = ReadError(path);
+  EXPECT_NE(message.find("older build"), std::string::npos) << message;
+}
+
+TEST(MapFileEnvelope, TruncatedFileSaysHowMuchIsMissing) {
+  const std::string path = testing::MakeTempDir("map_file") + "/t.ocgmap";
+  WriteMapFile(path, "test-map", 3, BinaryPayload());
+  std::string content = ReadTextFile(path);
+  WriteRaw(path, content.substr(0, content.size() - 300));
+  const std::string message = ReadError(path);
+  EXPECT_NE(message.find("truncated: 700 of 1000 payload bytes"), std::string::npos) << message;
+  // Cut inside the header.
+  WriteRaw(path, content.substr(0, 30));
+  EXPECT_NE(ReadError(path).find("damaged header"), std::string::npos);
+}
+
+TEST(MapFileEnvelope, FlippedByteIsDetected) {
+  const std::string path = testing::MakeTempDir("map_file") + "/d.ocgmap";
+  WriteMapFile(path, "test-map", 3, BinaryPayload());
+  std::string content = ReadTextFile(path);
+  content[content.size() - 500] ^= 0x10;
+  WriteRaw(path, content);
+  const std::string message = ReadError(path);
+  EXPECT_NE(message.find("damaged: the payload's checksum"), std::string::npos) << message;
+}
+
+TEST(MapFileEnvelope, ChecksumIsFnv1aOnShortTailsAndSeesEveryByte) {
+  // Under 8 bytes it is FNV-1a: the FNV reference's vectors (isthe.com/chongo/tech/comp/fnv).
+  EXPECT_EQ(PayloadChecksum(""), 0xcbf29ce484222325ull);
+  EXPECT_EQ(PayloadChecksum("a"), 0xaf63dc4c8601ec8cull);
+  EXPECT_EQ(PayloadChecksum("foobar"), 0x85944171f73967e8ull);
+  // Any one bit changed anywhere in words or tail changes it.
+  const std::string bytes = BinaryPayload().substr(0, 45);
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    std::string changed = bytes;
+    changed[i] ^= 0x01;
+    EXPECT_NE(PayloadChecksum(changed), PayloadChecksum(bytes)) << "byte " << i;
+  }
+}
+
+TEST(MapFileEnvelope, PayloadStreamReadsWithoutCopyAndTellsItsPosition) {
+  PayloadStream in(BinaryPayload());
+  char first[10];
+  in.read(first, sizeof first);
+  EXPECT_EQ(std::string(first, 10), BinaryPayload().substr(0, 10));
+  EXPECT_EQ(in.tellg(), 10);
+  std::string rest(990, '\0');
+  in.read(rest.data(), 990);
+  EXPECT_EQ(rest, BinaryPayload().substr(10));
+  EXPECT_FALSE(in.read(first, 1));  // the end
+}
+
+}  // namespace
+}  // namespace ocg

@@ -1,0 +1,135 @@
+#include "ocg/slam/map_file.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "random_map.h"
+
+namespace ocg {
+namespace {
+
+void ExpectSamePose(const SE3& a, const SE3& b, const std::string& what) {
+  EXPECT_LT((a.Matrix() - b.Matrix()).cwiseAbs().maxCoeff(), 1e-15) << what;
+}
+
+void ExpectSamePoint(const MapPoint& a, const MapPoint& b) {
+  const std::string what = "point " + std::to_string(a.id);
+  EXPECT_EQ(a.id, b.id);
+  EXPECT_EQ(a.position, b.position) << what;
+  EXPECT_EQ(a.descriptor, b.descriptor) << what;
+  EXPECT_EQ(a.normal, b.normal) << what;
+  EXPECT_EQ(a.min_distance, b.min_distance) << what;
+  EXPECT_EQ(a.max_distance, b.max_distance) << what;
+  EXPECT_EQ(a.observations, b.observations) << what;
+  EXPECT_EQ(a.reference, b.reference) << what;
+  EXPECT_EQ(a.first_keyframe, b.first_keyframe) << what;
+  EXPECT_EQ(a.first_frame, b.first_frame) << what;
+  EXPECT_EQ(a.visible, b.visible) << what;
+  EXPECT_EQ(a.found, b.found) << what;
+  EXPECT_EQ(a.bad, b.bad) << what;
+}
+
+void ExpectSameKeyFrame(const KeyFrame& a, const KeyFrame& b) {
+  const std::string what = "keyframe " + std::to_string(a.id);
+  EXPECT_EQ(a.id, b.id);
+  EXPECT_EQ(a.frame_id, b.frame_id) << what;
+  EXPECT_EQ(a.timestamp, b.timestamp) << what;
+  EXPECT_EQ(a.timestamp_text, b.timestamp_text) << what;
+  ExpectSamePose(a.T_cw, b.T_cw, what);
+  ASSERT_EQ(a.features.size(), b.features.size()) << what;
+  for (std::size_t i = 0; i < a.features.size(); ++i) {
+    const cv::KeyPoint& p = a.features.keypoints[i];
+    const cv::KeyPoint& q = b.features.keypoints[i];
+    EXPECT_TRUE(p.pt == q.pt && p.size == q.size && p.angle == q.angle &&
+                p.response == q.response && p.octave == q.octave && p.class_id == q.class_id)
+        << what << " keypoint " << i;
+    ASSERT_EQ(a.features.undistorted[i], b.features.undistorted[i]) << what;
+    ASSERT_EQ(a.features.descriptors[i], b.features.descriptors[i]) << what;
+    ASSERT_EQ(a.points[i] ? a.points[i]->id : 0, b.points[i] ? b.points[i]->id : 0) << what;
+    ASSERT_EQ(a.points[i] == nullptr, b.points[i] == nullptr) << what;
+  }
+  // The rebuilt grid answers radius queries as the saved one did.
+  EXPECT_EQ(a.features.grid.columns(), b.features.grid.columns());
+  EXPECT_EQ(a.features.grid.OccupiedCells(), b.features.grid.OccupiedCells()) << what;
+  EXPECT_EQ(a.features.grid.InArea(320, 240, 60), b.features.grid.InArea(320, 240, 60)) << what;
+  EXPECT_EQ(a.bow.entries, b.bow.entries) << what;
+  EXPECT_EQ(a.feature_vector, b.feature_vector) << what;
+  EXPECT_EQ(a.covisible, b.covisible) << what;
+  EXPECT_EQ(a.ordered_covisible, b.ordered_covisible) << what;
+  EXPECT_EQ(a.parent, b.parent) << what;
+  EXPECT_EQ(a.has_parent, b.has_parent) << what;
+  EXPECT_EQ(a.children, b.children) << what;
+  EXPECT_EQ(a.loop_edges, b.loop_edges) << what;
+  EXPECT_EQ(a.bad, b.bad) << what;
+  ExpectSamePose(a.T_c_parent, b.T_c_parent, what);
+}
+
+std::string Saved(const Map& map) {
+  std::ostringstream out;
+  SaveMap(map, out);
+  return out.str();
+}
+
+TEST(SlamMapFile, RoundTripKeepsEveryField) {
+  Map map;
+  testing::FillRandomMap(120, 200, 7, &map);
+  ASSERT_GT(map.points().size(), 1000u);
+  const std::string bytes = Saved(map);
+  Map loaded;
+  std::istringstream in(bytes);
+  LoadMap(in, &loaded);
+  EXPECT_EQ(loaded.next_keyframe_id(), map.next_keyframe_id());
+  EXPECT_EQ(loaded.next_map_point_id(), map.next_map_point_id());
+  ASSERT_EQ(loaded.points().size(), map.points().size());
+  for (const auto& [id, point] : map.points()) ExpectSamePoint(*point, *loaded.points().at(id));
+  ASSERT_EQ(loaded.keyframes().size(), map.keyframes().size());
+  int bad = 0;
+  for (const auto& [id, keyframe] : map.keyframes()) {
+    ExpectSameKeyFrame(*keyframe, *loaded.GetKeyFrame(id));
+    bad += keyframe->bad ? 1 : 0;
+  }
+  EXPECT_GE(bad, 2);  // culled keyframes are kept (frames may be anchored to them)
+  // The links are pointers into the loaded map, not copies.
+  for (const auto& [id, keyframe] : loaded.keyframes()) {
+    for (const MapPointPtr& point : keyframe->points) {
+      if (point) {
+        EXPECT_EQ(point, loaded.points().at(point->id));
+      }
+    }
+  }
+  // Saving the loaded map gives the same bytes.
+  EXPECT_EQ(Saved(loaded), bytes);
+}
+
+TEST(SlamMapFile, NewIdsAfterLoadingDoNotReuseSavedOnes) {
+  Map map;
+  testing::FillRandomMap(10, 60, 3, &map);
+  std::istringstream in(Saved(map));
+  Map loaded;
+  LoadMap(in, &loaded);
+  EXPECT_EQ(loaded.NextKeyFrameId(), 10u);
+  EXPECT_EQ(loaded.NextMapPointId(), map.next_map_point_id());
+}
+
+TEST(SlamMapFile, TruncatedStreamThrowsAndLeavesTheMapEmpty) {
+  Map map;
+  testing::FillRandomMap(10, 60, 3, &map);
+  const std::string bytes = Saved(map);
+  for (const std::size_t size : {std::size_t{4}, bytes.size() / 2, bytes.size() - 1}) {
+    std::istringstream in(bytes.substr(0, size));
+    Map loaded;
+    EXPECT_THROW(LoadMap(in, &loaded), std::runtime_error) << size << " bytes";
+    EXPECT_TRUE(loaded.keyframes().empty() && loaded.points().empty());
+  }
+}
+
+TEST(SlamMapFile, LoadingIntoAMapThatHoldsSomethingIsRefused) {
+  Map map;
+  testing::FillRandomMap(3, 30, 1, &map);
+  std::istringstream in(Saved(map));
+  EXPECT_THROW(LoadMap(in, &map), std::logic_error);
+}
+
+}  // namespace
+}  // namespace ocg
