@@ -40,7 +40,8 @@ void serialize(Archive& archive, MapObject& object) {
 template <class Archive>
 void serialize(Archive& archive, ObjectChange& change) {
   archive(change.type, change.keyframe_id, change.timestamp, change.object_id, change.merged_into,
-          change.class_id, change.cuboid, change.sightings, change.doubt);
+          change.class_id, change.cuboid, change.sightings, change.doubt, change.last_seen,
+          change.session);
 }
 template <class Archive>
 void serialize(Archive& archive, ObjectLayerStats& stats) {

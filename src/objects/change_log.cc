@@ -48,9 +48,14 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     moved_to.insert(link.to.id);
   }
   nlohmann::json list = nlohmann::json::array();
+  // Entries kept from a loaded map carry their own session; their clock was another
+  // session's, so they get no time.
   const auto stamp = [&](nlohmann::json entry) {
-    entry["session"] = context.session;
-    entry["time"] = entry.at("timestamp").get<double>() - context.session_start;
+    if (!entry.contains("session")) entry["session"] = context.session;
+    entry["time"] =
+        entry.at("session").get<int>() == context.session
+            ? nlohmann::json(entry.at("timestamp").get<double>() - context.session_start)
+            : nlohmann::json(nullptr);
     list.push_back(std::move(entry));
   };
   for (nlohmann::json entry : root.at("changes")) {
@@ -67,9 +72,9 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     }
     stamp(std::move(entry));
   }
-  if (context.session > 1) {
+  if (context.session > 0) {
     for (const ObjectRecord& object : live.objects) {
-      if (object.first_seen < context.session_start || moved_to.count(object.id) > 0) continue;
+      if (object.first_session != context.session || moved_to.count(object.id) > 0) continue;
       stamp({{"type", "added"},
              {"timestamp", object.first_seen},
              {"object_id", object.id},

@@ -394,6 +394,7 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   observed_since_keyframe_.erase(absorbed);
   geometry_changed_.erase(absorbed);
   objects_.erase(absorbed);
+  change.session = session_;
   changes_.push_back(change);
   if (merges != nullptr) merges->push_back(change);
 }
@@ -447,6 +448,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
     change.class_id = object.class_id;
     change.cuboid = object.cuboid;
     change.sightings = object.sightings.size();
+    change.session = session_;
     changes_.push_back(change);
     if (merges != nullptr) merges->push_back(change);
     observed_since_keyframe_.erase(object.id);
@@ -491,6 +493,7 @@ void ObjectMap::Remove(const RemovalEvent& event) {
   change.sightings = it->second.sightings.size();
   change.doubt = event.doubt;
   change.last_seen = it->second.last_timestamp;
+  change.session = session_;
   changes_.push_back(change);
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
@@ -545,6 +548,7 @@ std::string ObjectChangesJson(const std::vector<ObjectChange>& changes) {
   nlohmann::json list = nlohmann::json::array();
   for (const ObjectChange& change : changes) {
     nlohmann::json entry = {{"type", change.type},
+                            {"session", change.session},
                             {"keyframe", change.keyframe_id},
                             {"timestamp", change.timestamp},
                             {"object_id", change.object_id},

@@ -562,7 +562,7 @@ std::string ObjectsGroundTruthJson(const Scene& scene) {
                          {"seed", scene.seed},
                          {"time_origin", scene.time_origin},
                          {"objects", objects}};
-  if (scene.session.index > 1) {
+  if (scene.session.index > 0) {
     root["session"] = {{"index", scene.session.index},
                        {"previous", scene.session.previous},
                        {"previous_end", scene.session.previous_end},

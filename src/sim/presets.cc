@@ -332,7 +332,7 @@ Scene MakeLaterVisit(const Scene& previous, const VisitChanges& changes, std::ui
   scene.session.index = previous.session.index + 1;
   scene.session.previous = previous.name;
   scene.session.previous_end = previous.time_origin + previous.duration;
-  scene.name = previous.name + "_visit" + std::to_string(scene.session.index);
+  scene.name = previous.name + "_visit" + std::to_string(scene.session.index + 1);
   scene.time_origin = scene.session.previous_end + changes.gap;
   if (changes.duration > 0) scene.duration = changes.duration;
   scene.path.start = std::fmod(previous.path.start + changes.path_start, 1.0);

@@ -60,7 +60,7 @@ void Scene::Check() const {
   Require(path.kind == "round" || path.kind == "straight", "path.kind must be round or straight");
   Require(path.speed > 0 && path.speed <= 0.4, "path.speed must be in (0, 0.4] m/s");
   Require(path.start >= 0 && path.start < 1, "path.start must be in [0, 1)");
-  Require(session.index >= 1, "session.index must be at least 1");
+  Require(session.index >= 0, "session.index must be at least 0");
   const RealisticDetection& r = noise.realistic;
   Require(r.hard_share >= 0 && r.hard_share <= 1 && r.dropout_share >= 0 && r.dropout_share <= 1,
           "noise.realistic: hard_share and dropout_share must be in [0, 1]");

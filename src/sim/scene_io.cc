@@ -267,7 +267,7 @@ std::string SceneToYaml(const Scene& scene) {
   root["duration"] = scene.duration;
   // Later visits only: first visits' files stay as they were.
   if (scene.time_origin != Scene().time_origin) root["time_origin"] = scene.time_origin;
-  if (scene.session.index > 1) {
+  if (scene.session.index > 0) {
     root["session"]["index"] = scene.session.index;
     root["session"]["previous"] = scene.session.previous;
     root["session"]["previous_end"] = scene.session.previous_end;

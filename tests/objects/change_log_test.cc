@@ -25,31 +25,35 @@ ObjectChange Removed(ObjectId id, int class_id, double x, double removed_at, dou
   return change;
 }
 
-nlohmann::json Live(ObjectId id, int class_id, double x, double first_seen) {
+nlohmann::json Live(ObjectId id, int class_id, double x, double first_seen, int first_session = 0) {
   return {{"id", id},
           {"class_id", class_id},
           {"cuboid", {{"centre", {x, 0.0, 0.8}}, {"size", {0.1, 0.1, 0.1}}, {"yaw", 0.0}}},
           {"first_seen", first_seen},
-          {"last_seen", first_seen + 5}};
+          {"last_seen", first_seen + 5},
+          {"first_session", first_session}};
 }
 
 // A cup removed at x = 0 and a cup that appeared at x = 0.4 after the first one's last
 // sighting; a book removed with no book near; a merged duplicate; a mouse first seen at
-// 1025 and a cup seen since 900.
+// 1025 and a cup seen since 900 (in session 0).
 struct Log {
   std::string changes, objects;
 };
-Log Constructed() {
+// Every change made in the given session.
+Log Constructed(int session = 0) {
   ObjectChange merged = Removed(5, kCup, 2.0, 1012, 1011);
   merged.type = "merged";
   merged.merged_into = 11;
-  const std::string changes = ObjectChangesJson(
-      {Removed(3, kCup, 0.0, 1030, 1010), Removed(4, kBook, 1.0, 1031, 1012), merged});
-  nlohmann::json objects = {
-      {"format", "ocg-objects"},
-      {"version", 1},
-      {"objects",
-       {Live(9, kCup, 0.4, 1020), Live(10, kMouse, -1.0, 1025), Live(11, kCup, 2.0, 900)}}};
+  std::vector<ObjectChange> list = {Removed(3, kCup, 0.0, 1030, 1010),
+                                    Removed(4, kBook, 1.0, 1031, 1012), merged};
+  for (ObjectChange& change : list) change.session = session;
+  const std::string changes = ObjectChangesJson(list);
+  nlohmann::json objects = {{"format", "ocg-objects"},
+                            {"version", 1},
+                            {"objects",
+                             {Live(9, kCup, 0.4, 1020, session),
+                              Live(10, kMouse, -1.0, 1025, session), Live(11, kCup, 2.0, 900)}}};
   return {changes, objects.dump()};
 }
 
@@ -72,27 +76,50 @@ TEST(ChangeLog, AMoveIsOneEntryWithBothObjectsAndEveryEntryHasSessionAndTime) {
   EXPECT_EQ(changes[1]["object_id"], 4);
   EXPECT_EQ(changes[2]["type"], "merged");
   for (const nlohmann::json& entry : changes) {
-    EXPECT_EQ(entry["session"], 1);
+    EXPECT_EQ(entry["session"], 0);
     EXPECT_NEAR(entry["time"].get<double>(), entry["timestamp"].get<double>() - 1000, 1e-9);
   }
   EXPECT_NEAR(move["time"].get<double>(), 30.0, 1e-9);
 }
 
 TEST(ChangeLog, ALaterSessionAddsWhatItFirstSawThatIsNoMove) {
-  const Log log = Constructed();
+  const Log log = Constructed(1);
   ChangeLogContext context;
-  context.session = 2;
+  context.session = 1;
   context.session_start = 1015;
   const nlohmann::json changes =
       nlohmann::json::parse(ReviseChangeLog(log.changes, log.objects, context)).at("changes");
   std::vector<ObjectId> added;
   for (const nlohmann::json& entry : changes) {
-    EXPECT_EQ(entry["session"], 2);
+    EXPECT_EQ(entry["session"], 1);
+    EXPECT_FALSE(entry["time"].is_null());
     if (entry["type"] == "added") added.push_back(entry["object_id"].get<ObjectId>());
   }
   // The mouse; not the cup the move went to (1020), nor the one seen since 900.
   EXPECT_EQ(added, std::vector<ObjectId>{10});
   EXPECT_EQ(changes[0]["type"], "moved");
+}
+
+// A map file keeps the change log: what session 0 removed stays session 0's, with no time
+// on session 1's clock.
+TEST(ChangeLog, ChangesOfAnEarlierSessionKeepTheirSession) {
+  const Log log = Constructed(0);
+  ChangeLogContext context;
+  context.session = 1;
+  context.session_start = 5000;
+  const nlohmann::json changes =
+      nlohmann::json::parse(ReviseChangeLog(log.changes, log.objects, context)).at("changes");
+  int earlier = 0;
+  for (const nlohmann::json& entry : changes) {
+    if (entry["type"] == "added") {
+      EXPECT_EQ(entry["session"], 1);
+      continue;
+    }
+    ++earlier;
+    EXPECT_EQ(entry["session"], 0);
+    EXPECT_TRUE(entry["time"].is_null());
+  }
+  EXPECT_EQ(earlier, 3);
 }
 
 TEST(ChangeLog, SeenTogetherIsNoMove) {

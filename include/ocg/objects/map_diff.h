@@ -21,6 +21,7 @@ struct ObjectRecord {
   Cuboid cuboid;            // in the map's world frame and units
   double first_seen = 0.0;  // timestamps of its first and last sighting, seconds
   double last_seen = 0.0;
+  int first_session = 0;  // the session of its first sighting (map files; 0 otherwise)
 };
 
 struct MoveLinkOptions {

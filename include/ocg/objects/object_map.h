@@ -82,6 +82,7 @@ struct ObjectChange {
   std::size_t sightings = 0;
   double doubt = 0.0;      // "removed" only
   double last_seen = 0.0;  // "removed" only: timestamp of the last sighting
+  int session = 0;         // the session that made the change (SetSession)
 };
 
 struct FrameAssociation {

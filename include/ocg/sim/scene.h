@@ -33,7 +33,7 @@ struct SceneObject {
   Eigen::Vector3d size = Eigen::Vector3d(0.1, 0.1, 0.1);  // full extents (cylinder: d, d, h)
   std::uint64_t texture_seed = 0;
   std::vector<PlacedPose> history;  // ascending time; history[0].time == 0
-  // A later visit (Scene::session.index > 1): where the object stood when the previous
+  // A later visit (Scene::session.index > 0): where the object stood when the previous
   // visit ended (present false: it was not there), when that differs from history[0].
   std::optional<PlacedPose> before_session;
 
@@ -126,8 +126,8 @@ struct DetectionNoise {
 
 // Which visit of a room a scene is (ocg_synth --session-of renders later visits).
 struct SessionLink {
-  int index = 1;              // 1: a first visit
-  std::string previous;       // the previous visit's scene name (index > 1)
+  int index = 0;              // 0: a first visit (sessions count from 0, as map files)
+  std::string previous;       // the previous visit's scene name (index > 0)
   double previous_end = 0.0;  // timestamp of the previous visit's end, seconds
 };
 
