@@ -87,6 +87,8 @@ void EvaluateObjects(const ObjectsInput& input) {
                                  {"gt_outdated", m.gt_outdated},
                                  {"live_objects", m.live_objects},
                                  {"removed_objects", m.removed_objects},
+                                 {"gt_moves", m.gt_moves},
+                                 {"moves_right", m.moves_right},
                                  {"deleted_static_ids", m.deleted_static_ids},
                                  {"unidentified_static_ids", m.unidentified_static_ids},
                                  {"unidentified_moved_ids", m.unidentified_moved_ids},
@@ -105,6 +107,9 @@ void EvaluateObjects(const ObjectsInput& input) {
               m.unident_m, m.acc, m.prec, m.recall);
   std::printf("| GT: %d static | | | %d moved | | | | | |\n", m.gt_static, m.gt_outdated);
   std::printf("%d live objects, %d removed by change detection", m.live_objects, m.removed_objects);
+  if (m.gt_moves > 0) {
+    std::printf("; moves reported right: %d of %d", m.moves_right, m.gt_moves);
+  }
   if (!alignment.is_null()) {
     std::printf("; run aligned to ground truth (Sim(3), scale %.4f, ATE %.4f m)",
                 alignment["scale"].get<double>(), alignment["ate_rmse"].get<double>());

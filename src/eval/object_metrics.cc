@@ -74,7 +74,7 @@ std::vector<RunObject> ReadRunObjects(const std::string& run_dir) {
   try {
     for (const nlohmann::json& entry : live.at("objects")) {
       objects.push_back({entry.at("id").get<long long>(), entry.at("class_id").get<int>(),
-                         Vector3(entry.at("cuboid").at("centre"), "centre"), true});
+                         Vector3(entry.at("cuboid").at("centre"), "centre"), true, std::nullopt});
     }
   } catch (const std::exception& error) {
     throw ParseError(objects_path + ": " + error.what());
@@ -89,8 +89,12 @@ std::vector<RunObject> ReadRunObjects(const std::string& run_dir) {
       if ((type != "removed" && type != "moved") || change.at("centroid").is_null()) {
         continue;
       }
-      objects.push_back({change.at("object_id").get<long long>(), change.at("class_id").get<int>(),
-                         Vector3(change.at("centroid"), "centroid"), false});
+      RunObject object{change.at("object_id").get<long long>(), change.at("class_id").get<int>(),
+                       Vector3(change.at("centroid"), "centroid"), false, std::nullopt};
+      if (type == "moved") {
+        object.moved_to = Vector3(change.at("to").at("cuboid").at("centre"), "to.cuboid.centre");
+      }
+      objects.push_back(object);
     }
   } catch (const std::exception& error) {
     throw ParseError(changes_path + ": " + error.what());
@@ -176,6 +180,18 @@ ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
       ++metrics.corr_m;
     }
   }
+  for (const GroundTruthPlace& old_place : truth.outdated_places) {
+    const auto now = std::find_if(
+        truth.static_places.begin(), truth.static_places.end(),
+        [&](const GroundTruthPlace& place) { return place.object_id == old_place.object_id; });
+    if (now == truth.static_places.end()) continue;  // removed, not moved
+    ++metrics.gt_moves;
+    const bool reported = std::any_of(objects.begin(), objects.end(), [&](const RunObject& object) {
+      return object.moved_to && Near(old_place, object) &&
+             (now->centre - *object.moved_to).norm() < now->radius;
+    });
+    if (reported) ++metrics.moves_right;
+  }
   for (std::size_t o : live) {
     if (object_matched[o]) continue;
     const RunObject& object = objects[o];
@@ -195,7 +211,10 @@ ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
 }
 
 void TransformObjects(const Sim3& world_from_run, std::vector<RunObject>* objects) {
-  for (RunObject& object : *objects) object.centre = world_from_run * object.centre;
+  for (RunObject& object : *objects) {
+    object.centre = world_from_run * object.centre;
+    if (object.moved_to) object.moved_to = world_from_run * *object.moved_to;
+  }
 }
 
 ObjectMetrics EvaluateRunObjects(const std::string& objects_gt_path, const std::string& run_dir,

@@ -1,5 +1,6 @@
 #include "ocg/objects/change_log.h"
 
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -32,6 +33,7 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   nlohmann::json root = nlohmann::json::parse(changes_json);
   const SavedObjectMap live = ParseObjectsJson(objects_json, "objects.json");
   std::vector<ObjectRecord> removed;
+  std::set<ObjectId> removed_now;  // by this session
   for (const nlohmann::json& entry : root.at("changes")) {
     if (entry.at("type") != "removed" || entry.at("cuboid").is_null()) continue;
     ObjectRecord record;
@@ -39,14 +41,45 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     record.class_id = entry.at("class_id").get<int>();
     record.cuboid = CuboidOf(entry.at("cuboid"));
     record.last_seen = entry.value("last_seen", entry.at("timestamp").get<double>());
+    if (entry.value("session", context.session) == context.session) {
+      removed_now.insert(record.id);
+    }
     removed.push_back(record);
   }
   std::map<ObjectId, MoveLink> moves_from;
   std::set<ObjectId> moved_to;
-  for (const MoveLink& link : LinkMoves(removed, live.objects, context.moves, true)) {
-    moves_from.emplace(link.from.id, link);
-    moved_to.insert(link.to.id);
+  const auto link = [&](const std::vector<ObjectRecord>& from, const std::vector<ObjectRecord>& to,
+                        const MoveLinkOptions& options) {
+    for (const MoveLink& move : LinkMoves(from, to, options, true)) {
+      moves_from.emplace(move.from.id, move);
+      moved_to.insert(move.to.id);
+    }
+  };
+  if (context.session > 0) {
+    // Between visits nothing bounds how far an object was carried: what this session
+    // removed, last seen in an earlier one, pairs first with what this session found new,
+    // at any distance (nearest first).
+    std::vector<ObjectRecord> left, appeared;
+    for (const ObjectRecord& record : removed) {
+      if (removed_now.count(record.id) > 0 && record.last_seen < context.session_start) {
+        left.push_back(record);
+      }
+    }
+    for (const ObjectRecord& object : live.objects) {
+      if (object.first_session == context.session) appeared.push_back(object);
+    }
+    MoveLinkOptions between = context.moves;
+    between.search_factor = std::numeric_limits<double>::infinity();
+    link(left, appeared, between);
   }
+  std::vector<ObjectRecord> rest_removed, rest_live;
+  for (const ObjectRecord& record : removed) {
+    if (moves_from.count(record.id) == 0) rest_removed.push_back(record);
+  }
+  for (const ObjectRecord& object : live.objects) {
+    if (moved_to.count(object.id) == 0) rest_live.push_back(object);
+  }
+  link(rest_removed, rest_live, context.moves);
   nlohmann::json list = nlohmann::json::array();
   // Entries kept from a loaded map carry their own session; their clock was another
   // session's, so they get no time.

@@ -19,7 +19,7 @@ GroundTruthPlace Place(int id, int class_id, double x, double radius = 0.1) {
 }
 
 RunObject Object(long long id, int class_id, double x, bool live = true) {
-  return {id, class_id, Eigen::Vector3d(x, 0, 0), live};
+  return {id, class_id, Eigen::Vector3d(x, 0, 0), live, std::nullopt};
 }
 
 TEST(ObjectMetrics, EachCountFromAHandMadeCase) {
@@ -118,7 +118,7 @@ TEST(ObjectMetrics, AMoveEntryCountsItsOldPlaceAsRemoved) {
             R"({"objects": [{"id": 9, "class_id": 41, "cuboid": {"centre": [0.4, 0, 0]}}]})");
   WriteFile(run + "/changes.json", R"({"changes": [
       {"type": "moved", "object_id": 3, "class_id": 41, "centroid": [0, 0, 0],
-       "to": {"object_id": 9}},
+       "to": {"object_id": 9, "cuboid": {"centre": [0.4, 0, 0]}}},
       {"type": "merged", "object_id": 5, "class_id": 41, "centroid": [2, 0, 0]}]})");
   const std::vector<RunObject> objects = ReadRunObjects(run);
   ASSERT_EQ(objects.size(), 2u);
@@ -132,6 +132,34 @@ TEST(ObjectMetrics, AMoveEntryCountsItsOldPlaceAsRemoved) {
   const ObjectMetrics m = ComputeObjectMetrics(truth, objects);
   EXPECT_EQ(m.corr_m, 1);
   EXPECT_EQ(m.corr_s, 1);
+  EXPECT_EQ(m.gt_moves, 1);
+  EXPECT_EQ(m.moves_right, 1);
+  ASSERT_TRUE(objects[1].moved_to.has_value());
+  EXPECT_NEAR(objects[1].moved_to->x(), 0.4, 1e-12);
+}
+
+// A move is reported right only when it links the old place to the new one: the same
+// removal linked to a cup elsewhere, or a removal left unlinked, is no reported move.
+TEST(ObjectMetrics, AMoveIsReportedRightOnlyToItsNewPlace) {
+  ObjectGroundTruth truth;
+  truth.static_places = {Place(1, 41, 0.4)};
+  truth.outdated_places = {Place(1, 41, 0.0)};
+  RunObject found{9, 41, Eigen::Vector3d(0.4, 0, 0), true, std::nullopt};
+  RunObject wrong{3, 41, Eigen::Vector3d::Zero(), false, Eigen::Vector3d(1.5, 0, 0)};
+  EXPECT_EQ(ComputeObjectMetrics(truth, {found, wrong}).moves_right, 0);
+  RunObject unlinked{3, 41, Eigen::Vector3d::Zero(), false, std::nullopt};
+  const ObjectMetrics m = ComputeObjectMetrics(truth, {found, unlinked});
+  EXPECT_EQ(m.moves_right, 0);
+  EXPECT_EQ(m.corr_m, 1);  // removed from its old place all the same
+  // In a run's frame at half the scale: the new place goes into the ground truth's frame
+  // with the object.
+  found.centre = Eigen::Vector3d(0.2, 0, 0);
+  RunObject right{3, 41, Eigen::Vector3d::Zero(), false, Eigen::Vector3d(0.21, 0, 0)};
+  std::vector<RunObject> objects = {found, right};
+  EXPECT_EQ(ComputeObjectMetrics(truth, objects).moves_right, 0);
+  TransformObjects(Sim3(2.0, Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()), &objects);
+  EXPECT_EQ(ComputeObjectMetrics(truth, objects).moves_right, 1);
+  EXPECT_EQ(ComputeObjectMetrics(truth, objects).gt_moves, 1);
 }
 
 }  // namespace

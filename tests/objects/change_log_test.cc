@@ -122,6 +122,34 @@ TEST(ChangeLog, ChangesOfAnEarlierSessionKeepTheirSession) {
   EXPECT_EQ(earlier, 3);
 }
 
+// Between visits an object may have been carried anywhere: a cup last seen in session 0,
+// removed in session 1, and a cup first seen in session 1 across the room (30 extents away,
+// beyond the in-session reach) are one move; within a session they are not.
+TEST(ChangeLog, BetweenSessionsAMoveHasNoDistanceLimit) {
+  ObjectChange gone = Removed(3, kCup, 0.0, 2010, 1010);
+  gone.session = 1;
+  const std::string changes = ObjectChangesJson({gone});
+  const std::string objects =
+      nlohmann::json({{"format", "ocg-objects"}, {"objects", {Live(9, kCup, 3.0, 2005, 1)}}})
+          .dump();
+  ChangeLogContext context;
+  context.session = 1;
+  context.session_start = 2000;
+  nlohmann::json revised = nlohmann::json::parse(ReviseChangeLog(changes, objects, context));
+  ASSERT_EQ(revised["changes"].size(), 1u) << revised.dump(1);
+  EXPECT_EQ(revised["changes"][0]["type"], "moved");
+  EXPECT_EQ(revised["changes"][0]["to"]["object_id"], 9);
+  // The same pair within session 1 (the cup last seen after the session started).
+  ObjectChange within = Removed(3, kCup, 0.0, 2010, 2001);
+  within.session = 1;
+  revised = nlohmann::json::parse(ReviseChangeLog(
+      ObjectChangesJson({within}),
+      nlohmann::json({{"format", "ocg-objects"}, {"objects", {Live(9, kCup, 3.0, 2005, 1)}}})
+          .dump(),
+      context));
+  EXPECT_EQ(revised["changes"][0]["type"], "removed");
+}
+
 TEST(ChangeLog, SeenTogetherIsNoMove) {
   // The nearby cup was first seen while the removed one was still seen: a neighbour.
   const std::string changes = ObjectChangesJson({Removed(3, kCup, 0.0, 1030, 1010)});

@@ -41,6 +41,8 @@ struct RunObject {
   int class_id = 0;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   bool live = false;  // in the final map (else removed by change detection)
+  // A "moved" entry of changes.json: where the object reappeared (its "to" cuboid's centre).
+  std::optional<Eigen::Vector3d> moved_to;
 };
 
 // A run folder's objects.json (live) and changes.json ("removed" and "moved" entries; merged
@@ -52,6 +54,10 @@ struct ObjectMetrics {
   int redun_duplicates = 0, redun_spurious = 0;  // the two parts of redun_s
   int gt_static = 0, gt_outdated = 0;
   int live_objects = 0, removed_objects = 0;
+  // Moves reported right: of the gt_moves ground-truth objects that left a place for
+  // another one, those with a "moved" entry from the old place (near it) to the new one
+  // (near its static place).
+  int gt_moves = 0, moves_right = 0;
   double acc = 0.0, prec = 0.0, recall = 0.0;
   // Per place / object, for reading a result: the ids behind each count.
   std::vector<int> deleted_static_ids, unidentified_static_ids, unidentified_moved_ids;
