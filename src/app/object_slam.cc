@@ -7,6 +7,7 @@
 
 #include "object_layer.h"
 #include "ocg/core/file_io.h"
+#include "ocg/core/settings_file.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/io/point_cloud.h"
 #include "ocg/slam/initialization_report.h"
@@ -54,7 +55,15 @@ class ObjectSlam::Impl {
         config_(MakeSystemConfig(settings_)),
         system_(config_, vocabulary_),
         objects_(settings_, options.map_objects, options.snapshots.Enabled()),
-        snapshots_(settings_, options.snapshots, options.snapshot_folder, options.groundtruth) {}
+        snapshots_(settings_, options.snapshots, options.snapshot_folder, options.groundtruth) {
+    for (const auto& [mode, folder] : options.also_modes) {
+      auto settings_of_mode = std::make_unique<Settings>(settings_);
+      settings_of_mode->ocg.mode = mode;
+      also_.push_back({std::move(settings_of_mode), nullptr, folder});
+      also_.back().objects =
+          std::make_unique<app_detail::ObjectLayer>(*also_.back().settings, true, false);
+    }
+  }
 
   std::optional<SE3> Track(const cv::Mat& image, double timestamp,
                            const std::vector<Detection>& detections, const FrameSource& source) {
@@ -66,6 +75,8 @@ class ObjectSlam::Impl {
     if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     const TrackingResult result = system_.TrackImage(gray, timestamp, source.timestamp_text);
     objects_.AddFrame(system_, result, frames_, timestamp, detections);
+    for (AlsoMode& also : also_)
+      also.objects->AddFrame(system_, result, frames_, timestamp, detections);
     snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
     ++frames_;
     pose_ = result.T_cw;
@@ -75,6 +86,7 @@ class ObjectSlam::Impl {
   void Shutdown() {
     system_.Shutdown();
     objects_.Finish(system_);
+    for (AlsoMode& also : also_) also.objects->Finish(system_);
     wall_seconds_ = started_ ? SecondsSince(start_) : 0.0;
   }
 
@@ -92,8 +104,26 @@ class ObjectSlam::Impl {
     }
     report["snapshots"] = snapshots_.Finish(system_, objects_);
     WriteFileAtomically(folder + "/run.json", report.dump(2) + "\n");
+    for (const AlsoMode& also : also_) {
+      WriteTumTrajectory(also.folder + "/KeyFrameTrajectory.txt", system_.KeyFrameTrajectory());
+      WriteTumTrajectory(also.folder + "/CameraTrajectory.txt", system_.CameraTrajectory());
+      WritePlyPoints(also.folder + "/map_points.ply", system_.MapPointPositions());
+      nlohmann::json also_report = Report(description, vocabulary_file);
+      nlohmann::json section = also.objects->Write(also.folder);
+      section["detections"] = description.detections;
+      section["detection_files_matched"] = description.detection_files_matched;
+      also_report["objects"] = std::move(section);
+      WriteFileAtomically(also.folder + "/run.json", also_report.dump(2) + "\n");
+    }
     return report;
   }
+
+  // An object layer of options.also_modes: its settings (the layer keeps a reference).
+  struct AlsoMode {
+    std::unique_ptr<Settings> settings;
+    std::unique_ptr<app_detail::ObjectLayer> objects;
+    std::string folder;
+  };
 
   const Settings settings_;
   Vocabulary vocabulary_;
@@ -101,6 +131,7 @@ class ObjectSlam::Impl {
   System system_;
   app_detail::ObjectLayer objects_;
   app_detail::RunSnapshots snapshots_;
+  std::vector<AlsoMode> also_;
   std::int64_t frames_ = 0;
   std::optional<SE3> pose_;
   bool started_ = false;
@@ -176,6 +207,17 @@ class ObjectSlam::Impl {
 };
 
 ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
+  // Checked before the vocabulary is loaded and SLAM started: a bad option fails at once.
+  if (!options.also_modes.empty() && (!options.map_objects || !settings.system.sequential)) {
+    throw SettingsError(
+        "more than one OCG mode in one run needs detections and System.sequential: true "
+        "(in threaded mode the object layers would not see the same SLAM states)");
+  }
+  for (const auto& also : options.also_modes) {
+    OcgOptions ocg = settings.ocg;
+    ocg.mode = also.first;
+    ocg.Check();
+  }
   VocabularyOptions vocabulary = settings.vocabulary;
   if (!options.vocabulary_path.empty()) vocabulary.path = options.vocabulary_path;
   vocabulary_file_ = vocabulary.Resolve();
