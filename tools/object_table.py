@@ -10,9 +10,12 @@ and scores the result with `ocg_eval objects` (SPEC 4). Three sources of poses:
   default       pose-given mode (`ocg_slam objects`) on the ground-truth poses;
   --slam-runs   pose-given mode on the CameraTrajectory.txt of an earlier `ocg_slam run`
                 per sequence (DIR/<sequence name>/): SLAM's final poses, after the fact;
-  --slam        the whole pipeline, `ocg_slam run --detections --mode M` (images, SLAM,
-                objects from SLAM's poses and map points as it runs), into OUT/<name>/<M>/;
-                with --reuse, a run folder that already holds run.json is scored as it is.
+  --slam        the whole pipeline, `ocg_slam run --detections --modes M1,M2,...` (images,
+                SLAM, objects from SLAM's poses and map points as it runs), into
+                OUT/<name>/<M>/: one SLAM run per sequence feeds one object layer per
+                mode (SLAM never reads the objects; in sequential mode each mode's files
+                are byte for byte those of a run of its own); with --reuse, the modes
+                whose folder already holds run.json are scored as they are.
 With SLAM poses the objects are aligned to the ground truth through the trajectory
 (Sim(3)) before scoring.
 Prints a Markdown table (and writes it to OUT/table.md with every run's files).
@@ -82,17 +85,20 @@ def main():
             trajectory = os.path.join(args.slam_runs, name, "CameraTrajectory.txt")
         settings = args.settings or os.path.join(sequence, "camera.yaml")
         truth = None
+        if args.slam:
+            missing = [mode for mode in modes if not (
+                args.reuse and os.path.exists(os.path.join(out, name, mode, "run.json")))]
+            if missing:
+                print("%s, %s: ocg_slam run" % (name, ",".join(missing)), file=sys.stderr)
+                run([os.path.join(tools, "ocg_slam"), "run", "--settings", settings,
+                     "--sequence", sequence, "--detections",
+                     os.path.join(sequence, "detections"), "--modes", ",".join(missing),
+                     "--out", os.path.join(out, name), "--log-level", "warn"])
         for mode in modes:
             run_dir = os.path.join(out, name, mode)
             evaluate = [os.path.join(tools, "ocg_eval"), "objects", "--gt",
                         os.path.join(sequence, "objects_gt.json"), "--run", run_dir, "--json"]
             if args.slam:
-                if not (args.reuse and os.path.exists(os.path.join(run_dir, "run.json"))):
-                    print("%s, %s: ocg_slam run" % (name, mode), file=sys.stderr)
-                    run([os.path.join(tools, "ocg_slam"), "run", "--settings", settings,
-                         "--sequence", sequence, "--detections",
-                         os.path.join(sequence, "detections"), "--mode", mode, "--out",
-                         run_dir, "--log-level", "warn"])
                 evaluate += ["--groundtruth", groundtruth]
             else:
                 # A sequence written with `ocg_synth --detections-only` has no rgb.txt: the

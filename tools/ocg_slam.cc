@@ -191,8 +191,13 @@ int main(int argc, char** argv) {
   run->add_option("--snapshots", snapshots,
                   "PNG snapshots under OUT/snapshots/: final, every:N (also every N "
                   "keyframes) or none; default: final, or every:Viewer.every_keyframes");
-  run->add_option("--mode", run_mode,
-                  "OCG.mode override for the object layer (off, visibility, paper, ...)");
+  auto* mode_option = run->add_option(
+      "--mode", run_mode, "OCG.mode override for the object layer (off, visibility, paper, ...)");
+  std::string run_modes;
+  run->add_option("--modes", run_modes,
+                  "several OCG modes, comma-separated, from one SLAM run: each mode's run "
+                  "folder is OUT/<mode>/ (sequential mode, needs --detections)")
+      ->excludes(mode_option);
   run->add_flag("--realtime", realtime,
                 "feed images at the pace of their timestamps (never drops frames)");
   std::string load_map, save_map;
@@ -242,10 +247,31 @@ int main(int argc, char** argv) {
     const ocg::LoadedSettings loaded =
         ocg::LoadSettings(settings_path, ocg::CameraNeed::kIntrinsics);
     ocg::Settings settings = loaded.settings;
+    // --modes: the first mode is the run's own, in OUT/<mode>/; the others are object
+    // layers fed the same SLAM frames (ObjectSlamOptions::also_modes).
+    std::vector<std::string> modes;
+    for (std::size_t start = 0; !run_modes.empty() && start <= run_modes.size();) {
+      const std::size_t comma = std::min(run_modes.find(',', start), run_modes.size());
+      modes.push_back(run_modes.substr(start, comma - start));
+      start = comma + 1;
+    }
+    if (!modes.empty()) {
+      if (detections.empty()) throw std::invalid_argument("--modes needs --detections");
+      for (std::size_t i = 0; i < modes.size(); ++i) {
+        if (modes[i].empty() ||
+            std::find(modes.begin(), modes.begin() + i, modes[i]) != modes.begin() + i) {
+          throw std::invalid_argument("--modes '" + run_modes +
+                                      "': give each mode once, comma-separated, none empty");
+        }
+      }
+      run_mode = modes.front();
+    }
     if (!run_mode.empty()) {
       settings.ocg.mode = run_mode;
       settings.ocg.Check();
     }
+    const std::string base_output = output;
+    if (!modes.empty()) output = base_output + "/" + modes.front();
     // Every input is read and checked before the first frame (the detections of every
     // frame to process included), and the output folder is tried for writing, so no bad
     // input ends a run after the whole sequence.
@@ -273,6 +299,10 @@ int main(int argc, char** argv) {
       ocg::CheckWritableFolder(folder.empty() ? "." : folder.string());
     }
     ocg::ObjectSlamOptions options;
+    for (std::size_t i = 1; i < modes.size(); ++i) {
+      options.also_modes.emplace_back(modes[i], base_output + "/" + modes[i]);
+      ocg::CheckWritableFolder(options.also_modes.back().second);
+    }
     options.vocabulary_path = vocabulary_path;
     options.load_map = load_map;
     options.map_objects = detection_folder.has_value();
@@ -326,6 +356,9 @@ int main(int argc, char** argv) {
                 << section["objects_live"] << " live at the end, " << section["keyframes"]
                 << " OCG keyframes (mode " << settings.ocg.mode << ")\n";
     }
+    if (modes.size() > 1)
+      std::cout << "the same SLAM run's objects in the other modes: " << base_output << "/{"
+                << run_modes << "}\n";
     std::cout << "tracked " << report["frames_tracked"] << " of " << frames << " frames (first at "
               << report["first_tracked_frame"] << "), lost " << report["frames_lost"]
               << ", relocalized " << report["relocalizations"] << ", resets "

@@ -51,7 +51,7 @@ void serialize(Archive& archive, ObjectLayerStats& stats) {
 template <class Archive>
 void serialize(Archive& archive, ObjectGeometry& geometry) {
   archive(geometry.centroid, geometry.size, geometry.max_observed_distance,
-          geometry.view_directions);
+          geometry.view_directions, geometry.detected_keyframes, geometry.missed_keyframes);
 }
 template <class Archive>
 void serialize(Archive& archive, ObjectGeometryUpdate& update) {

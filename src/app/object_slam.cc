@@ -11,6 +11,7 @@
 #include "object_layer.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/map_file.h"
+#include "ocg/core/settings_file.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/io/point_cloud.h"
 #include "ocg/slam/initialization_report.h"
@@ -73,7 +74,15 @@ class ObjectSlam::Impl {
         config_(MakeSystemConfig(settings_)),
         system_(config_, vocabulary_),
         objects_(settings_, options.map_objects, options.snapshots.Enabled()),
-        snapshots_(settings_, options.snapshots, options.snapshot_folder, options.groundtruth) {}
+        snapshots_(settings_, options.snapshots, options.snapshot_folder, options.groundtruth) {
+    for (const auto& [mode, folder] : options.also_modes) {
+      auto settings_of_mode = std::make_unique<Settings>(settings_);
+      settings_of_mode->ocg.mode = mode;
+      also_.push_back({std::move(settings_of_mode), nullptr, folder});
+      also_.back().objects =
+          std::make_unique<app_detail::ObjectLayer>(*also_.back().settings, true, false);
+    }
+  }
 
   std::optional<SE3> Track(const cv::Mat& image, double timestamp,
                            const std::vector<Detection>& detections, const FrameSource& source) {
@@ -86,6 +95,8 @@ class ObjectSlam::Impl {
     const TrackingResult result = system_.TrackImage(gray, timestamp, source.timestamp_text);
     objects_.AddFrame(system_, result, frames_, timestamp, detections);
     if (result.T_cw && !first_tracked_) first_tracked_ = frames_;
+    for (AlsoMode& also : also_)
+      also.objects->AddFrame(system_, result, frames_, timestamp, detections);
     snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
     ++frames_;
     pose_ = result.T_cw;
@@ -95,6 +106,7 @@ class ObjectSlam::Impl {
   void Shutdown() {
     system_.Shutdown();
     objects_.Finish(system_);
+    for (AlsoMode& also : also_) also.objects->Finish(system_);
     wall_seconds_ = started_ ? SecondsSince(start_) : 0.0;
   }
 
@@ -112,6 +124,17 @@ class ObjectSlam::Impl {
     }
     report["snapshots"] = snapshots_.Finish(system_, objects_);
     WriteFileAtomically(folder + "/run.json", report.dump(2) + "\n");
+    for (const AlsoMode& also : also_) {
+      WriteTumTrajectory(also.folder + "/KeyFrameTrajectory.txt", system_.KeyFrameTrajectory());
+      WriteTumTrajectory(also.folder + "/CameraTrajectory.txt", system_.CameraTrajectory());
+      WritePlyPoints(also.folder + "/map_points.ply", system_.MapPointPositions());
+      nlohmann::json also_report = Report(description, vocabulary_file);
+      nlohmann::json section = also.objects->Write(also.folder);
+      section["detections"] = description.detections;
+      section["detection_files_matched"] = description.detection_files_matched;
+      also_report["objects"] = std::move(section);
+      WriteFileAtomically(also.folder + "/run.json", also_report.dump(2) + "\n");
+    }
     return report;
   }
 
@@ -165,12 +188,20 @@ class ObjectSlam::Impl {
     saved_map_ = path;
   }
 
+  // An object layer of options.also_modes: its settings (the layer keeps a reference).
+  struct AlsoMode {
+    std::unique_ptr<Settings> settings;
+    std::unique_ptr<app_detail::ObjectLayer> objects;
+    std::string folder;
+  };
+
   const Settings settings_;
   Vocabulary vocabulary_;
   SystemConfig config_;
   System system_;
   app_detail::ObjectLayer objects_;
   app_detail::RunSnapshots snapshots_;
+  std::vector<AlsoMode> also_;
   std::int64_t frames_ = 0;
   std::optional<std::int64_t> first_tracked_;  // frames before the first with a pose
   int session_ = 0;
@@ -278,6 +309,22 @@ class ObjectSlam::Impl {
 };
 
 ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
+  // Checked before the vocabulary is loaded and SLAM started: a bad option fails at once.
+  if (!options.also_modes.empty() && (!options.map_objects || !settings.system.sequential)) {
+    throw SettingsError(
+        "more than one OCG mode in one run needs detections and System.sequential: true "
+        "(in threaded mode the object layers would not see the same SLAM states)");
+  }
+  for (const auto& also : options.also_modes) {
+    OcgOptions ocg = settings.ocg;
+    ocg.mode = also.first;
+    ocg.Check();
+  }
+  if (!options.also_modes.empty() && !options.load_map.empty()) {
+    throw SettingsError(
+        "more than one OCG mode in one run cannot continue a map file (--load-map): the map "
+        "file holds one object layer");
+  }
   // The map file before the vocabulary: a wrong file fails now, not seconds later.
   std::unique_ptr<PayloadStream> map_stream;
   std::optional<app_detail::SessionRecord> record;

@@ -164,6 +164,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     record.rate_keyframe = keyframe;
     record.judged_by_geometry = judgement.judged_by_geometry;
     SetState(id, record, judgement.next);
+    if (judgement.missed) ++record.geometry.missed_keyframes;
     if (judgement.next.state == ObjectState::kOutlier) outliers.push_back(id);
   }
 
@@ -259,6 +260,10 @@ std::string ObjectChangeDetector::ToJson() const {
         directions.push_back(VectorJson(direction));
       nodes.back()["view_directions"] = directions;
     }
+    if (modes_.detection_reliability) {
+      nodes.back()["detection_record"] = {status.geometry.detected_keyframes,
+                                          status.geometry.missed_keyframes};
+    }
     for (const CovisibilityEdge& edge : graph_.Neighbours(status.id)) {
       if (edge.neighbour > status.id) edges.push_back({status.id, edge.neighbour, edge.weight});
     }
@@ -319,6 +324,10 @@ ObjectChangeDetector ObjectChangeDetector::FromJson(const std::string& text) {
       if (node.contains("view_directions")) {
         for (const nlohmann::json& direction : node.at("view_directions"))
           record.geometry.view_directions.push_back(*VectorFromJson(direction));
+      }
+      if (node.contains("detection_record")) {  // "reliability" mode only
+        record.geometry.detected_keyframes = node.at("detection_record").at(0).get<std::uint32_t>();
+        record.geometry.missed_keyframes = node.at("detection_record").at(1).get<std::uint32_t>();
       }
       record.observations = node.at("observations").get<std::uint32_t>();
       record.first_keyframe = node.at("first_keyframe").get<std::int64_t>();

@@ -17,6 +17,7 @@ bool GeometricallyVisible(const ObjectGeometry& geometry, const SE3& T_cw,
 
 void RecordDetectedView(ObjectGeometry& geometry, const Eigen::Vector3d& camera_centre,
                         const OcgOptions& options, bool record_direction) {
+  ++geometry.detected_keyframes;
   if (!geometry.centroid) return;
   const Eigen::Vector3d towards_camera = camera_centre - *geometry.centroid;
   const double distance = towards_camera.norm();
@@ -28,6 +29,12 @@ void RecordDetectedView(ObjectGeometry& geometry, const Eigen::Vector3d& camera_
     if (known.dot(direction) >= spacing) return;
   }
   geometry.view_directions.push_back(direction);
+}
+
+double MissWeight(const ObjectGeometry& geometry, const OcgOptions& options) {
+  const double p = (geometry.detected_keyframes + 1.0) /
+                   (geometry.detected_keyframes + geometry.missed_keyframes + 2.0);
+  return std::min(1.0, std::log(1.0 - p) / std::log(1.0 - options.reliable_detection_rate));
 }
 
 bool InDetectedView(const ObjectGeometry& geometry, const SE3& T_cw, const OcgOptions& options) {
@@ -96,6 +103,10 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
           static_cast<std::size_t>(options.guard_min_neighbours), evidence.degree);
       if (evidence.observed_neighbours < required) increment = 0.0;
     }
+    // A miss says little about an object the detector often misses: the doubt grows by
+    // how unlikely its absence is under its own detection rate.
+    judgement.missed = increment > 0.0;
+    if (judgement.missed && modes.detection_reliability) increment *= MissWeight(geometry, options);
   }
   judgement.next = NextState(current, false, judgement.rate, increment, options);
   return judgement;

@@ -20,8 +20,9 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {"paper", "fallback", "in_image", "guard",
-                                               "view",  "improved", "off",      "visibility"};
+  static const std::set<std::string> kKnown = {"paper",    "fallback", "in_image",
+                                               "guard",    "view",     "reliability",
+                                               "improved", "off",      "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
   OcgModes modes;
@@ -37,7 +38,8 @@ OcgModes ParseOcgMode(const std::string& mode) {
     RequireOption(
         kKnown.count(part) > 0, "OCG.mode",
         "unknown mode '" + part +
-            "' (use paper, or fallback, in_image, guard, view joined with '+', or improved; "
+            "' (use paper, or fallback, in_image, guard, view, reliability joined with '+', or "
+            "improved; "
             "baselines: off, visibility)");
   }
   RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
@@ -47,6 +49,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
   modes.box_in_image = all || parts.count("in_image") > 0;
   modes.dropout_guard = all || parts.count("guard") > 0;
   modes.detected_view = all || parts.count("view") > 0;
+  modes.detection_reliability = parts.count("reliability") > 0;  // not in "improved"
   return modes;
 }
 
@@ -72,6 +75,8 @@ void OcgOptions::Check() const {
   RequireOption(guard_min_neighbours >= 1, "OCG.guard_min_neighbours", "must be at least 1");
   RequireOption(view_max_angle_deg > 0 && view_max_angle_deg <= 180, "OCG.view_max_angle_deg",
                 "must be in (0, 180]");
+  RequireOption(reliable_detection_rate > 0 && reliable_detection_rate < 1,
+                "OCG.reliable_detection_rate", "must be in (0, 1)");
   RequireOption(visibility_keyframes >= 1, "OCG.visibility_keyframes", "must be at least 1");
 }
 

@@ -13,6 +13,7 @@
 
 #include "ocg/core/file_io.h"
 #include "ocg/core/map_file.h"
+#include "ocg/core/settings_file.h"
 #include "ocg/io/sequence.h"
 #include "ocg/sim/generator.h"
 #include "ocg/sim/presets.h"
@@ -97,6 +98,52 @@ TEST(ObjectSlam, WritesWhatTheToolWrites) {
   EXPECT_EQ(slam.Objects(), ReadFile(library_out + "/objects.json"));
   EXPECT_EQ(slam.Changes(), ReadFile(library_out + "/changes.json"));
   EXPECT_EQ(slam.KeyFrameTrajectory().size(), report["keyframes"].get<std::size_t>());
+}
+
+// One SLAM run feeding object layers in several modes writes, for each mode, what a run of
+// its own in that mode writes (SLAM never reads the objects), so tools/object_table.py runs
+// SLAM once per sequence. A layer that took the run's own mode would write paper's graph.
+TEST(ObjectSlam, AlsoModesWriteWhatRunsOfTheirOwnWrite) {
+  const std::string tool_out = testing::MakeTempDir("object_slam_tool_visibility");
+  const std::string command = std::string(OCG_SLAM_TOOL) + " run --settings " + SmokeSequence() +
+                              "/camera.yaml --sequence " + SmokeSequence() + " --detections " +
+                              SmokeSequence() + "/detections --mode visibility --snapshots none " +
+                              "--out " + tool_out + " --log-level warn > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+
+  const std::string paper_out = testing::MakeTempDir("object_slam_paper");
+  const std::string visibility_out = testing::MakeTempDir("object_slam_also_visibility");
+  Settings settings = SmokeSettings();
+  settings.ocg.mode = "paper";
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  options.also_modes = {{"visibility", visibility_out}};
+  ObjectSlam slam(settings, options);
+  RunSequence(slam, false);
+  slam.Shutdown();
+  slam.Save(paper_out, {SmokeSequence(), "camera.yaml", SmokeSequence() + "/detections", 0});
+  for (const char* file : {"KeyFrameTrajectory.txt", "CameraTrajectory.txt", "map_points.ply",
+                           "objects.json", "changes.json", "ocg.json", "ocg_observations.jsonl"}) {
+    EXPECT_EQ(ReadFile(visibility_out + "/" + file), ReadFile(tool_out + "/" + file))
+        << file << " of the also-mode differs from a run of its own";
+  }
+  EXPECT_NE(ReadFile(visibility_out + "/ocg.json"), ReadFile(paper_out + "/ocg.json"));
+  const nlohmann::json report = nlohmann::json::parse(ReadFile(visibility_out + "/run.json"));
+  EXPECT_EQ(report["objects"]["ocg_mode"], "visibility");
+}
+
+TEST(ObjectSlam, AlsoModesNeedObjectsAndSequentialMode) {
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  options.map_objects = false;
+  options.also_modes = {{"off", testing::MakeTempDir("object_slam_no_objects")}};
+  EXPECT_THROW(ObjectSlam(SmokeSettings(), options), SettingsError);
+  options.map_objects = true;
+  Settings threaded = SmokeSettings();
+  threaded.system.sequential = false;
+  EXPECT_THROW(ObjectSlam(threaded, options), SettingsError);
+  options.also_modes = {{"no_such_mode", testing::MakeTempDir("object_slam_bad_mode")}};
+  EXPECT_ANY_THROW(ObjectSlam(SmokeSettings(), options));
 }
 
 // Grey pixels given as BGR go through the same conversion to grey: the same trajectory.

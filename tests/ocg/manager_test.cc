@@ -34,8 +34,8 @@ std::vector<KeyframeObservation> Story() {
 }
 
 TEST(OcgManager, ThreadedGivesTheSameResultAsSequential) {
-  OcgManager sequential(OcgOptions{}, true);
-  OcgManager threaded(OcgOptions{}, false, 2);
+  OcgManager sequential(testing::PaperOptions(), true);
+  OcgManager threaded(testing::PaperOptions(), false, 2);
   for (const KeyframeObservation& observation : Story()) {
     sequential.Submit(observation);
     threaded.Submit(observation);
@@ -49,7 +49,7 @@ TEST(OcgManager, ThreadedGivesTheSameResultAsSequential) {
 }
 
 TEST(OcgManager, ShutdownDrainsTheQueue) {
-  auto manager = std::make_unique<OcgManager>(OcgOptions{}, false, 1000);
+  auto manager = std::make_unique<OcgManager>(testing::PaperOptions(), false, 1000);
   std::atomic<int> removals{0};
   manager->SetRemovalCallback(
       [&](const KeyframeResult& result) { removals += static_cast<int>(result.removed.size()); });
@@ -73,7 +73,7 @@ TEST(OcgManager, ShutdownDrainsTheQueue) {
 }
 
 TEST(OcgManager, BoundedQueueBlocksTheProducer) {
-  OcgManager manager(OcgOptions{}, false, 2);
+  OcgManager manager(testing::PaperOptions(), false, 2);
   std::atomic<bool> release{false};
   std::atomic<std::size_t> largest_backlog{0};
   manager.SetRemovalCallback([&](const KeyframeResult&) {
@@ -99,7 +99,7 @@ TEST(OcgManager, BoundedQueueBlocksTheProducer) {
 }
 
 TEST(OcgManager, WorkerErrorsReachTheProducer) {
-  OcgManager manager(OcgOptions{}, false, 4);
+  OcgManager manager(testing::PaperOptions(), false, 4);
   manager.SetRemovalCallback(
       [](const KeyframeResult&) { throw std::runtime_error("object map failed"); });
   for (const KeyframeObservation& observation : Story()) manager.Submit(observation);
@@ -113,7 +113,7 @@ TEST(OcgManager, WorkerErrorsReachTheProducer) {
 }
 
 TEST(OcgManager, SnapshotsAreConsistentWhileTheWorkerRuns) {
-  OcgManager manager(OcgOptions{}, false, 8);
+  OcgManager manager(testing::PaperOptions(), false, 8);
   std::atomic<bool> done{false};
   std::thread reader([&] {
     while (!done) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "ocg/ocg/change_detector.h"
 #include "ocg/ocg/observability.h"
 #include "ocg_test_scene.h"
@@ -318,7 +320,7 @@ namespace ocg {
 namespace {
 
 TEST(Detector, ForgetDropsAnObjectWithoutAChangeLogEntry) {
-  ObjectChangeDetector detector{OcgOptions{}};
+  ObjectChangeDetector detector{testing::PaperOptions()};
   detector.Process(MakeObservation(0, LookAt({-2, 0, 0.8}, {0, 0, 0}), {1, 2, 3}));
   EXPECT_TRUE(detector.Forget(2));
   EXPECT_FALSE(detector.Forget(2));
@@ -338,7 +340,7 @@ namespace {
 // Issue 16: a centroid given before the object's first observation is kept (SPEC 3.1),
 // so the object can gather doubt once it goes missing.
 TEST(Detector, CentroidGivenBeforeTheFirstObservationIsKept) {
-  ObjectChangeDetector detector{OcgOptions{}};
+  ObjectChangeDetector detector{testing::PaperOptions()};
   const SE3 at_table = LookAt({-2, 0, 0.8}, {0, 0, 0});
   const SE3 at_shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
   KeyframeObservation first = MakeObservation(0, at_table, {1, 2});
@@ -361,7 +363,7 @@ TEST(Detector, CentroidGivenBeforeTheFirstObservationIsKept) {
 }
 
 TEST(Detector, PendingGeometrySurvivesTheJsonRoundTripAndForget) {
-  ObjectChangeDetector detector{OcgOptions{}};
+  ObjectChangeDetector detector{testing::PaperOptions()};
   KeyframeObservation observation = MakeObservation(0, LookAt({-2, 0, 0.8}, {0, 0, 0}), {1});
   observation.updates[7].centroid = Eigen::Vector3d(1, 2, 3);
   observation.updates[8].size = Eigen::Vector3d(0.1, 0.2, 0.3);
@@ -439,6 +441,96 @@ TEST_F(ViewStory, FartherThanEverDetectedGivesNoIncrement) {
   EXPECT_EQ(DoubtOf(1), 0.0);
   AtTable({2, 3, 4});  // back at 2 m: now the absence counts
   EXPECT_EQ(DoubtOf(1), 30.0);
+}
+
+// Visits to the table, each followed by a look at the shelf: at each visit the detector
+// finds 2-4 and, as `found_one` says, 1 (found_one[i] false: 1 is missed once and the
+// camera looks again); the last visit misses 1 twice. Returns the removals.
+std::vector<RemovalEvent> TableVisits(const std::string& mode, const std::vector<bool>& found_one) {
+  OcgOptions options;
+  options.mode = mode;
+  ObjectChangeDetector detector(options);
+  std::vector<RemovalEvent> removed;
+  std::int64_t keyframe = 0;
+  const auto step = [&](const SE3& T_cw, const std::vector<ObjectId>& seen) {
+    KeyframeObservation observation = MakeObservation(keyframe++, T_cw, seen);
+    for (ObjectId id : seen) observation.updates[id].centroid = kPlaces.at(id);
+    for (const RemovalEvent& event : detector.Process(observation).removed)
+      removed.push_back(event);
+  };
+  const SE3 table = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const SE3 shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+  for (const bool found : found_one) {
+    step(table, {1, 2, 3, 4});
+    step(shelf, {5, 6});
+    if (!found) {
+      step(table, {2, 3, 4});
+      step(table, {1, 2, 3, 4});
+      step(shelf, {5, 6});
+    }
+  }
+  step(table, {2, 3, 4});
+  step(table, {2, 3, 4});
+  step(shelf, {5, 6});
+  return removed;
+}
+
+// Object 1 is a hard one: the detector missed it at every other visit. Two misses say
+// little about it, so "reliability" (and "improved+reliability") keep it where the paper
+// and the other improvements, blind to the detector's record on this object, remove it.
+TEST(Reliability, AnObjectTheDetectorOftenMissesIsKeptAfterTwoMisses) {
+  const std::vector<bool> every_other = {true, false, true, false, true, false, true, false};
+  ASSERT_EQ(TableVisits("paper", every_other).size(), 1u);
+  ASSERT_EQ(TableVisits("improved", every_other).size(), 1u);
+  EXPECT_TRUE(TableVisits("reliability", every_other).empty());
+  EXPECT_TRUE(TableVisits("improved+reliability", every_other).empty());
+}
+
+// Object 1 was found at every one of ten visits, then taken away: its misses are unlikely
+// under its record, they weigh fully, and it is removed as in the paper.
+TEST(Reliability, AReliablyDetectedObjectThatMovedIsRemoved) {
+  const std::vector<bool> always(10, true);
+  ASSERT_EQ(TableVisits("paper", always).size(), 1u);
+  const std::vector<RemovalEvent> removed = TableVisits("reliability", always);
+  ASSERT_EQ(removed.size(), 1u);
+  EXPECT_EQ(removed[0].object_id, 1);
+  EXPECT_EQ(TableVisits("improved+reliability", always).size(), 1u);
+}
+
+TEST(Reliability, MissWeightFollowsTheDetectionRecord) {
+  OcgOptions options;
+  ObjectGeometry geometry;
+  geometry.detected_keyframes = 98;  // p = 99/100 >= 0.9: full weight
+  geometry.missed_keyframes = 0;
+  EXPECT_DOUBLE_EQ(MissWeight(geometry, options), 1.0);
+  geometry.detected_keyframes = 8;  // p = 0.9 exactly
+  EXPECT_NEAR(MissWeight(geometry, options), 1.0, 1e-12);
+  geometry.detected_keyframes = 4;  // p = 5/10 = 0.5: ln 0.5 / ln 0.1
+  geometry.missed_keyframes = 4;
+  EXPECT_NEAR(MissWeight(geometry, options), std::log(0.5) / std::log(0.1), 1e-12);
+  geometry.missed_keyframes = 40;  // rarely found: a miss is nearly no evidence
+  EXPECT_LT(MissWeight(geometry, options), 0.05);
+  EXPECT_GT(MissWeight(geometry, options), 0.0);
+}
+
+TEST(Reliability, DetectionRecordSurvivesJson) {
+  OcgOptions options;
+  options.mode = "reliability";
+  ObjectChangeDetector detector(options);
+  const SE3 table = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const SE3 shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+  std::int64_t keyframe = 0;
+  for (const auto& [T_cw, seen] : std::vector<std::pair<SE3, std::vector<ObjectId>>>{
+           {table, {1, 2, 3, 4}}, {shelf, {5, 6}}, {table, {2, 3, 4}}}) {
+    KeyframeObservation observation = MakeObservation(keyframe++, T_cw, seen);
+    for (ObjectId id : seen) observation.updates[id].centroid = kPlaces.at(id);
+    detector.Process(observation);
+  }
+  ASSERT_EQ(detector.Status(1)->geometry.detected_keyframes, 1u);
+  ASSERT_EQ(detector.Status(1)->geometry.missed_keyframes, 1u);
+  const ObjectChangeDetector restored = ObjectChangeDetector::FromJson(detector.ToJson());
+  EXPECT_EQ(restored.ToJson(), detector.ToJson());
+  EXPECT_EQ(restored.Status(1)->geometry.missed_keyframes, 1u);
 }
 
 TEST(ViewMode, RecordedDirectionsAreSpacedAndSurviveJson) {

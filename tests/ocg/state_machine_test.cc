@@ -79,6 +79,8 @@ TEST(StateMachine, ThresholdsAreConfigurable) {
 
 TEST(Options, ModesParseAndReject) {
   OcgOptions options;
+  EXPECT_EQ(options.mode, "improved") << "the default mode (issue 18)";
+  options.mode = "paper";
   const OcgModes paper = options.modes();
   EXPECT_FALSE(paper.isolated_fallback || paper.box_in_image || paper.dropout_guard);
   options.mode = "fallback+guard";
@@ -88,7 +90,10 @@ TEST(Options, ModesParseAndReject) {
   EXPECT_TRUE(options.modes().dropout_guard);
   options.mode = "improved";
   const OcgModes all = options.modes();
-  EXPECT_TRUE(all.isolated_fallback && all.box_in_image && all.dropout_guard);
+  EXPECT_TRUE(all.isolated_fallback && all.box_in_image && all.dropout_guard && all.detected_view);
+  EXPECT_FALSE(all.detection_reliability) << "measured, not adopted (docs/ocg.md)";
+  options.mode = "improved+reliability";
+  EXPECT_TRUE(options.modes().detection_reliability && options.modes().detected_view);
   options.mode = "paper+guard";
   EXPECT_THROW(options.Check(), std::invalid_argument);
   options.mode = "fallbak";

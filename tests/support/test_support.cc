@@ -120,6 +120,7 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
                                             observation.T_cw, observation.camera, options_, modes);
     object.rate = judgement.rate;
     object.state = judgement.next;
+    if (judgement.missed) ++object.geometry.missed_keyframes;
     if (judgement.next.state == ObjectState::kOutlier) removed.push_back(id);
   }
   for (ObjectId id : removed) {

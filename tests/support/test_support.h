@@ -12,6 +12,14 @@
 
 namespace ocg::testing {
 
+// The paper's OCG (SPEC 3) exactly, for the tests of its algorithm: the default mode is
+// "improved" (issue 18).
+inline OcgOptions PaperOptions() {
+  OcgOptions options;
+  options.mode = "paper";
+  return options;
+}
+
 // The project's source folder (OCG_SOURCE_DIR from CTest, else the compile-time path).
 std::string SourceDir();
 // ../shared/data beside the project (or $OCG_SHARED_DATA); nullopt when absent, and the

@@ -26,6 +26,7 @@
 #include <opencv2/core/mat.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ocg/app/settings.h"
@@ -50,6 +51,12 @@ struct ObjectSlamOptions {
   // loaded map, then tracks, maps and closes loops in its coordinates; keyframes and
   // objects of every session live in one map. Empty: a new map.
   std::string load_map;
+  // More object layers, one per (OCG.mode, output folder), fed the same SLAM frames as
+  // the settings' own. SLAM never reads the objects, so in sequential mode each writes
+  // what a run of its own in that mode would (timings aside), for the cost of one SLAM
+  // run. Save() writes each folder like its own (without snapshots). Only with
+  // map_objects and in sequential mode (the constructor throws SettingsError otherwise).
+  std::vector<std::pair<std::string, std::string>> also_modes;
 };
 
 // What Track() is told about a frame besides its pixels (all optional).
@@ -110,8 +117,9 @@ class ObjectSlam {
   // After Shutdown(): writes KeyFrameTrajectory.txt, CameraTrajectory.txt,
   // map_points.ply, the object files (objects.json, changes.json, ocg.json,
   // ocg_observations.jsonl) when objects are mapped, the final snapshots, and run.json
-  // (docs/slam.md) into folder; returns run.json's content. Throws std::logic_error
-  // before Shutdown(), FileError when a file cannot be written.
+  // (docs/slam.md) into folder, and the same for every folder of options.also_modes;
+  // returns folder's run.json content. Throws std::logic_error before Shutdown(),
+  // FileError when a file cannot be written.
   nlohmann::json Save(const std::string& folder, const RunDescription& description);
   // After Shutdown(): the whole state (SLAM map, object map, OCG, the settings) as a map
   // file (docs/sessions.md), written atomically; call before Save() so that run.json

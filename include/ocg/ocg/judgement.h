@@ -31,21 +31,34 @@ struct ObjectGeometry {
   // was detected from, no two closer than a third of OCG.view_max_angle_deg (so at most a
   // few hundred, however long it is watched).
   std::vector<Eigen::Vector3d> view_directions;
+  // Its detection record, for "reliability": keyframes it was detected in, and keyframes
+  // it was expected in (P = 1, r above tau_observable, not guarded) and missed.
+  std::uint32_t detected_keyframes = 0;
+  std::uint32_t missed_keyframes = 0;
 };
 
 struct Judgement {
   StateAndDoubt next;
   double rate = 0.0;  // the rate the transition used
   bool judged_by_geometry = false;
+  // Expected and not detected (an increment was due): the caller adds it to the object's
+  // missed_keyframes.
+  bool missed = false;
 };
+
+// "reliability": the weight of one miss of an object with this detection record, in
+// (0, 1]: min(1, ln(1 - p) / ln(1 - options.reliable_detection_rate)) with
+// p = (detected + 1) / (detected + missed + 2).
+double MissWeight(const ObjectGeometry& geometry, const OcgOptions& options);
 
 // modes must be ParseOcgMode(options.mode), parsed once by the caller.
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
                       const OcgOptions& options, const OcgModes& modes);
 
-// A detection of the object from a camera at camera_centre (world): the farthest distance
-// and, with record_direction, the direction it was seen from.
+// A detection of the object from a camera at camera_centre (world): one more detected
+// keyframe, the farthest distance and, with record_direction, the direction it was seen
+// from.
 void RecordDetectedView(ObjectGeometry& geometry, const Eigen::Vector3d& camera_centre,
                         const OcgOptions& options, bool record_direction);
 
