@@ -62,6 +62,7 @@ py::dict MetricsDict(const ObjectMetrics& m, const std::optional<RunAlignment>& 
   d["acc"] = m.acc, d["prec"] = m.prec, d["recall"] = m.recall;
   d["gt_static"] = m.gt_static, d["gt_outdated"] = m.gt_outdated;
   d["live_objects"] = m.live_objects, d["removed_objects"] = m.removed_objects;
+  d["gt_moves"] = m.gt_moves, d["moves_right"] = m.moves_right;
   d["deleted_static_ids"] = m.deleted_static_ids;
   d["unidentified_static_ids"] = m.unidentified_static_ids;
   d["unidentified_moved_ids"] = m.unidentified_moved_ids;
