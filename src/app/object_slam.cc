@@ -112,28 +112,31 @@ class ObjectSlam::Impl {
 
   nlohmann::json Save(const std::string& folder, const RunDescription& description,
                       const std::string& vocabulary_file) {
-    WriteTumTrajectory(folder + "/KeyFrameTrajectory.txt", system_.KeyFrameTrajectory());
-    WriteTumTrajectory(folder + "/CameraTrajectory.txt", system_.CameraTrajectory());
-    WritePlyPoints(folder + "/map_points.ply", system_.MapPointPositions());
-    nlohmann::json report = Report(description, vocabulary_file);
-    if (objects_.Enabled()) {
-      nlohmann::json section = objects_.Write(folder);
-      section["detections"] = description.detections;
-      section["detection_files_matched"] = description.detection_files_matched;
-      report["objects"] = std::move(section);
-    }
+    // SLAM's part is the same in every folder: taken from the map once.
+    const std::vector<StampedPose> keyframes = system_.KeyFrameTrajectory();
+    const std::vector<StampedPose> cameras = system_.CameraTrajectory();
+    const std::vector<Eigen::Vector3d> points = system_.MapPointPositions();
+    const nlohmann::json slam_report = Report(description, vocabulary_file);
+    // One folder's files but run.json, whose content it returns.
+    const auto write_folder = [&](const std::string& into, app_detail::ObjectLayer& layer) {
+      WriteTumTrajectory(into + "/KeyFrameTrajectory.txt", keyframes);
+      WriteTumTrajectory(into + "/CameraTrajectory.txt", cameras);
+      WritePlyPoints(into + "/map_points.ply", points);
+      nlohmann::json report = slam_report;
+      if (layer.Enabled()) {
+        nlohmann::json section = layer.Write(into);
+        section["detections"] = description.detections;
+        section["detection_files_matched"] = description.detection_files_matched;
+        report["objects"] = std::move(section);
+      }
+      return report;
+    };
+    nlohmann::json report = write_folder(folder, objects_);
     report["snapshots"] = snapshots_.Finish(system_, objects_);
     WriteFileAtomically(folder + "/run.json", report.dump(2) + "\n");
-    for (const AlsoMode& also : also_) {
-      WriteTumTrajectory(also.folder + "/KeyFrameTrajectory.txt", system_.KeyFrameTrajectory());
-      WriteTumTrajectory(also.folder + "/CameraTrajectory.txt", system_.CameraTrajectory());
-      WritePlyPoints(also.folder + "/map_points.ply", system_.MapPointPositions());
-      nlohmann::json also_report = Report(description, vocabulary_file);
-      nlohmann::json section = also.objects->Write(also.folder);
-      section["detections"] = description.detections;
-      section["detection_files_matched"] = description.detection_files_matched;
-      also_report["objects"] = std::move(section);
-      WriteFileAtomically(also.folder + "/run.json", also_report.dump(2) + "\n");
+    for (AlsoMode& also : also_) {
+      WriteFileAtomically(also.folder + "/run.json",
+                          write_folder(also.folder, *also.objects).dump(2) + "\n");
     }
     return report;
   }

@@ -27,8 +27,12 @@ Eigen::Vector3d Vector3(const nlohmann::json& json, const std::string& what) {
   return {values[0], values[1], values[2]};
 }
 
+bool Near(const GroundTruthPlace& place, int class_id, const Eigen::Vector3d& centre) {
+  return place.class_id == class_id && (place.centre - centre).norm() < place.radius;
+}
+
 bool Near(const GroundTruthPlace& place, const RunObject& object) {
-  return place.class_id == object.class_id && (place.centre - object.centre).norm() < place.radius;
+  return Near(place, object.class_id, object.centre);
 }
 
 }  // namespace
@@ -188,7 +192,7 @@ ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
     ++metrics.gt_moves;
     const bool reported = std::any_of(objects.begin(), objects.end(), [&](const RunObject& object) {
       return object.moved_to && Near(old_place, object) &&
-             (now->centre - *object.moved_to).norm() < now->radius;
+             Near(*now, object.class_id, *object.moved_to);
     });
     if (reported) ++metrics.moves_right;
   }
