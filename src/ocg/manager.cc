@@ -2,13 +2,20 @@
 
 #include <stdexcept>
 
+#include "ocg/core/thread_name.h"
+
 namespace ocg {
 
 OcgManager::OcgManager(OcgOptions options, bool sequential, std::size_t queue_capacity)
     : sequential_(sequential),
       capacity_(queue_capacity == 0 ? 1 : queue_capacity),
       detector_(std::move(options)) {
-  if (!sequential_) worker_ = std::thread(&OcgManager::WorkerLoop, this);
+  if (!sequential_) {
+    worker_ = std::thread([this] {
+      NameThisThread("ocg");
+      WorkerLoop();
+    });
+  }
 }
 
 OcgManager::~OcgManager() {

@@ -1,10 +1,13 @@
 #include "ocg/slam/keyframe_worker.h"
 
+#include "ocg/core/thread_name.h"
+
 namespace ocg {
 
 KeyFrameWorker::KeyFrameWorker(std::size_t capacity,
-                               std::function<void(const KeyFramePtr&)> process)
-    : capacity_(capacity), process_(std::move(process)) {}
+                               std::function<void(const KeyFramePtr&)> process,
+                               std::string thread_name)
+    : capacity_(capacity), process_(std::move(process)), thread_name_(std::move(thread_name)) {}
 
 KeyFrameWorker::~KeyFrameWorker() {
   try {
@@ -18,7 +21,10 @@ void KeyFrameWorker::Start() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (thread_.joinable()) return;
   stopping_ = false;
-  thread_ = std::thread([this] { Run(); });
+  thread_ = std::thread([this] {
+    NameThisThread(thread_name_);
+    Run();
+  });
 }
 
 void KeyFrameWorker::Insert(const KeyFramePtr& keyframe) {

@@ -103,7 +103,7 @@ LocalMapping::LocalMapping(const PinholeCamera& camera, const ScalePyramid& pyra
       worker_(options.queue_capacity, [this](const KeyFramePtr& keyframe) {
         ProcessKeyFrame(keyframe);
         if (keyframe_mapped_) keyframe_mapped_(keyframe);
-      }) {
+      }, "local_mapping") {
   options_.Check();
 }
 

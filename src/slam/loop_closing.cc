@@ -8,6 +8,7 @@
 
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/core/thread_name.h"
 #include "ocg/optim/pose_graph.h"
 #include "ocg/slam/map_operations.h"
 
@@ -78,7 +79,8 @@ LoopClosing::LoopClosing(const PinholeCamera& camera, const ScalePyramid& pyrami
       database_(database),
       seed_(seed),
       worker_(options.queue_capacity,
-              [this](const KeyFramePtr& keyframe) { ProcessKeyFrame(keyframe); }) {
+              [this](const KeyFramePtr& keyframe) { ProcessKeyFrame(keyframe); },
+              "loop_closing") {
   options_.Check();
 }
 
@@ -468,6 +470,7 @@ void LoopClosing::AdjustGlobally() {
   }
   global_adjustment_running_ = true;
   global_adjustment_thread_ = std::thread([this, adjustment = std::move(adjustment)]() mutable {
+    NameThisThread("global_ba");
     try {
       const auto start = std::chrono::steady_clock::now();
       if (SolveGlobally(adjustment)) {

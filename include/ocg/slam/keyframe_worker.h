@@ -11,6 +11,7 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "ocg/slam/map.h"
@@ -19,7 +20,9 @@ namespace ocg {
 
 class KeyFrameWorker {
  public:
-  KeyFrameWorker(std::size_t capacity, std::function<void(const KeyFramePtr&)> process);
+  // thread_name: what profilers and debuggers show for the thread (at most 15 characters).
+  KeyFrameWorker(std::size_t capacity, std::function<void(const KeyFramePtr&)> process,
+                 std::string thread_name);
   // Stops the thread; a failure not yet reported is dropped (the owner is unwinding).
   ~KeyFrameWorker();
   KeyFrameWorker(const KeyFrameWorker&) = delete;
@@ -35,6 +38,7 @@ class KeyFrameWorker {
 
   std::size_t capacity_;
   std::function<void(const KeyFramePtr&)> process_;
+  std::string thread_name_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<KeyFramePtr> queue_;
