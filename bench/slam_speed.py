@@ -202,6 +202,7 @@ def main(argv):
         if not args.settings.is_file():
             raise BenchError(f"{args.settings}: settings file not found")
 
+    pinning = pin(args.cores)  # checked before rendering: a wrong count fails at once
     work = Path(tempfile.mkdtemp(prefix="slam_speed."))
     try:
         if args.preset is not None:
@@ -237,7 +238,7 @@ def main(argv):
             command = [perf, "record", "-q", "-F", str(args.profile_frequency),
                        "--call-graph", "dwarf,16384", "-o", data, "--"] + command
         print("running ocg_slam ...", file=sys.stderr, flush=True)
-        run(command, preexec=pin(args.cores))
+        run(command, preexec=pinning)
 
         report = json.loads((out / "run.json").read_text())
         figures = {

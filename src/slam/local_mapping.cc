@@ -100,10 +100,13 @@ LocalMapping::LocalMapping(const PinholeCamera& camera, const ScalePyramid& pyra
       options_(options),
       map_(map),
       database_(database),
-      worker_(options.queue_capacity, [this](const KeyFramePtr& keyframe) {
-        ProcessKeyFrame(keyframe);
-        if (keyframe_mapped_) keyframe_mapped_(keyframe);
-      }, "local_mapping") {
+      worker_(
+          options.queue_capacity,
+          [this](const KeyFramePtr& keyframe) {
+            ProcessKeyFrame(keyframe);
+            if (keyframe_mapped_) keyframe_mapped_(keyframe);
+          },
+          "local_mapping") {
   options_.Check();
 }
 

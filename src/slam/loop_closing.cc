@@ -78,9 +78,9 @@ LoopClosing::LoopClosing(const PinholeCamera& camera, const ScalePyramid& pyrami
       map_(map),
       database_(database),
       seed_(seed),
-      worker_(options.queue_capacity,
-              [this](const KeyFramePtr& keyframe) { ProcessKeyFrame(keyframe); },
-              "loop_closing") {
+      worker_(
+          options.queue_capacity,
+          [this](const KeyFramePtr& keyframe) { ProcessKeyFrame(keyframe); }, "loop_closing") {
   options_.Check();
 }
 
