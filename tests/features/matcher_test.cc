@@ -54,6 +54,17 @@ MatchQuality Judge(const WarpedPair& pair, const std::vector<int>& matches, doub
   return quality;
 }
 
+TEST(Hamming, PopCountOfExtremeAndSparseWords) {
+  EXPECT_EQ(PopCount(0), 0);
+  EXPECT_EQ(PopCount(~std::uint64_t{0}), 64);  // every byte 8: the multiplication's top byte
+  EXPECT_EQ(PopCount(0x5555555555555555ULL), 32);
+  EXPECT_EQ(PopCount(0xFF00000000000000ULL), 8);
+  for (int bit = 0; bit < 64; ++bit) {
+    EXPECT_EQ(PopCount(std::uint64_t{1} << bit), 1) << bit;
+    EXPECT_EQ(PopCount(~(std::uint64_t{1} << bit)), 63) << bit;
+  }
+}
+
 TEST(Hamming, CountsDifferingBits) {
   std::mt19937_64 rng(1);
   for (int trial = 0; trial < 100; ++trial) {
