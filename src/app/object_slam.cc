@@ -219,7 +219,7 @@ class ObjectSlam::Impl {
  private:
   nlohmann::json Report(const RunDescription& description, const std::string& vocabulary_file) {
     int tracked = 0, lost = 0, relocalized = 0, uninitialized = 0;
-    std::vector<double> tracking_seconds, mapping_seconds;
+    std::vector<double> tracking_seconds, mapping_seconds, lock_wait_seconds;
     int first_tracked = -1;
     for (std::size_t i = 0; i < system_.Frames().size(); ++i) {
       const FrameRecord& record = system_.Frames()[i];
@@ -231,6 +231,7 @@ class ObjectSlam::Impl {
       if (record.state == TrackingState::kNotInitialized) ++uninitialized;
       if (record.relocalized) ++relocalized;
       tracking_seconds.push_back(record.tracking_seconds);
+      lock_wait_seconds.push_back(record.map_lock_wait_seconds);
       if (record.local_mapping_seconds > 0.0)
         mapping_seconds.push_back(record.local_mapping_seconds);
     }
@@ -269,6 +270,12 @@ class ObjectSlam::Impl {
                                {"scale_factor", config_.orb.scale_factor},
                                {"levels", config_.orb.levels}}},
                              {"seed", settings_.system.seed}};
+    // What the map lock costs (threaded mode; docs/slam.md "Threads and determinism").
+    nlohmann::json& timing = report["timing"];
+    timing["tracking_map_lock_wait_per_frame"] = app_detail::Timing(lock_wait_seconds);
+    timing["local_mapping_thread_per_keyframe"] = app_detail::Timing(mapping.keyframe_seconds);
+    timing["local_mapping_map_lock_held_per_keyframe"] =
+        app_detail::Timing(mapping.map_lock_held_seconds);
     // A run without a map writes empty trajectories: say why, there and in run.json.
     const InitializationAttempts& initialization = system_.Initialization();
     report["initialized"] = first_tracked >= 0;

@@ -119,7 +119,10 @@ LocalMapping::~LocalMapping() {
 }
 
 void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
+  const auto start = std::chrono::steady_clock::now();
   std::unique_lock<std::mutex> lock(map_->mutex());
+  unlocked_seconds_ = 0.0;
+  const auto locked = std::chrono::steady_clock::now();
   LinkKeyFrame(keyframe);
   CullRecentPoints(keyframe);
   TriangulateNewPoints(keyframe);
@@ -127,6 +130,10 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe, lock);
   CullKeyFrames(keyframe);
   ++stats_.keyframes;
+  const auto end = std::chrono::steady_clock::now();
+  stats_.keyframe_seconds.push_back(std::chrono::duration<double>(end - start).count());
+  stats_.map_lock_held_seconds.push_back(std::chrono::duration<double>(end - locked).count() -
+                                         unlocked_seconds_);
 }
 
 void LocalMapping::LinkKeyFrame(const KeyFramePtr& keyframe) {
@@ -320,9 +327,13 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
   KeyFrameAdjustment adjustment = PrepareAdjustment(*map_, camera_, pyramid_, local);
   const std::uint64_t corrections = map_->corrections();
   map_lock.unlock();
+  const auto unlocked = std::chrono::steady_clock::now();
   if (before_local_solve_) before_local_solve_();
   const bool solved = SolveAdjustment(&adjustment, options_.local_ba_iterations);
   map_lock.lock();
+  // Waiting to lock again counts as not holding it.
+  unlocked_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - unlocked).count();
   if (!solved) return;
   if (map_->corrections() != corrections) {
     ++stats_.local_adjustments_dropped;

@@ -91,6 +91,7 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   record.new_keyframe = result.new_keyframe;
   record.local_mapping_seconds = pending_mapping_seconds_;
   record.tracking_seconds = Seconds(start) - pending_mapping_seconds_;
+  record.map_lock_wait_seconds = result.map_lock_wait_seconds;
   if (result.T_cw) {
     std::lock_guard<std::mutex> lock(map_.mutex());
     // The reference is the newest keyframe (or the one tracking last chose).

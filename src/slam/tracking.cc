@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <set>
@@ -125,6 +126,7 @@ void Tracking::ComputeBow(Frame& frame) const {
 
 TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
                                const std::string& timestamp_text) {
+  map_lock_wait_seconds_ = 0.0;
   Frame frame;
   frame.id = next_frame_id_++;
   frame.timestamp = timestamp;
@@ -147,7 +149,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
     bool ok = false;
     int inliers = 0;
     {
-      std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+      const std::unique_lock<std::mutex> lock = LockMap();
       ReanchorLastFrame();
       UpdateLastFramePoints();
       if (state_ == TrackingState::kOk) {
@@ -175,14 +177,14 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
       if (NeedKeyFrame(frame, inliers)) {
         KeyFramePtr keyframe;
         {
-          std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+          const std::unique_lock<std::mutex> lock = LockMap();
           keyframe = CreateKeyFrame(frame);
           Anchor(frame, keyframe);
         }
         result.new_keyframe = true;
         if (keyframe_sink_(keyframe)) {
           // A loop moved the map under this frame: it stands where its keyframe now does.
-          std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+          const std::unique_lock<std::mutex> lock = LockMap();
           frame.T_cw = keyframe->T_cw;
           Anchor(frame, keyframe);
         }
@@ -192,7 +194,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
       velocity_.reset();
       std::size_t keyframes = 0;
       {
-        std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+        const std::unique_lock<std::mutex> lock = LockMap();
         keyframes = dependencies_.map->keyframes().size();
       }
       if (!map_loaded_ &&
@@ -212,7 +214,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
   result.state = state_;
   result.T_cw = state_ == TrackingState::kOk ? frame.T_cw : std::nullopt;
   if (state_ == TrackingState::kOk) {
-    std::lock_guard<std::mutex> lock(dependencies_.map->mutex());  // positions move in BA
+    const std::unique_lock<std::mutex> lock = LockMap();  // positions move in BA
     for (std::size_t i = 0; i < frame.points.size(); ++i) {
       const MapPointPtr& point = frame.points[i];
       if (!point || point->bad || (i < frame.outlier.size() && frame.outlier[i])) continue;
@@ -220,6 +222,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
     }
     last_frame_ = std::make_unique<Frame>(std::move(frame));
   }
+  result.map_lock_wait_seconds = map_lock_wait_seconds_;
   return result;
 }
 
@@ -496,8 +499,16 @@ int Tracking::TrackLocalMap(Frame& frame) {
   return inliers;
 }
 
+std::unique_lock<std::mutex> Tracking::LockMap() const {
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> lock(dependencies_.map->mutex());
+  map_lock_wait_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return lock;
+}
+
 bool Tracking::NeedKeyFrame(const Frame& frame, int inliers) const {
-  std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
+  const std::unique_lock<std::mutex> lock = LockMap();
   const std::size_t keyframes = dependencies_.map->keyframes().size();
   const std::uint64_t max_frames =
       options_.max_frames_between_keyframes > 0

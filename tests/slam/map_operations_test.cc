@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <thread>
 
@@ -176,6 +177,20 @@ TEST_F(GrowingMap, LocalAdjustmentIsDroppedWhenALoopCorrectedTheMapMeanwhile) {
   EXPECT_EQ(stats.local_adjustments_dropped, 1);
   EXPECT_TRUE(stats.ba_seconds.empty());
   EXPECT_NEAR(error, kOffset.norm(), 1e-9) << "the stale adjustment was written";
+}
+
+// run.json's local_mapping_map_lock_held_per_keyframe must tell how long tracking could
+// have been kept waiting: the time of the solve, made without the lock, is not in it.
+TEST_F(GrowingMap, TimeHoldingTheMapLockLeavesOutTheSolve) {
+  constexpr double kSolveDelay = 0.3;  // seconds spent "solving" without the lock
+  LocalMappingStats stats;
+  MapAFifthKeyFrame(
+      [&] { std::this_thread::sleep_for(std::chrono::duration<double>(kSolveDelay)); }, &stats);
+  ASSERT_EQ(stats.keyframe_seconds.size(), 1u);
+  ASSERT_EQ(stats.map_lock_held_seconds.size(), 1u);
+  EXPECT_GE(stats.keyframe_seconds[0], kSolveDelay);
+  EXPECT_GE(stats.map_lock_held_seconds[0], 0.0);
+  EXPECT_LE(stats.map_lock_held_seconds[0], stats.keyframe_seconds[0] - kSolveDelay + 1e-6);
 }
 
 }  // namespace

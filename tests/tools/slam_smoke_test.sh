@@ -76,6 +76,19 @@ loops=$(python3 -c "import json,sys; print(len(json.load(open(sys.argv[1]))['loo
 # Its global bundle adjustment ran on a thread of its own and was merged into the map.
 merged=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['loop_closing']['global_adjustments'])" "$WORK/t/run.json")
 [ "$merged" -ge 1 ] || fail "the threaded run merged no global bundle adjustment"
+# The map lock's cost is measured: tracking's wait on every frame, the local mapping
+# thread's time and lock-holding time on every keyframe it mapped (the solve is not held).
+python3 - "$WORK/t/run.json" <<'PY' || fail "run.json lacks the map lock timings"
+import json, sys
+run = json.load(open(sys.argv[1]))
+t = run["timing"]
+assert t["tracking_map_lock_wait_per_frame"]["count"] == run["frames"], t
+mapped = t["local_mapping_thread_per_keyframe"]["count"]
+assert mapped >= run["keyframes"] > 0, (mapped, run["keyframes"])
+assert t["local_mapping_map_lock_held_per_keyframe"]["count"] == mapped
+assert t["local_mapping_map_lock_held_per_keyframe"]["median_ms"] <= \
+    t["local_mapping_thread_per_keyframe"]["median_ms"]
+PY
 echo "passed: threaded mode, ATE RMSE $rmse m, $loops loop(s) closed, $merged global adjustment(s) merged"
 
 # The first 200 frames do not come back to the start: no loop may be closed.

@@ -48,6 +48,10 @@ struct LocalMappingStats {
   int points_fused = 0;
   int keyframes_culled = 0;
   std::vector<double> ba_seconds;  // per local bundle adjustment
+  // Per keyframe [s]: the whole of its local mapping, and the part of it that held the
+  // map lock (what tracking may have waited for; the local BA's solve runs without it).
+  std::vector<double> keyframe_seconds;
+  std::vector<double> map_lock_held_seconds;
   // Solved while a loop correction or a global adjustment moved the map, and dropped.
   int local_adjustments_dropped = 0;
 };
@@ -103,6 +107,7 @@ class LocalMapping {
   BowDatabase* database_;
   std::list<MapPointPtr> recent_points_;
   LocalMappingStats stats_;
+  double unlocked_seconds_ = 0.0;  // of the keyframe being processed: the solve without the lock
 
   std::function<void(const KeyFramePtr&)> keyframe_mapped_;
   std::function<void()> before_local_solve_;

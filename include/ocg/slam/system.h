@@ -44,6 +44,7 @@ struct FrameRecord {
   bool new_keyframe = false;
   double tracking_seconds = 0.0;       // feature extraction and tracking
   double local_mapping_seconds = 0.0;  // sequential mode: the keyframe's local mapping
+  double map_lock_wait_seconds = 0.0;  // tracking waiting for the map lock (threaded mode)
   // Pose relative to the reference keyframe when tracked (ORB-SLAM2's way of writing
   // the full trajectory after the keyframes have been optimized).
   bool tracked = false;

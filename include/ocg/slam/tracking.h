@@ -86,6 +86,9 @@ struct TrackingResult {
   // Lost with too small a map: the owner must stop local mapping and call Reset().
   bool reset = false;
   int inliers = 0;
+  // Time spent waiting for the map lock while tracking this frame [s]: in threaded mode,
+  // while local mapping or loop closing held it.
+  double map_lock_wait_seconds = 0.0;
 };
 
 struct TrackingDependencies {
@@ -128,6 +131,8 @@ class Tracking {
   int TrackLocalMap(Frame& frame);
   int OptimizeFramePose(Frame& frame);
   bool NeedKeyFrame(const Frame& frame, int inliers) const;
+  // The map lock, its waiting time added to map_lock_wait_seconds_.
+  std::unique_lock<std::mutex> LockMap() const;
   KeyFramePtr CreateKeyFrame(Frame& frame);
   void ComputeBow(Frame& frame) const;
   void UpdateLastFramePoints();
@@ -154,6 +159,7 @@ class Tracking {
   std::uint64_t next_frame_id_ = 0;
   std::unique_ptr<Frame> initial_frame_;
   InitializationAttempts initialization_;
+  mutable double map_lock_wait_seconds_ = 0.0;  // of the frame being tracked
   std::vector<Eigen::Vector2d>
       initial_predicted_;  // where the first view's features were last seen
   std::unique_ptr<Frame> last_frame_;
