@@ -31,9 +31,9 @@ Eigen::Matrix3d Intrinsics(const PinholeCamera& c) {
   return K;
 }
 
-// F with x2^T F x1 = 0 between two keyframes' pixels.
-Eigen::Matrix3d FundamentalBetween(const KeyFrame& a, const KeyFrame& b, const Eigen::Matrix3d& K) {
-  const SE3 T_ba = b.T_cw * a.T_cw.Inverse();
+// F with x2^T F x1 = 0 between the pixels of two cameras (poses T_cw).
+Eigen::Matrix3d FundamentalBetween(const SE3& a_T_cw, const SE3& b_T_cw, const Eigen::Matrix3d& K) {
+  const SE3 T_ba = b_T_cw * a_T_cw.Inverse();
   const Eigen::Matrix3d K_inverse = K.inverse();
   return K_inverse.transpose() * Skew(T_ba.translation()) * T_ba.rotation() * K_inverse;
 }
@@ -125,7 +125,7 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   const auto locked = std::chrono::steady_clock::now();
   LinkKeyFrame(keyframe);
   CullRecentPoints(keyframe);
-  TriangulateNewPoints(keyframe);
+  TriangulateNewPoints(keyframe, lock);
   FuseDuplicates(keyframe);
   if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe, lock);
   CullKeyFrames(keyframe);
@@ -176,45 +176,112 @@ void LocalMapping::CullRecentPoints(const KeyFramePtr& keyframe) {
   }
 }
 
-void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe) {
+LocalMapping::TriangulationView LocalMapping::ViewOf(const KeyFramePtr& keyframe) {
+  TriangulationView view;
+  view.keyframe = keyframe;
+  view.T_cw = keyframe->T_cw;
+  view.median_depth = MedianDepth(*keyframe);
+  view.has_point.resize(keyframe->points.size());
+  for (std::size_t i = 0; i < keyframe->points.size(); ++i)
+    view.has_point[i] = keyframe->points[i] ? 1 : 0;
+  return view;
+}
+
+// Matching and triangulating, most of this step's time, need only the keyframes' poses,
+// which features have points (both copied under the lock) and their features (fixed once
+// a keyframe exists): they run without the map lock, so that tracking does not wait for
+// them. Only this thread adds points to keyframes; a loop correction or a global
+// adjustment merged meanwhile moved the poses, and the pairs are then found again on the
+// moved map. Sequentially nothing runs meanwhile: the same points, in the same order, as
+// triangulating under the lock.
+void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe,
+                                        std::unique_lock<std::mutex>& map_lock) {
+  const std::vector<KeyFramePtr> neighbours =
+      map_->BestCovisible(keyframe, static_cast<std::size_t>(options_.triangulation_neighbours));
+  const auto views_of_the_map = [&] {
+    std::vector<TriangulationView> views;
+    views.push_back(ViewOf(keyframe));
+    for (const KeyFramePtr& neighbour : neighbours) views.push_back(ViewOf(neighbour));
+    return views;
+  };
+  std::vector<TriangulationView> views = views_of_the_map();
+  const std::uint64_t corrections = map_->corrections();
+  map_lock.unlock();
+  const auto unlocked = std::chrono::steady_clock::now();
+  if (before_triangulation_) before_triangulation_();
+  std::vector<NewPoint> found = FindNewPoints(&views);
+  map_lock.lock();
+  unlocked_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - unlocked).count();
+  if (map_->corrections() != corrections) {
+    views = views_of_the_map();
+    found = FindNewPoints(&views);
+  }
+  for (const NewPoint& candidate : found) {
+    const KeyFramePtr& neighbour = views[candidate.view].keyframe;
+    if (neighbour->bad || keyframe->points[static_cast<std::size_t>(candidate.i1)] ||
+        neighbour->points[static_cast<std::size_t>(candidate.i2)]) {
+      continue;  // taken meanwhile
+    }
+    auto point = std::make_shared<MapPoint>();
+    point->id = map_->NextMapPointId();
+    point->position = candidate.position;
+    point->reference = keyframe->id;
+    point->first_keyframe = keyframe->id;
+    point->first_frame = keyframe->frame_id;
+    map_->Add(point);
+    map_->AddObservation(keyframe, candidate.i1, point);
+    map_->AddObservation(neighbour, candidate.i2, point);
+    map_->UpdatePointDescriptor(point);
+    map_->UpdatePointGeometry(point, pyramid_);
+    recent_points_.push_back(point);
+    ++stats_.points_created;
+  }
+}
+
+std::vector<LocalMapping::NewPoint> LocalMapping::FindNewPoints(
+    std::vector<TriangulationView>* views) const {
+  std::vector<NewPoint> found;
+  TriangulationView& self = views->front();
+  const KeyFrame& keyframe = *self.keyframe;
   const Eigen::Matrix3d K = Intrinsics(camera_);
-  const Eigen::Vector3d centre1 = keyframe->Centre();
-  const Eigen::Matrix<double, 3, 4> P1 = Projection(K, keyframe->T_cw);
+  const Eigen::Vector3d centre1 = self.T_cw.Inverse().translation();
+  const Eigen::Matrix<double, 3, 4> P1 = Projection(K, self.T_cw);
   const double ratio_factor = options_.scale_consistency * pyramid_.scale_factor;
-  for (const KeyFramePtr& neighbour :
-       map_->BestCovisible(keyframe, static_cast<std::size_t>(options_.triangulation_neighbours))) {
-    const double baseline = (neighbour->Centre() - centre1).norm();
-    const double median_depth = MedianDepth(*neighbour);
-    if (median_depth <= 0.0 || baseline / median_depth < options_.min_baseline_ratio) continue;
-    const Eigen::Matrix3d F12 = FundamentalBetween(*neighbour, *keyframe, K);  // x1^T F x2 = 0
-    const Eigen::Matrix<double, 3, 4> P2 = Projection(K, neighbour->T_cw);
-    const Eigen::Vector3d centre2 = neighbour->Centre();
+  for (std::size_t v = 1; v < views->size(); ++v) {
+    const TriangulationView& other = (*views)[v];
+    const KeyFrame& neighbour = *other.keyframe;
+    const Eigen::Vector3d centre2 = other.T_cw.Inverse().translation();
+    const double baseline = (centre2 - centre1).norm();
+    if (other.median_depth <= 0.0 || baseline / other.median_depth < options_.min_baseline_ratio)
+      continue;
+    const Eigen::Matrix3d F12 = FundamentalBetween(other.T_cw, self.T_cw, K);  // x1^T F x2 = 0
+    const Eigen::Matrix<double, 3, 4> P2 = Projection(K, other.T_cw);
     // Candidate pairs: features without points under the same vocabulary node, close in
     // descriptor space and near each other's epipolar line.
     std::vector<std::pair<int, int>> pairs;
-    std::vector<char> taken(neighbour->features.size(), 0);
+    std::vector<char> taken(neighbour.features.size(), 0);
     ForEachSharedNode(
-        keyframe->feature_vector, neighbour->feature_vector,
+        keyframe.feature_vector, neighbour.feature_vector,
         [&](NodeId, const std::vector<int>& in_keyframe, const std::vector<int>& in_neighbour) {
           for (const int i1 : in_keyframe) {
-            if (keyframe->points[static_cast<std::size_t>(i1)]) continue;
-            const Eigen::Vector2d& x1 =
-                keyframe->features.undistorted[static_cast<std::size_t>(i1)];
+            if (self.has_point[static_cast<std::size_t>(i1)]) continue;
+            const Eigen::Vector2d& x1 = keyframe.features.undistorted[static_cast<std::size_t>(i1)];
             const Eigen::Vector3d line = F12.transpose() * x1.homogeneous();  // in the neighbour
             int best = INT_MAX, second = INT_MAX, best_index = -1;
             for (const int i2 : in_neighbour) {
-              if (neighbour->points[static_cast<std::size_t>(i2)] ||
+              if (other.has_point[static_cast<std::size_t>(i2)] ||
                   taken[static_cast<std::size_t>(i2)]) {
                 continue;
               }
               const int distance =
-                  HammingDistance(keyframe->features.descriptors[static_cast<std::size_t>(i1)],
-                                  neighbour->features.descriptors[static_cast<std::size_t>(i2)]);
+                  HammingDistance(keyframe.features.descriptors[static_cast<std::size_t>(i1)],
+                                  neighbour.features.descriptors[static_cast<std::size_t>(i2)]);
               if (distance > matcher_.strict_distance || distance >= second) continue;
               const Eigen::Vector2d& x2 =
-                  neighbour->features.undistorted[static_cast<std::size_t>(i2)];
+                  neighbour.features.undistorted[static_cast<std::size_t>(i2)];
               const double d = line.dot(x2.homogeneous());
-              const int level2 = neighbour->features.keypoints[static_cast<std::size_t>(i2)].octave;
+              const int level2 = neighbour.features.keypoints[static_cast<std::size_t>(i2)].octave;
               if (d * d / line.head<2>().squaredNorm() >
                   kChi2OneDof * pyramid_.sigma2[static_cast<std::size_t>(level2)]) {
                 continue;
@@ -235,18 +302,18 @@ void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe) {
           }
         });
     for (const auto& [i1, i2] : pairs) {
-      const Eigen::Vector2d& x1 = keyframe->features.undistorted[static_cast<std::size_t>(i1)];
-      const Eigen::Vector2d& x2 = neighbour->features.undistorted[static_cast<std::size_t>(i2)];
+      const Eigen::Vector2d& x1 = keyframe.features.undistorted[static_cast<std::size_t>(i1)];
+      const Eigen::Vector2d& x2 = neighbour.features.undistorted[static_cast<std::size_t>(i2)];
       const Eigen::Vector3d X = TriangulateLinear(x1, x2, P1, P2);
       if (!X.allFinite()) continue;
       const Eigen::Vector3d ray1 = X - centre1;
       const Eigen::Vector3d ray2 = X - centre2;
       if (ray1.dot(ray2) / (ray1.norm() * ray2.norm()) > options_.max_cos_parallax) continue;
-      const Eigen::Vector3d X1 = keyframe->T_cw * X;
-      const Eigen::Vector3d X2 = neighbour->T_cw * X;
+      const Eigen::Vector3d X1 = self.T_cw * X;
+      const Eigen::Vector3d X2 = other.T_cw * X;
       if (X1.z() <= 0.0 || X2.z() <= 0.0) continue;
-      const int level1 = keyframe->features.keypoints[static_cast<std::size_t>(i1)].octave;
-      const int level2 = neighbour->features.keypoints[static_cast<std::size_t>(i2)].octave;
+      const int level1 = keyframe.features.keypoints[static_cast<std::size_t>(i1)].octave;
+      const int level2 = neighbour.features.keypoints[static_cast<std::size_t>(i2)].octave;
       if ((camera_.ProjectUndistorted(X1) - x1).squaredNorm() >
               kChi2TwoDof * pyramid_.sigma2[static_cast<std::size_t>(level1)] ||
           (camera_.ProjectUndistorted(X2) - x2).squaredNorm() >
@@ -261,21 +328,12 @@ void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe) {
           distance_ratio > level_ratio * ratio_factor) {
         continue;
       }
-      auto point = std::make_shared<MapPoint>();
-      point->id = map_->NextMapPointId();
-      point->position = X;
-      point->reference = keyframe->id;
-      point->first_keyframe = keyframe->id;
-      point->first_frame = keyframe->frame_id;
-      map_->Add(point);
-      map_->AddObservation(keyframe, i1, point);
-      map_->AddObservation(neighbour, i2, point);
-      map_->UpdatePointDescriptor(point);
-      map_->UpdatePointGeometry(point, pyramid_);
-      recent_points_.push_back(point);
-      ++stats_.points_created;
+      found.push_back({v, i1, i2, X});
+      // Later neighbours see this feature as having its point, as they would in the map.
+      self.has_point[static_cast<std::size_t>(i1)] = 1;
     }
   }
+  return found;
 }
 
 void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {

@@ -7,6 +7,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <random>
 #include <thread>
 
 #include "ocg/slam/local_mapping.h"
@@ -84,6 +86,53 @@ class GrowingMap : public ::testing::Test {
     mapping.ProcessKeyFrame(keyframe);
     *stats = mapping.Stats();
     return (keyframe->Centre() - truth.Inverse().translation()).norm();
+  }
+
+  // New points that keyframes 3 and 4 both see but the map has none for: keyframe 3
+  // holds features for them without points, keyframe 4 (at its true place) comes to local
+  // mapping with them. Every feature is under one vocabulary node and each new point has a
+  // descriptor of its own, so triangulation pairs them one to one. before_triangulation
+  // runs where the pairs are about to be found without the lock. Returns the points that
+  // local mapping created, with the new points' true positions.
+  std::vector<std::pair<MapPointPtr, Eigen::Vector3d>> TriangulateNewPointsOfKeyFrameFour(
+      const std::function<void()>& before_triangulation) {
+    std::vector<Eigen::Vector3d> fresh;
+    for (int i = 0; i < 20; ++i)
+      fresh.emplace_back(-0.6 + 0.06 * i, 0.3 * std::cos(i), 3.5 + (i % 4) * 0.4);
+    std::mt19937_64 rng(7);
+    std::vector<Descriptor> descriptors;
+    for (std::size_t i = 0; i < fresh.size(); ++i)
+      descriptors.push_back({rng(), rng(), rng(), rng()});
+    const auto add_fresh_features = [&](const KeyFramePtr& keyframe) {
+      for (std::size_t i = 0; i < fresh.size(); ++i) {
+        const Eigen::Vector2d pixel = Camera().ProjectUndistorted(keyframe->T_cw * fresh[i]);
+        keyframe->features.keypoints.emplace_back(static_cast<float>(pixel.x()),
+                                                  static_cast<float>(pixel.y()), 31.0f);
+        keyframe->features.undistorted.push_back(pixel);
+        keyframe->features.descriptors.push_back(descriptors[i]);
+        keyframe->points.push_back(nullptr);
+      }
+      std::vector<int>& node = keyframe->feature_vector[0];
+      for (std::size_t f = 0; f < keyframe->points.size(); ++f) node.push_back(static_cast<int>(f));
+    };
+    add_fresh_features(map_.GetKeyFrame(3));
+    const KeyFramePtr keyframe = MakeKeyFrame(TruePose(4));
+    for (const auto& [id, point] : map_.points()) {
+      keyframe->points[static_cast<std::size_t>(point->observations.begin()->second)] = point;
+    }
+    add_fresh_features(keyframe);
+    BowDatabase database(16);
+    LocalMappingOptions options;
+    options.triangulation_neighbours = 4;  // keyframe 3, the one holding the features, among them
+    LocalMapping mapping(Camera(), pyramid_, MatcherOptions{}, options, &map_, &database);
+    mapping.SetBeforeTriangulation(before_triangulation);
+    mapping.ProcessKeyFrame(keyframe);
+    std::vector<std::pair<MapPointPtr, Eigen::Vector3d>> created;
+    for (std::size_t i = 0; i < fresh.size(); ++i) {
+      const MapPointPtr& point = keyframe->points[static_cast<std::size_t>(kPoints) + i];
+      if (point) created.emplace_back(point, fresh[i]);
+    }
+    return created;
   }
 
   const Eigen::Vector3d kOffset{0.05, 0.0, 0.0};
@@ -177,6 +226,38 @@ TEST_F(GrowingMap, LocalAdjustmentIsDroppedWhenALoopCorrectedTheMapMeanwhile) {
   EXPECT_EQ(stats.local_adjustments_dropped, 1);
   EXPECT_TRUE(stats.ba_seconds.empty());
   EXPECT_NEAR(error, kOffset.norm(), 1e-9) << "the stale adjustment was written";
+}
+
+// New points are matched and triangulated without the map lock, and created.
+TEST_F(GrowingMap, TriangulationMatchesWithoutTheMapLock) {
+  bool lock_was_free = false;
+  const auto created = TriangulateNewPointsOfKeyFrameFour([&] {
+    std::thread tracker([&] {
+      std::unique_lock<std::mutex> lock(map_.mutex(), std::try_to_lock);
+      lock_was_free = lock.owns_lock();
+    });
+    tracker.join();
+  });
+  EXPECT_TRUE(lock_was_free);
+  ASSERT_GE(created.size(), 15u);
+  for (const auto& [point, truth] : created) EXPECT_LT((point->position - truth).norm(), 1e-6);
+}
+
+// A correction merged while the pairs were found moved every keyframe and point: points
+// triangulated from the poses copied before it would stand where the world was. They are
+// triangulated again on the moved map.
+TEST_F(GrowingMap, TriangulationFollowsACorrectionMadeMeanwhile) {
+  const Eigen::Vector3d shift(0.2, -0.1, 0.05);  // a rigid move of the whole map
+  const auto created = TriangulateNewPointsOfKeyFrameFour([&] {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    for (const auto& [id, keyframe] : map_.keyframes())
+      keyframe->T_cw = keyframe->T_cw * SE3(Eigen::Matrix3d::Identity(), -shift);
+    for (const auto& [id, point] : map_.points()) point->position += shift;
+    map_.CountCorrection();
+  });
+  ASSERT_GE(created.size(), 15u);
+  for (const auto& [point, truth] : created)
+    EXPECT_LT((point->position - (truth + shift)).norm(), 1e-6) << "triangulated on stale poses";
 }
 
 // run.json's local_mapping_map_lock_held_per_keyframe must tell how long tracking could

@@ -87,13 +87,34 @@ class LocalMapping {
   void SetBeforeLocalSolve(std::function<void()> callback) {
     before_local_solve_ = std::move(callback);
   }
+  // The same, right before new points are matched and triangulated without the lock.
+  void SetBeforeTriangulation(std::function<void()> callback) {
+    before_triangulation_ = std::move(callback);
+  }
 
   LocalMappingStats Stats() const;
 
  private:
   void LinkKeyFrame(const KeyFramePtr& keyframe);
   void CullRecentPoints(const KeyFramePtr& keyframe);
-  void TriangulateNewPoints(const KeyFramePtr& keyframe);
+  // A keyframe as triangulation sees it: copied under the map lock, used without it.
+  struct TriangulationView {
+    KeyFramePtr keyframe;  // its features and vocabulary vector, fixed once it exists
+    SE3 T_cw;
+    double median_depth = 0.0;
+    std::vector<char> has_point;  // per feature: a map point is attached
+  };
+  struct NewPoint {
+    std::size_t view;  // index into the views: the neighbour of the pair
+    int i1, i2;        // feature in the new keyframe, in the neighbour
+    Eigen::Vector3d position;
+  };
+  static TriangulationView ViewOf(const KeyFramePtr& keyframe);
+  // Takes the map lock held and gives it back held; matches and triangulates without it.
+  void TriangulateNewPoints(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
+  // views: the new keyframe first, then its neighbours. Marks the new keyframe's features
+  // that it gives points to. Needs no lock.
+  std::vector<NewPoint> FindNewPoints(std::vector<TriangulationView>* views) const;
   void FuseDuplicates(const KeyFramePtr& keyframe);
   // Takes the map lock held and gives it back held; releases it while Ceres solves.
   void LocalBundleAdjustment(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
@@ -111,6 +132,7 @@ class LocalMapping {
 
   std::function<void(const KeyFramePtr&)> keyframe_mapped_;
   std::function<void()> before_local_solve_;
+  std::function<void()> before_triangulation_;
   KeyFrameWorker worker_;  // last: stopped before the members it uses go
 };
 
