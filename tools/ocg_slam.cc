@@ -20,6 +20,7 @@
 #include "ocg/core/logging.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/io/detections.h"
+#include "ocg/io/image_read_ahead.h"
 #include "ocg/io/sequence.h"
 #include "ocg/io/trajectory.h"
 #include "ocg/viewer/snapshots.h"
@@ -328,6 +329,10 @@ int main(int argc, char** argv) {
     const std::vector<ocg::Detection> no_detections;
     ocg::ProgressLine progress("frames", frames);
     const auto wall_start = std::chrono::steady_clock::now();
+    std::vector<std::string> image_paths;
+    image_paths.reserve(frames);
+    for (std::size_t i = 0; i < frames; ++i) image_paths.push_back(sequence.images[i].path);
+    ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE);
     for (std::size_t i = 0; i < frames; ++i) {
       const ocg::TimedImage& image = sequence.images[i];
       if (realtime) {
@@ -336,8 +341,7 @@ int main(int argc, char** argv) {
                                       std::chrono::duration_cast<std::chrono::nanoseconds>(
                                           std::chrono::duration<double>(due)));
       }
-      const cv::Mat gray = cv::imread(image.path, cv::IMREAD_GRAYSCALE);
-      if (gray.empty()) throw ocg::FileError("cannot read image '" + image.path + "'");
+      const cv::Mat gray = images.Next();
       slam.Track(
           gray, image.timestamp,
           detection_folder ? detection_folder->ForFrame(image.timestamp_text) : no_detections,

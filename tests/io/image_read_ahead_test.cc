@@ -1,0 +1,85 @@
+#include "ocg/io/image_read_ahead.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "ocg/core/file_io.h"
+
+namespace ocg {
+namespace {
+
+class ImageReadAheadTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ =
+        std::filesystem::temp_directory_path() /
+        ("ocg_read_ahead_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(folder_);
+  }
+  void TearDown() override { std::filesystem::remove_all(folder_); }
+
+  // Image i is 32x24, every pixel i * 10 + its row: each image and each row differ.
+  std::string WriteImage(int i) {
+    cv::Mat image(24, 32, CV_8UC1);
+    for (int row = 0; row < image.rows; ++row) image.row(row).setTo(i * 10 + row);
+    const std::string path = (folder_ / (std::to_string(i) + ".png")).string();
+    cv::imwrite(path, image);
+    return path;
+  }
+
+  std::filesystem::path folder_;
+};
+
+TEST_F(ImageReadAheadTest, GivesTheImagesInOrderAsReadingThemOneByOne) {
+  std::vector<std::string> paths;
+  for (int i = 0; i < 12; ++i) paths.push_back(WriteImage(i));
+  ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 3);
+  for (const std::string& path : paths) {
+    ASSERT_TRUE(reader.HasNext());
+    const cv::Mat expected = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    const cv::Mat image = reader.Next();
+    ASSERT_EQ(image.size(), expected.size());
+    EXPECT_EQ(cv::countNonZero(image != expected), 0) << path;
+  }
+  EXPECT_FALSE(reader.HasNext());
+  EXPECT_THROW(reader.Next(), std::logic_error);
+}
+
+TEST_F(ImageReadAheadTest, AnUnreadableImageFailsInItsTurnNamingTheFile) {
+  std::vector<std::string> paths;
+  for (int i = 0; i < 3; ++i) paths.push_back(WriteImage(i));
+  const std::string broken = (folder_ / "broken.png").string();
+  std::ofstream(broken) << "not a PNG";
+  paths.push_back(broken);
+  paths.push_back(WriteImage(4));
+  ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 2);
+  for (int i = 0; i < 3; ++i) EXPECT_FALSE(reader.Next().empty());
+  try {
+    reader.Next();
+    FAIL() << "an unreadable image was returned";
+  } catch (const FileError& error) {
+    EXPECT_NE(std::string(error.what()).find("broken.png"), std::string::npos) << error.what();
+  }
+  // The images after it are still given.
+  EXPECT_EQ(reader.Next().at<unsigned char>(0, 0), 40);
+}
+
+TEST_F(ImageReadAheadTest, StopsWithoutWaitingForImagesNobodyTakes) {
+  std::vector<std::string> paths;
+  for (int i = 0; i < 8; ++i) paths.push_back(WriteImage(i));
+  {
+    ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 1);
+    EXPECT_EQ(reader.Next().at<unsigned char>(5, 0), 5);
+  }  // the reader waits with a full queue; destruction must end it
+  SUCCEED();
+}
+
+}  // namespace
+}  // namespace ocg
