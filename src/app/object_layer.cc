@@ -129,7 +129,7 @@ void ObjectLayer::Start() {
   mapper_ = std::make_unique<ObjectMapper>(settings_.objects, settings_.ocg, settings_.camera.model,
                                            settings_.system.sequential);
   mapper_->RecordObservations();
-  app_detail::SetObjectSession(mapper_.get(), session_);
+  mapper_->StartSession(session_, frame_offset_);
   keyframes_ = 0;
   tracked_frames_ = 0;
   last_association_ = {};
@@ -147,9 +147,8 @@ void ObjectLayer::SaveState(std::ostream& out) const {
 }
 
 void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_offset) {
-  StartSession(session, frame_offset);
   const ObjectLayerCounters counters = LoadObjectMapper(in, mapper_.get());
-  SetObjectSession(mapper_.get(), session);
+  StartSession(session, frame_offset);
   keyframes_ = counters.keyframes;
   tracked_frames_ = loaded_tracked_frames_ = counters.tracked_frames;
   loaded_ = true;
@@ -158,7 +157,7 @@ void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_of
 void ObjectLayer::StartSession(int session, std::int64_t frame_offset) {
   session_ = session;
   frame_offset_ = frame_offset;
-  if (enabled_) SetObjectSession(mapper_.get(), session);
+  if (enabled_) mapper_->StartSession(session, frame_offset);
 }
 
 void ObjectLayer::Follow(const System& system) {

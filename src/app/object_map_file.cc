@@ -170,11 +170,6 @@ struct MapFileAccess {
     LoadDetector(archive, &mapper->manager_.detector_);
     return counters;
   }
-
-  static void SetSession(ObjectMapper* mapper, int session) {
-    std::lock_guard<std::mutex> lock(mapper->map_mutex_);
-    mapper->map_.SetSession(session);
-  }
 };
 
 }  // namespace ocg
@@ -188,10 +183,6 @@ void SaveObjectMapper(const ObjectMapper& mapper, const ObjectLayerCounters& cou
 
 ObjectLayerCounters LoadObjectMapper(std::istream& in, ObjectMapper* mapper) {
   return MapFileAccess::Load(in, mapper);
-}
-
-void SetObjectSession(ObjectMapper* mapper, int session) {
-  MapFileAccess::SetSession(mapper, session);
 }
 
 }  // namespace ocg::app_detail

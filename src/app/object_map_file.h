@@ -25,7 +25,5 @@ void SaveObjectMapper(const ObjectMapper& mapper, const ObjectLayerCounters& cou
 // Into a mapper made from the settings, before its first frame. Throws std::runtime_error
 // (cereal::Exception is one) when the stream ends early.
 ObjectLayerCounters LoadObjectMapper(std::istream& in, ObjectMapper* mapper);
-// The session whose frames the mapper is given from now on (ObjectSighting::session).
-void SetObjectSession(ObjectMapper* mapper, int session);
 
 }  // namespace ocg::app_detail

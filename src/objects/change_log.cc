@@ -1,29 +1,24 @@
 #include "ocg/objects/change_log.h"
 
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
+#include <string>
 
 #include "ocg/core/coco.h"
+#include "ocg/objects/cuboid_json.h"
 
 namespace ocg {
 namespace {
 
-nlohmann::json CuboidJson(const Cuboid& cuboid) {
-  const Eigen::Vector3d& c = cuboid.centre;
-  const Eigen::Vector3d& s = cuboid.size;
-  return {{"centre", {c.x(), c.y(), c.z()}}, {"size", {s.x(), s.y(), s.z()}}, {"yaw", cuboid.yaw}};
-}
-
-Cuboid CuboidOf(const nlohmann::json& json) {
-  Cuboid cuboid;
-  const auto centre = json.at("centre").get<std::vector<double>>();
-  const auto size = json.at("size").get<std::vector<double>>();
-  cuboid.centre = Eigen::Vector3d(centre.at(0), centre.at(1), centre.at(2));
-  cuboid.size = Eigen::Vector3d(size.at(0), size.at(1), size.at(2));
-  cuboid.yaw = json.at("yaw").get<double>();
-  return cuboid;
+// Two decimals, as a reader wants a distance in a sentence.
+std::string Rounded(double value) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(2) << value;
+  return text.str();
 }
 
 }  // namespace
@@ -32,54 +27,53 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
                             const ChangeLogContext& context) {
   nlohmann::json root = nlohmann::json::parse(changes_json);
   const SavedObjectMap live = ParseObjectsJson(objects_json, "objects.json");
-  std::vector<ObjectRecord> removed;
-  std::set<ObjectId> removed_now;  // by this session
+  // Each removal is paired once, by the session that made it: an earlier session's
+  // removals were paired when that session wrote its changes.json, and pairing them again
+  // against a later map linked them to what the later session found (they stay removals
+  // here). This session's removals of objects it saw pair by the in-session rule; those of
+  // objects last seen in an earlier session by the between-session rule.
+  std::vector<ObjectRecord> seen_now, seen_before;
   for (const nlohmann::json& entry : root.at("changes")) {
     if (entry.at("type") != "removed" || entry.at("cuboid").is_null()) continue;
+    if (entry.value("session", context.session) != context.session) continue;
     ObjectRecord record;
     record.id = entry.at("object_id").get<ObjectId>();
     record.class_id = entry.at("class_id").get<int>();
-    record.cuboid = CuboidOf(entry.at("cuboid"));
+    record.cuboid = CuboidFromJson(entry.at("cuboid"));
     record.last_seen = entry.value("last_seen", entry.at("timestamp").get<double>());
-    if (entry.value("session", context.session) == context.session) {
-      removed_now.insert(record.id);
-    }
-    removed.push_back(record);
+    const bool earlier = context.session > 0 && record.last_seen < context.session_start;
+    (earlier ? seen_before : seen_now).push_back(record);
   }
   std::map<ObjectId, MoveLink> moves_from;
   std::set<ObjectId> moved_to;
+  std::set<ObjectId> between_sessions;  // moves_from's keys linked by the between-session rule
   const auto link = [&](const std::vector<ObjectRecord>& from, const std::vector<ObjectRecord>& to,
                         const MoveLinkOptions& options) {
+    std::vector<ObjectId> linked;
     for (const MoveLink& move : LinkMoves(from, to, options, true)) {
       moves_from.emplace(move.from.id, move);
       moved_to.insert(move.to.id);
+      linked.push_back(move.from.id);
     }
+    return linked;
   };
-  if (context.session > 0) {
+  {
     // Between visits nothing bounds how far an object was carried: what this session
-    // removed, last seen in an earlier one, pairs first with what this session found new,
-    // at any distance (nearest first).
-    std::vector<ObjectRecord> left, appeared;
-    for (const ObjectRecord& record : removed) {
-      if (removed_now.count(record.id) > 0 && record.last_seen < context.session_start) {
-        left.push_back(record);
-      }
-    }
+    // removed, last seen in an earlier one, pairs with what this session found new, at
+    // any distance (nearest first).
+    std::vector<ObjectRecord> appeared;
     for (const ObjectRecord& object : live.objects) {
       if (object.first_session == context.session) appeared.push_back(object);
     }
     MoveLinkOptions between = context.moves;
     between.search_factor = std::numeric_limits<double>::infinity();
-    link(left, appeared, between);
+    for (ObjectId id : link(seen_before, appeared, between)) between_sessions.insert(id);
   }
-  std::vector<ObjectRecord> rest_removed, rest_live;
-  for (const ObjectRecord& record : removed) {
-    if (moves_from.count(record.id) == 0) rest_removed.push_back(record);
-  }
+  std::vector<ObjectRecord> rest_live;
   for (const ObjectRecord& object : live.objects) {
     if (moved_to.count(object.id) == 0) rest_live.push_back(object);
   }
-  link(rest_removed, rest_live, context.moves);
+  link(seen_now, rest_live, context.moves);
   nlohmann::json list = nlohmann::json::array();
   // Entries kept from a loaded map carry their own session; their clock was another
   // session's, so they get no time.
@@ -98,7 +92,13 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     if (move != moves_from.end()) {
       const ObjectRecord& to = move->second.to;
       entry["type"] = "moved";
-      entry["reason"] = "removed here, same class appeared near after its last sighting";
+      entry["reason"] = between_sessions.count(move->first) > 0
+                            ? "removed from its place, last seen before session " +
+                                  std::to_string(context.session) +
+                                  "; same class first seen in session " +
+                                  std::to_string(context.session) + ", " +
+                                  Rounded(move->second.distance) + " away (map units)"
+                            : "removed here, same class appeared near after its last sighting";
       entry["to"] = {
           {"object_id", to.id}, {"cuboid", CuboidJson(to.cuboid)}, {"first_seen", to.first_seen}};
       entry["distance"] = move->second.distance;
@@ -113,8 +113,7 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
              {"object_id", object.id},
              {"class_id", object.class_id},
              {"class", CocoClassName(object.class_id)},
-             {"centroid",
-              {object.cuboid.centre.x(), object.cuboid.centre.y(), object.cuboid.centre.z()}},
+             {"centroid", VectorJson(object.cuboid.centre)},
              {"cuboid", CuboidJson(object.cuboid)},
              {"reason", "first seen in this session"}});
     }

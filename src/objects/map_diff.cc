@@ -11,6 +11,7 @@
 #include "ocg/core/coco.h"
 #include "ocg/core/file_io.h"
 #include "ocg/io/text_lines.h"
+#include "ocg/objects/cuboid_json.h"
 
 namespace ocg {
 namespace {
@@ -50,27 +51,16 @@ MoveLink Link(const ObjectRecord& from, const ObjectRecord& to) {
   return {from, to, (from.cuboid.centre - to.cuboid.centre).norm()};
 }
 
-nlohmann::json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
 nlohmann::json RecordJson(const ObjectRecord& record) {
   return {{"id", record.id},
           {"class_id", record.class_id},
           {"class", CocoClassName(record.class_id)},
-          {"cuboid",
-           {{"centre", Vector(record.cuboid.centre)},
-            {"size", Vector(record.cuboid.size)},
-            {"yaw", record.cuboid.yaw}}}};
+          {"cuboid", CuboidJson(record.cuboid)}};
 }
 
 nlohmann::json LinkJson(const MoveLink& link) {
   return {
       {"from", RecordJson(link.from)}, {"to", RecordJson(link.to)}, {"distance", link.distance}};
-}
-
-Eigen::Vector3d ReadVector(const nlohmann::json& json) {
-  const auto values = json.get<std::vector<double>>();
-  if (values.size() != 3) throw std::invalid_argument("expected 3 numbers");
-  return {values[0], values[1], values[2]};
 }
 
 std::string ObjectsJsonPath(const std::string& path) {
@@ -192,14 +182,12 @@ SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name
     const nlohmann::json root = nlohmann::json::parse(text);
     if (root.value("format", "") != "ocg-objects")
       throw std::invalid_argument("\"format\" is not \"ocg-objects\"");
-    if (root.contains("up")) map.up = ReadVector(root.at("up"));
+    if (root.contains("up")) map.up = VectorFromJson(root.at("up"));
     for (const nlohmann::json& entry : root.at("objects")) {
       ObjectRecord record;
       record.id = entry.at("id").get<ObjectId>();
       record.class_id = entry.at("class_id").get<int>();
-      record.cuboid.centre = ReadVector(entry.at("cuboid").at("centre"));
-      record.cuboid.size = ReadVector(entry.at("cuboid").at("size"));
-      record.cuboid.yaw = entry.at("cuboid").at("yaw").get<double>();
+      record.cuboid = CuboidFromJson(entry.at("cuboid"));
       record.first_seen = entry.value("first_seen", 0.0);
       record.first_session = entry.value("first_session", 0);
       record.last_seen = entry.value("last_seen", 0.0);

@@ -7,6 +7,7 @@
 
 #include "ocg/core/coco.h"
 #include "ocg/objects/assignment.h"
+#include "ocg/objects/cuboid_json.h"
 #include "ocg/objects/object_geometry.h"
 
 namespace ocg {
@@ -73,14 +74,6 @@ double OverlapShare(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& exte
   return (high - low).prod() / smaller;
 }
 
-nlohmann::json VectorJson(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-nlohmann::json CuboidJson(const Cuboid& cuboid) {
-  return {{"centre", VectorJson(cuboid.centre)},
-          {"size", VectorJson(cuboid.size)},
-          {"yaw", cuboid.yaw}};
-}
-
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
   for (const PointObservation* point : box_points) {
     ObjectPoint& entry = object.points[point->id];
@@ -117,6 +110,19 @@ struct ObjectMap::PointCue {
   RobustBounds bounds;
 };
 
+bool ObjectMap::HoldsOwnPoint(const MapObject& object,
+                              const std::vector<const PointObservation*>& box_points) const {
+  const double reach = object.cuboid.size.maxCoeff();  // as ObjectPointSet: on the object
+  for (const PointObservation* point : box_points) {
+    const auto own = object.points.find(point->id);
+    if (own != object.points.end() && own->second.votes >= options_.min_point_votes &&
+        (own->second.position - object.cuboid.centre).norm() <= reach) {
+      return true;
+    }
+  }
+  return false;
+}
+
 ObjectMap::ObjectMap(ObjectsOptions options, PinholeCamera camera)
     : options_(std::move(options)), camera_(camera), R_wg_(GravityFrame(options_.up)) {
   options_.Check();
@@ -137,9 +143,18 @@ double ObjectMap::AssociationScore(const MapObject& object, const ObjectDetectio
       return 0.0;
     }
   }
+  const ObjectSighting& last = object.sightings.back();
+  if (object.has_cuboid && last.session < session_ && object_points != nullptr &&
+      box_points.size() >= 3 && object_points->own_points >= 5 &&
+      !HoldsOwnPoint(object, box_points)) {
+    // Found again in a later session: between the visits an object of its class may have
+    // been put down anywhere along this view's ray, and one view has no depth, so the
+    // projected cuboid matches it just as well. The map points relocalized with the map
+    // decide: an object that stayed shows some of its own in its box.
+    return 0.0;
+  }
   double sum = 0.0;
   int cues = 0;
-  const ObjectSighting& last = object.sightings.back();
   if (frame - last.frame <= options_.predicted_box_frames) {
     Box2 predicted = last.box;
     if (object.has_cuboid) {
@@ -278,6 +293,11 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     ++it;
   }
   return result;
+}
+
+void ObjectMap::StartSession(int session, std::int64_t first_frame) {
+  session_ = session;
+  session_first_frame_ = first_frame;
 }
 
 void ObjectMap::SetUp(const Eigen::Vector3d& up) { R_wg_ = GravityFrame(up); }
@@ -462,7 +482,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
   observation.T_cw = T_cw;
   observation.camera = camera_;
   for (const auto& [id, frame] : observed_since_keyframe_) {
-    if (objects_.count(id) > 0) observation.observed.push_back(id);
+    if (frame >= session_first_frame_ && objects_.count(id) > 0) observation.observed.push_back(id);
   }
   for (const auto& [id, changed] : geometry_changed_) {
     const auto it = objects_.find(id);

@@ -94,7 +94,16 @@ void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const
   manager_.Submit(std::move(observation));
 }
 
-void ObjectMapper::Finish() { manager_.Shutdown(); }
+void ObjectMapper::StartSession(int session, std::int64_t first_frame) {
+  manager_.StartSession();
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  map_.StartSession(session, first_frame);
+}
+
+void ObjectMapper::Finish() {
+  manager_.EndSession();
+  manager_.Shutdown();
+}
 
 std::string ObjectMapper::ObjectsJson() const {
   const std::vector<ObjectStatus> states = manager_.Snapshot();

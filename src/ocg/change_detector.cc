@@ -56,6 +56,8 @@ void ObjectChangeDetector::ApplyUpdate(Record& record, const ObjectGeometryUpdat
 }
 
 void ObjectChangeDetector::SetState(ObjectId id, Record& record, const StateAndDoubt& next) {
+  if (next.state == ObjectState::kSuspicious && record.state.state != ObjectState::kSuspicious)
+    record.suspected_in_session = true;
   record.state = next;
   if (IsActive(next.state)) {
     active_.insert(id);
@@ -75,6 +77,7 @@ void ObjectChangeDetector::UpdateIsolation(ObjectId id) {
 KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observation) {
   const std::int64_t keyframe = observation.keyframe_id;
   last_keyframe_ = keyframe;
+  last_timestamp_ = observation.timestamp;
   any_keyframe_ = true;
   std::vector<ObjectId> observed = observation.observed;
   std::sort(observed.begin(), observed.end());
@@ -106,6 +109,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     Record& record = records_.at(id);
     ++record.observations;
     record.last_observed_keyframe = keyframe;
+    record.observed_in_session = true;
     RecordDetectedView(record.geometry, camera_centre, options_, modes_.detected_view);
     UpdateIsolation(id);
   }
@@ -172,15 +176,46 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   KeyframeResult result;
   result.keyframe_id = keyframe;
   for (ObjectId id : outliers) {
-    const Record& record = records_.at(id);
-    RemovalEvent event;
-    event.keyframe_id = keyframe;
-    event.timestamp = observation.timestamp;
-    event.object_id = id;
-    event.class_id = record.class_id;
-    event.centroid = record.geometry.centroid;
-    event.doubt = record.state.doubt;
-    result.removed.push_back(event);
+    result.removed.push_back(MakeRemoval(id, keyframe, observation.timestamp));
+    RemoveObject(id);
+  }
+  return result;
+}
+
+RemovalEvent ObjectChangeDetector::MakeRemoval(ObjectId id, std::int64_t keyframe,
+                                               double timestamp) const {
+  const Record& record = records_.at(id);
+  RemovalEvent event;
+  event.keyframe_id = keyframe;
+  event.timestamp = timestamp;
+  event.object_id = id;
+  event.class_id = record.class_id;
+  event.centroid = record.geometry.centroid;
+  event.doubt = record.state.doubt;
+  return event;
+}
+
+void ObjectChangeDetector::StartSession() {
+  for (auto& entry : records_) {
+    entry.second.observed_in_session = false;
+    entry.second.suspected_in_session = false;
+  }
+}
+
+KeyframeResult ObjectChangeDetector::EndSession() {
+  KeyframeResult result;
+  result.keyframe_id = last_keyframe_;
+  if (modes_.strategy != ChangeStrategy::kGraph) return result;
+  std::vector<ObjectId> outliers;
+  for (const auto& [id, record] : records_) {
+    if (!record.observed_in_session && record.suspected_in_session &&
+        record.state.state == ObjectState::kSuspicious && record.state.doubt > options_.tau_doubt) {
+      outliers.push_back(id);
+    }
+  }
+  std::sort(outliers.begin(), outliers.end());
+  for (ObjectId id : outliers) {
+    result.removed.push_back(MakeRemoval(id, last_keyframe_, last_timestamp_));
     RemoveObject(id);
   }
   return result;

@@ -91,6 +91,23 @@ void OcgManager::WaitUntilIdle() {
   RethrowWorkerError();
 }
 
+void OcgManager::StartSession() {
+  WaitUntilIdle();
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  detector_.StartSession();
+}
+
+void OcgManager::EndSession() {
+  WaitUntilIdle();
+  KeyframeResult result;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    result = detector_.EndSession();
+    removals_.insert(removals_.end(), result.removed.begin(), result.removed.end());
+  }
+  if (callback_ && !result.removed.empty()) callback_(result);
+}
+
 void OcgManager::Shutdown() {
   if (sequential_) return;
   {

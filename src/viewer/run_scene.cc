@@ -7,21 +7,10 @@
 #include "ocg/io/point_cloud.h"
 #include "ocg/io/text_lines.h"
 #include "ocg/io/trajectory.h"
+#include "ocg/objects/cuboid_json.h"
 
 namespace ocg {
 namespace {
-
-Eigen::Vector3d ReadVector(const nlohmann::json& value) {
-  return {value.at(0).get<double>(), value.at(1).get<double>(), value.at(2).get<double>()};
-}
-
-Cuboid ReadCuboid(const nlohmann::json& value) {
-  Cuboid cuboid;
-  cuboid.centre = ReadVector(value.at("centre"));
-  cuboid.size = ReadVector(value.at("size"));
-  cuboid.yaw = value.at("yaw").get<double>();
-  return cuboid;
-}
 
 nlohmann::json ReadJson(const std::string& path) {
   try {
@@ -48,16 +37,16 @@ MapScene ReadRunScene(const std::string& run_dir) {
   if (fs::exists(objects_path)) {
     const nlohmann::json objects = ReadJson(objects_path);
     try {
-      if (objects.contains("up")) scene.up = ReadVector(objects.at("up"));
+      if (objects.contains("up")) scene.up = VectorFromJson(objects.at("up"));
       for (const nlohmann::json& entry : objects.at("objects")) {
         ObjectView view;
         view.id = entry.at("id").get<ObjectId>();
         view.class_id = entry.at("class_id").get<int>();
-        view.cuboid = ReadCuboid(entry.at("cuboid"));
+        view.cuboid = CuboidFromJson(entry.at("cuboid"));
         view.state = entry.at("state").is_null() ? 0 : entry.at("state").get<int>();
         scene.objects.push_back(view);
       }
-    } catch (const nlohmann::json::exception& error) {
+    } catch (const std::exception& error) {  // nlohmann's, or VectorFromJson's
       throw ParseError(objects_path + ": " + error.what());
     }
   }
@@ -71,15 +60,15 @@ MapScene ReadRunScene(const std::string& run_dir) {
         ObjectView view;
         view.id = entry.at("object_id").get<ObjectId>();
         view.class_id = entry.at("class_id").get<int>();
-        view.cuboid = ReadCuboid(entry.at("cuboid"));
+        view.cuboid = CuboidFromJson(entry.at("cuboid"));
         view.state = 5;
         view.removed = true;
         scene.objects.push_back(view);
         if (type == "moved")
           scene.moves.emplace_back(view.cuboid.centre,
-                                   ReadCuboid(entry.at("to").at("cuboid")).centre);
+                                   CuboidFromJson(entry.at("to").at("cuboid")).centre);
       }
-    } catch (const nlohmann::json::exception& error) {
+    } catch (const std::exception& error) {
       throw ParseError(changes_path + ": " + error.what());
     }
   }

@@ -150,6 +150,60 @@ TEST(ChangeLog, BetweenSessionsAMoveHasNoDistanceLimit) {
   EXPECT_EQ(revised["changes"][0]["type"], "removed");
 }
 
+// A move's reason says which rule linked it: between sessions, where the object was last
+// seen, where its new place was found and how far it is.
+TEST(ChangeLog, AMoveBetweenSessionsSaysWhatHappened) {
+  ObjectChange gone = Removed(3, kCup, 0.0, 2010, 1010);
+  gone.session = 1;
+  ObjectChange here = Removed(4, kBook, 5.0, 2020, 2008);
+  here.session = 1;
+  const std::string objects =
+      nlohmann::json({{"format", "ocg-objects"},
+                      {"objects", {Live(9, kCup, 3.0, 2005, 1), Live(12, kBook, 5.4, 2012, 1)}}})
+          .dump();
+  ChangeLogContext context;
+  context.session = 1;
+  context.session_start = 2000;
+  const nlohmann::json changes = nlohmann::json::parse(
+      ReviseChangeLog(ObjectChangesJson({gone, here}), objects, context))["changes"];
+  ASSERT_EQ(changes.size(), 2u) << changes.dump(1);
+  EXPECT_EQ(changes[0]["type"], "moved");
+  EXPECT_EQ(changes[0]["reason"],
+            "removed from its place, last seen before session 1; same class first seen in "
+            "session 1, 3.00 away (map units)");
+  EXPECT_EQ(changes[1]["type"], "moved");  // the book: seen in session 1, in-session rule
+  EXPECT_EQ(changes[1]["reason"], "removed here, same class appeared near after its last sighting");
+}
+
+// A removal is paired by the session that made it, once. Session 0 removed a cup (no move
+// then); session 1 finds a cup 0.4 m away, first seen after the removed one's last
+// sighting. The in-session rule would link them, but session 1 did not remove that cup:
+// it stays session 0's removal, and the new cup is an addition of session 1.
+TEST(ChangeLog, AnEarlierSessionsRemovalIsNotPairedAgain) {
+  const std::string changes = ObjectChangesJson({Removed(3, kCup, 0.0, 1030, 1010)});
+  const std::string objects =
+      nlohmann::json({{"format", "ocg-objects"}, {"objects", {Live(9, kCup, 0.4, 5005, 1)}}})
+          .dump();
+  ChangeLogContext context;
+  context.session = 1;
+  context.session_start = 5000;
+  const nlohmann::json changes_1 =
+      nlohmann::json::parse(ReviseChangeLog(changes, objects, context))["changes"];
+  ASSERT_EQ(changes_1.size(), 2u) << changes_1.dump(1);
+  EXPECT_EQ(changes_1[0]["type"], "removed");
+  EXPECT_EQ(changes_1[0]["session"], 0);
+  EXPECT_EQ(changes_1[1]["type"], "added");
+  EXPECT_EQ(changes_1[1]["object_id"], 9);
+  // Session 0's own revision (its live cup first seen at 1020) still links its removal.
+  const std::string objects_0 =
+      nlohmann::json({{"format", "ocg-objects"}, {"objects", {Live(9, kCup, 0.4, 1020, 0)}}})
+          .dump();
+  ChangeLogContext first;
+  first.session_start = 1000;
+  EXPECT_EQ(nlohmann::json::parse(ReviseChangeLog(changes, objects_0, first))["changes"][0]["type"],
+            "moved");
+}
+
 TEST(ChangeLog, SeenTogetherIsNoMove) {
   // The nearby cup was first seen while the removed one was still seen: a neighbour.
   const std::string changes = ObjectChangesJson({Removed(3, kCup, 0.0, 1030, 1010)});

@@ -17,15 +17,20 @@ struct ChangeLogContext {
 };
 
 // changes.json as ObjectChangesJson writes it, revised against the live objects of
-// objects.json (ObjectsJson's text): a removed object with a live object of its class that
-// appeared near it after its last sighting (LinkMoves) becomes one "moved" entry holding
-// both ids and cuboids ("centroid" and "cuboid" stay the old place's); in a later session
-// live objects whose first sighting is of it ("first_session") and not part of a move get
-// an "added" entry; every entry
-// gets "session" (kept when the entry has one: a change an earlier session made) and
-// "time" (seconds from session_start; null for earlier sessions' changes). Other entries
-// pass unchanged.
-// Throws ParseError / nlohmann::json::exception on texts those functions did not write.
+// objects.json (ObjectsJson's text). This session's removals become "moved" entries
+// holding both ids and cuboids ("centroid" and "cuboid" stay the old place's) when:
+//  - the object was last seen in an earlier session (last_seen before session_start, a
+//    later session only) and a live object of its class was first seen in this session
+//    ("first_session"), at any distance (LinkMoves without a reach, nearest first);
+//  - or it was seen in this session and a live object of its class appeared near it after
+//    its last sighting (LinkMoves with context.moves).
+// Earlier sessions' removals stay "removed": their session paired them. In a later
+// session, live objects first seen in it and not part of a move get an "added" entry.
+// Every entry gets "session" (kept when the entry has one: a change an earlier session
+// made) and "time" (seconds from session_start; null for earlier sessions' changes).
+// Other entries pass unchanged.
+// Throws ParseError, nlohmann::json::exception or std::invalid_argument on texts those
+// functions did not write.
 std::string ReviseChangeLog(const std::string& changes_json, const std::string& objects_json,
                             const ChangeLogContext& context);
 

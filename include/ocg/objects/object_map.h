@@ -82,7 +82,7 @@ struct ObjectChange {
   std::size_t sightings = 0;
   double doubt = 0.0;      // "removed" only
   double last_seen = 0.0;  // "removed" only: timestamp of the last sighting
-  int session = 0;         // the session that made the change (SetSession)
+  int session = 0;         // the session that made the change (StartSession)
 };
 
 struct FrameAssociation {
@@ -132,8 +132,12 @@ class ObjectMap {
   const ObjectsOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return camera_; }
   const Eigen::Matrix3d& gravity_frame() const { return R_wg_; }
-  // The session whose frames AddFrame() is given (0 in a run that loaded no map file).
-  void SetSession(int session) { session_ = session; }
+  // The session whose frames AddFrame() is given from now on (0 in a run that loaded no
+  // map file), starting at first_frame. Detections of earlier frames not yet handed to
+  // the OCG were made in the earlier session, after its last keyframe: the next keyframe,
+  // days later elsewhere, does not report them as observed (it did, and so reset the
+  // doubt of objects moved between the sessions).
+  void StartSession(int session, std::int64_t first_frame);
 
  private:
   friend struct MapFileAccess;
@@ -144,6 +148,10 @@ class ObjectMap {
   void Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
              std::vector<ObjectChange>* merges);
   struct PointCue;
+  // Whether one of box_points is a point on the object (voted for, within its largest
+  // extent of its centre).
+  bool HoldsOwnPoint(const MapObject& object,
+                     const std::vector<const PointObservation*>& box_points) const;
   double AssociationScore(const MapObject& object, const ObjectDetection& detection,
                           std::int64_t frame, const SE3& T_cw,
                           const std::vector<const PointObservation*>& box_points,
@@ -160,6 +168,7 @@ class ObjectMap {
   ObjectId next_object_id_ = 1;
   ObjectId next_candidate_id_ = -1;
   int session_ = 0;
+  std::int64_t session_first_frame_ = 0;
 };
 
 // objects.json (SPEC 5): the live objects with their cuboid and OCG state.

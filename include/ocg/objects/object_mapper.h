@@ -63,7 +63,11 @@ class ObjectMapper {
   // alone (`ocg_replay`) in other modes. Call before the first keyframe.
   void RecordObservations() { record_observations_ = true; }
   std::string ObservationsJsonl() const;
-  // Lets the OCG finish every keyframe. Idempotent.
+  // Sessions (map files): the map and the OCG start session `session`, whose first frame
+  // is first_frame (ObjectMap and ObjectChangeDetector::StartSession); call before it.
+  void StartSession(int session, std::int64_t first_frame);
+  // Lets the OCG finish every keyframe, then ends the session (the camera leaves:
+  // ObjectChangeDetector::EndSession). Idempotent.
   void Finish();
 
   std::string ObjectsJson() const;

@@ -58,6 +58,17 @@ class ObjectChangeDetector {
   // SPEC 3.5 order: graph update, then every affected object's rate and state on the
   // updated graph, then this keyframe's removals.
   KeyframeResult Process(const KeyframeObservation& observation);
+  // Sessions (a map continued after a gap, docs/sessions.md). StartSession: a new session
+  // begins; until an object is observed again, it counts as last seen in an earlier one.
+  // EndSession: the camera leaves at the session's end, so every object leaves its
+  // observable region; an object not observed in this session that became suspicious
+  // (state 4) in it and is still, with its doubt above tau_doubt, becomes an outlier, as
+  // on leaving (SPEC 3.4), and is removed (at the last keyframe). Objects observed in this session
+  // keep their state: a static object the detector misses from one side gathers doubt too (TUM fr3
+  // long_office: 3 in state 4 above tau_doubt at its end), and nothing else tells them
+  // apart. Graph strategy only; a run that started no session (session 0) removes nothing.
+  void StartSession();
+  KeyframeResult EndSession();
   // Removes an object that the object map dropped for its own reasons (a merge): no
   // change-log entry, and geometry given for it but not yet used is dropped too.
   // Returns false when unknown.
@@ -90,11 +101,14 @@ class ObjectChangeDetector {
     std::uint32_t observations = 0;
     std::int64_t first_keyframe = 0;
     std::int64_t last_observed_keyframe = 0;
+    bool observed_in_session = true;    // since the last StartSession()
+    bool suspected_in_session = false;  // entered state 4 since the last StartSession()
   };
   void ApplyUpdate(Record& record, const ObjectGeometryUpdate& update);
   void SetState(ObjectId id, Record& record, const StateAndDoubt& next);
   void UpdateIsolation(ObjectId id);
   void RemoveObject(ObjectId id);
+  RemovalEvent MakeRemoval(ObjectId id, std::int64_t keyframe, double timestamp) const;
   ObjectStatus MakeStatus(ObjectId id, const Record& record) const;
 
   OcgOptions options_;
@@ -107,6 +121,7 @@ class ObjectChangeDetector {
   std::unordered_set<ObjectId> active_;    // states 1, 2 and 4
   std::unordered_set<ObjectId> isolated_;  // degree 0 (judged geometrically in "fallback")
   std::int64_t last_keyframe_ = -1;
+  double last_timestamp_ = 0.0;
   bool any_keyframe_ = false;
   // Scratch buffers reused across keyframes, so a keyframe allocates nothing.
   struct ObservedWeight {

@@ -48,6 +48,11 @@ class OcgManager {
   void Shutdown();
   // Blocks until every submitted keyframe is processed.
   void WaitUntilIdle();
+  // ObjectChangeDetector::StartSession / EndSession, after every submitted keyframe
+  // (producer thread). EndSession's removals go to the callback like a keyframe's, on
+  // the producer's thread.
+  void StartSession();
+  void EndSession();
 
   std::vector<ObjectStatus> Snapshot() const;
   std::optional<ObjectStatus> Status(ObjectId id) const;
