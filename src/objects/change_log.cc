@@ -6,6 +6,7 @@
 #include <set>
 
 #include "ocg/core/coco.h"
+#include "ocg/io/change_entries.h"
 
 namespace ocg {
 namespace {
@@ -34,8 +35,11 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   const SavedObjectMap live = ParseObjectsJson(objects_json, "objects.json");
   std::vector<ObjectRecord> removed;
   std::set<ObjectId> removed_now;  // by this session
-  for (const nlohmann::json& entry : root.at("changes")) {
-    if (entry.at("type") != "removed" || entry.at("cuboid").is_null()) continue;
+  // A removal undone by a restore (the object found again at its place) moved nowhere.
+  const std::vector<bool> standing = StandingRemovals(root.at("changes"));
+  for (std::size_t i = 0; i < root.at("changes").size(); ++i) {
+    const nlohmann::json& entry = root.at("changes")[i];
+    if (entry.at("type") != "removed" || !standing[i] || entry.at("cuboid").is_null()) continue;
     ObjectRecord record;
     record.id = entry.at("object_id").get<ObjectId>();
     record.class_id = entry.at("class_id").get<int>();

@@ -81,6 +81,21 @@ nlohmann::json CuboidJson(const Cuboid& cuboid) {
           {"yaw", cuboid.yaw}};
 }
 
+// A change-log entry of the object as it is now.
+ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timestamp,
+                      const MapObject& object, int session) {
+  ObjectChange change;
+  change.type = type;
+  change.keyframe_id = keyframe_id;
+  change.timestamp = timestamp;
+  change.object_id = object.id;
+  change.class_id = object.class_id;
+  change.cuboid = object.cuboid;
+  change.sightings = object.sightings.size();
+  change.session = session;
+  return change;
+}
+
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
   for (const PointObservation* point : box_points) {
     ObjectPoint& entry = object.points[point->id];
@@ -361,15 +376,8 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
                       std::vector<ObjectChange>* merges) {
   MapObject& into = objects_.at(kept);
   MapObject& from = objects_.at(absorbed);
-  ObjectChange change;
-  change.type = "merged";
-  change.keyframe_id = keyframe_id;
-  change.timestamp = timestamp;
-  change.object_id = absorbed;
+  ObjectChange change = ChangeOf("merged", keyframe_id, timestamp, from, session_);
   change.merged_into = kept;
-  change.class_id = from.class_id;
-  change.cuboid = from.cuboid;
-  change.sightings = from.sightings.size();
   std::vector<ObjectSighting> sightings;
   std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
              from.sightings.end(), std::back_inserter(sightings),
@@ -394,14 +402,62 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   observed_since_keyframe_.erase(absorbed);
   geometry_changed_.erase(absorbed);
   objects_.erase(absorbed);
-  change.session = session_;
   changes_.push_back(change);
   if (merges != nullptr) merges->push_back(change);
+}
+
+std::vector<ObjectId> ObjectMap::RestoreRemoved(std::int64_t keyframe_id, double timestamp,
+                                                std::vector<ObjectChange>* merges) {
+  std::vector<ObjectId> restored;
+  for (auto it = removed_.begin(); it != removed_.end();) {
+    if (timestamp - it->second.removed_at > options_.restore_window) {
+      it = removed_.erase(it);
+      continue;
+    }
+    const MapObject& gone = it->second.object;
+    // The object standing in for it: its class, first detected after its last sighting
+    // (never seen beside it), in its place; the largest overlap wins.
+    const MapObject* found = nullptr;
+    double best = options_.restore_overlap;
+    for (const auto& [id, object] : objects_) {
+      if (!object.has_cuboid || object.class_id != gone.class_id ||
+          object.first_timestamp <= gone.last_timestamp) {
+        continue;
+      }
+      const double overlap = OverlapShare(gone.cuboid.centre, WorldExtent(gone.cuboid, R_wg_),
+                                          object.cuboid.centre, WorldExtent(object.cuboid, R_wg_));
+      if (overlap > best) {
+        best = overlap;
+        found = &object;
+      }
+    }
+    if (found == nullptr) {
+      ++it;
+      continue;
+    }
+    const ObjectId id = gone.id, recreated_as = found->id;
+    const double removed_at = it->second.removed_at;
+    objects_.emplace(id, std::move(it->second.object));
+    it = removed_.erase(it);
+    Merge(id, recreated_as, keyframe_id, timestamp, merges);
+    const MapObject& object = objects_.at(id);
+    ObjectChange change = ChangeOf("restored", keyframe_id, timestamp, object, session_);
+    change.recreated_as = recreated_as;
+    change.removed_at = removed_at;
+    changes_.push_back(change);
+    restored.push_back(id);
+  }
+  return restored;
 }
 
 KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id, double timestamp,
                                                        const SE3& T_cw,
                                                        std::vector<ObjectChange>* merges) {
+  // Restores first: the object found at a removed one's place is that object, and the
+  // hygiene below then treats it as the one object it is.
+  std::vector<ObjectChange> hygiene;
+  if (merges == nullptr) merges = &hygiene;
+  const std::vector<ObjectId> restored = RestoreRemoved(keyframe_id, timestamp, merges);
   // Hygiene: the same object mapped twice (a lost association, a box that jumped, a class
   // the detector confused) shows as two objects at one place that were never detected in
   // the same frame. The merged object takes the class most of its sightings have.
@@ -440,15 +496,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
       ++it;
       continue;
     }
-    ObjectChange change;
-    change.type = "dropped";
-    change.keyframe_id = keyframe_id;
-    change.timestamp = timestamp;
-    change.object_id = object.id;
-    change.class_id = object.class_id;
-    change.cuboid = object.cuboid;
-    change.sightings = object.sightings.size();
-    change.session = session_;
+    const ObjectChange change = ChangeOf("dropped", keyframe_id, timestamp, object, session_);
     changes_.push_back(change);
     if (merges != nullptr) merges->push_back(change);
     observed_since_keyframe_.erase(object.id);
@@ -461,6 +509,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
   observation.timestamp = timestamp;
   observation.T_cw = T_cw;
   observation.camera = camera_;
+  observation.restored = restored;
   for (const auto& [id, frame] : observed_since_keyframe_) {
     if (objects_.count(id) > 0) observation.observed.push_back(id);
   }
@@ -472,9 +521,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
     update.size = WorldExtent(it->second.cuboid, R_wg_);
     update.class_id = it->second.class_id;
   }
-  if (merges != nullptr) {
-    for (const ObjectChange& change : *merges) observation.forgotten.push_back(change.object_id);
-  }
+  for (const ObjectChange& change : *merges) observation.forgotten.push_back(change.object_id);
   observed_since_keyframe_.clear();
   geometry_changed_.clear();
   return observation;
@@ -483,20 +530,14 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
 void ObjectMap::Remove(const RemovalEvent& event) {
   const auto it = objects_.find(event.object_id);
   if (it == objects_.end()) return;  // merged away meanwhile
-  ObjectChange change;
-  change.type = "removed";
-  change.keyframe_id = event.keyframe_id;
-  change.timestamp = event.timestamp;
-  change.object_id = event.object_id;
-  change.class_id = it->second.class_id;
-  change.cuboid = it->second.cuboid;
-  change.sightings = it->second.sightings.size();
+  ObjectChange change =
+      ChangeOf("removed", event.keyframe_id, event.timestamp, it->second, session_);
   change.doubt = event.doubt;
   change.last_seen = it->second.last_timestamp;
-  change.session = session_;
   changes_.push_back(change);
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
+  if (restore_) removed_[event.object_id] = {std::move(it->second), event.timestamp};
   objects_.erase(it);
 }
 
@@ -564,6 +605,10 @@ std::string ObjectChangesJson(const std::vector<ObjectChange>& changes) {
     } else if (change.type == "merged") {
       entry["merged_into"] = change.merged_into;
       entry["reason"] = "duplicate";
+    } else if (change.type == "restored") {
+      entry["recreated_as"] = change.recreated_as;
+      entry["removed_at"] = change.removed_at;
+      entry["reason"] = "detected again at its place";
     } else {
       entry["reason"] = "too few sightings";
     }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 
 #include "ocg/io/trajectory.h"
 #include "ocg/objects/assignment.h"
@@ -249,6 +250,70 @@ TEST_F(TwoObjectScene, UnseenObjectIsNotObservedAndRemovalEntersTheChangeLog) {
   ASSERT_EQ(map.changes().size(), 1u);
   EXPECT_EQ(map.changes()[0].type, "removed");
   EXPECT_LT((map.changes()[0].cuboid.centre - cup_.centre).norm(), 0.15 * cup_.size.maxCoeff());
+}
+
+// A detector that loses the cup for a while: the OCG removes it, and once it is detected
+// again a new cup object forms at its place. With restore on (OCG.mode "restore"), that is
+// the cup found again: back with its id and sightings, a "restored" change, the OCG told
+// to restore it and to forget the stand-in. Off, after the window, or found elsewhere (a
+// move), the new cup stays a new object.
+TEST_F(TwoObjectScene, ARemovedObjectFoundAgainAtItsPlaceIsRestored) {
+  struct Outcome {
+    ObjectId removed = 0;
+    std::map<ObjectId, std::size_t> cups;  // live cups: id -> sightings
+    KeyframeObservation observation;
+    std::vector<ObjectChange> changes;
+  };
+  const auto run = [this](bool restore, double window, const Eigen::Vector3d& shift) {
+    ObjectsOptions options;
+    options.restore_window = window;
+    ObjectMap map(options, Camera());
+    map.SetRestore(restore);
+    Outcome outcome;
+    Watch(map, options, 0, 40);
+    map.MakeKeyframeObservation(0, 40 / 30.0, OrbitPose(0.8), nullptr);
+    for (const auto& [id, object] : map.objects()) {
+      if (object.class_id == 41) outcome.removed = id;
+    }
+    Watch(map, options, 40, 50, /*cup_visible=*/false);
+    RemovalEvent event;
+    event.object_id = outcome.removed;
+    event.keyframe_id = 1;
+    event.timestamp = 50 / 30.0;
+    map.Remove(event);
+    cup_.centre += shift;
+    Watch(map, options, 50, 100);
+    cup_.centre -= shift;
+    outcome.observation = map.MakeKeyframeObservation(2, 100 / 30.0, OrbitPose(2.0), nullptr);
+    for (const auto& [id, object] : map.objects()) {
+      if (object.class_id == 41) outcome.cups[id] = object.sightings.size();
+    }
+    outcome.changes = map.changes();
+    return outcome;
+  };
+  const Outcome restored = run(true, 60.0, Eigen::Vector3d::Zero());
+  ASSERT_EQ(restored.cups.size(), 1u);
+  EXPECT_EQ(restored.cups.begin()->first, restored.removed);
+  EXPECT_GE(restored.cups.begin()->second, 40u + 45u);  // its history and the new sightings
+  EXPECT_EQ(restored.observation.restored, (std::vector<ObjectId>{restored.removed}));
+  ASSERT_FALSE(restored.changes.empty());
+  const ObjectChange& change = restored.changes.back();
+  EXPECT_EQ(change.type, "restored");
+  EXPECT_EQ(change.object_id, restored.removed);
+  EXPECT_DOUBLE_EQ(change.removed_at, 50 / 30.0);
+  EXPECT_NE(change.recreated_as, restored.removed);
+  EXPECT_EQ(restored.observation.forgotten, (std::vector<ObjectId>{change.recreated_as}));
+  EXPECT_LT((change.cuboid.centre - cup_.centre).norm(), 0.15 * cup_.size.maxCoeff());
+
+  for (const auto& [what, outcome] :
+       {std::pair{"restore off", run(false, 60.0, Eigen::Vector3d::Zero())},
+        std::pair{"after the window", run(true, 1.0, Eigen::Vector3d::Zero())},
+        std::pair{"moved 0.25 m", run(true, 60.0, Eigen::Vector3d(0.2, -0.15, 0))}}) {
+    ASSERT_EQ(outcome.cups.size(), 1u) << what;
+    EXPECT_NE(outcome.cups.begin()->first, outcome.removed) << what;
+    EXPECT_TRUE(outcome.observation.restored.empty()) << what;
+    for (const ObjectChange& entry : outcome.changes) EXPECT_NE(entry.type, "restored") << what;
+  }
 }
 
 TEST_F(TwoObjectScene, TheSameObjectMappedTwiceIsMerged) {

@@ -68,6 +68,14 @@ struct ObjectsOptions {
   // space, but a real detector puts a second, nested box on one object now and then (two
   // boxes per bottle), and each box feeds its own object. 1 turns it off.
   double merge_overlap = 0.5;
+  // Restore (OCG.mode "restore"): an object the OCG removed is brought back, with its id
+  // and history, when within Objects.restore_window seconds of the removal a map object of
+  // its class first detected after its last sighting takes up its place: their boxes
+  // (world-axis extents of the cuboids) share more than Objects.restore_overlap of the
+  // smaller one's volume. A detector that lost an object for a while finds it again where
+  // it was; an object moved away is found elsewhere, outside its old cuboid.
+  double restore_window = 60.0;
+  double restore_overlap = 0.5;
 
   // Objects.up: the world's up direction (gravity-aligned cuboids, yaw about it). In
   // pose-given mode the given trajectory's world frame decides it.
