@@ -39,6 +39,28 @@ int MajorityClass(const std::vector<ObjectSighting>& sightings) {
   return best;
 }
 
+// Whether stand_in lived within object's life (first to last sighting) and its untruncated
+// boxes cover object's projected cuboid (IoU at least min_iou, for at least share of them):
+// its detections fit object, at object's depth and size, wherever their own rays met.
+bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, double min_iou,
+                        double share, const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
+  if (stand_in.first_frame <= object.first_frame || stand_in.last_frame >= object.last_frame) {
+    return false;
+  }
+  const auto usable = std::count_if(stand_in.sightings.begin(), stand_in.sightings.end(),
+                                    [](const ObjectSighting& s) { return !s.truncated; });
+  // Most pairs fail at their first boxes: stop once too many missed.
+  const double allowed_misses = (1.0 - share) * static_cast<double>(usable);
+  int misses = 0;
+  for (const ObjectSighting& sighting : stand_in.sightings) {
+    if (sighting.truncated) continue;
+    const std::optional<Box2> projected = ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
+    const bool covered = projected && IntersectionOverUnion(*projected, sighting.box) >= min_iou;
+    if (!covered && ++misses > allowed_misses) return false;
+  }
+  return usable > 0;
+}
+
 bool SeenTogether(const MapObject& a, const MapObject& b) {
   auto i = a.sightings.begin();
   auto j = b.sightings.begin();
@@ -476,11 +498,22 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
             OverlapShare(first.cuboid.centre, WorldExtent(first.cuboid, R_wg_),
                          second.cuboid.centre,
                          WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
-        if (!one_space && ((first.cuboid.centre - second.cuboid.centre).norm() > reach ||
-                           SeenTogether(first, second))) {
-          continue;
+        bool keep_first = first.sightings.size() >= second.sightings.size();
+        if (!one_space) {
+          const auto along_rays = [&](const MapObject& stand_in, const MapObject& object) {
+            return options_.merge_along_rays &&
+                   SeenAsProjectionOf(stand_in, object, options_.min_reacquire_iou,
+                                      options_.min_inlier_share, R_wg_, camera_);
+          };
+          if (along_rays(second, first)) {
+            keep_first = true;
+          } else if (along_rays(first, second)) {
+            keep_first = false;
+          } else if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) {
+            continue;
+          }
+          if (SeenTogether(first, second)) continue;
         }
-        const bool keep_first = first.sightings.size() >= second.sightings.size();
         return std::make_pair(keep_first ? first.id : second.id, keep_first ? second.id : first.id);
       }
     }

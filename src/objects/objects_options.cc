@@ -84,6 +84,7 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.max_rays", &options->max_rays);
   file.Read("Objects.merge_distance", &options->merge_distance);
   file.Read("Objects.merge_overlap", &options->merge_overlap);
+  file.Read("Objects.merge_along_rays", &options->merge_along_rays);
   file.Read("Objects.restore_window", &options->restore_window);
   file.Read("Objects.restore_overlap", &options->restore_overlap);
   std::vector<double> up;

@@ -340,6 +340,59 @@ TEST_F(TwoObjectScene, TheSameObjectMappedTwiceIsMerged) {
   for (const auto& [id, object] : map.objects()) EXPECT_EQ(object.sightings.size(), 50u);
 }
 
+// A persistent class flip: for frames 30-41 the detector calls the cup a bowl, with boxes
+// that drift sideways by a few pixels (as real boxes do). The bowl's few rays, 13 degrees
+// apart, meet far from the cup in depth, so it is an object of its own, beyond the merge
+// distance; yet it lived within the cup's life, never beside it, and every box of it
+// covers the cup's projection: it is the cup, merged. A cup moved away (found elsewhere
+// after its last sighting) is not.
+TEST_F(TwoObjectScene, AnObjectSeenUnderAnotherClassForAWhileIsMergedIntoIt) {
+  const auto run = [this](bool merge_along_rays, const Eigen::Vector3d& moved) {
+    ObjectsOptions options;
+    options.merge_along_rays = merge_along_rays;
+    ObjectMap map(options, Camera());
+    for (int frame = 0; frame < 70; ++frame) {
+      const SE3 T_cw = OrbitPose(0.02 * frame);
+      if (frame == 40) cup_.centre += moved;
+      std::vector<Detection> detections = DetectionsAt(T_cw);
+      if (frame >= 30 && frame < 42 && moved.isZero()) {
+        detections[0].class_id = 45;
+        detections[0].x += 0.5 * (frame - 30);
+      }
+      map.AddFrame(frame, frame / 30.0, T_cw, FilterDetections(detections, options, Camera()));
+    }
+    cup_.centre -= moved;
+    std::vector<ObjectChange> merges;
+    map.MakeKeyframeObservation(0, 70 / 30.0, OrbitPose(1.4), &merges);
+    return std::make_pair(map.objects(), merges);
+  };
+  const auto [kept, none] = run(false, Eigen::Vector3d::Zero());
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_TRUE(none.empty());
+  const MapObject* cup = nullptr;
+  const MapObject* bowl = nullptr;
+  for (const auto& [id, object] : kept) {
+    if (object.class_id == 41) cup = &object;
+    if (object.class_id == 45) bowl = &object;
+  }
+  ASSERT_TRUE(cup != nullptr && bowl != nullptr);
+  EXPECT_GT((bowl->cuboid.centre - cup->cuboid.centre).norm(),
+            ObjectsOptions().merge_distance * cup->cuboid.size.maxCoeff())
+      << "the case needs a stand-in beyond the merge distance";
+
+  const auto [merged, merges] = run(true, Eigen::Vector3d::Zero());
+  ASSERT_EQ(merged.size(), 2u);
+  ASSERT_EQ(merges.size(), 1u);
+  EXPECT_EQ(merges[0].object_id, bowl->id);
+  EXPECT_EQ(merges[0].merged_into, cup->id);
+  EXPECT_EQ(merged.at(cup->id).class_id, 41);  // the majority of its sightings
+  EXPECT_EQ(merged.at(cup->id).sightings.size(), 70u);
+
+  const auto [after_move, move_merges] = run(true, Eigen::Vector3d(0.2, -0.15, 0));
+  EXPECT_EQ(after_move.size(), 3u);  // the cup at its old place and at its new one
+  EXPECT_TRUE(move_merges.empty());
+}
+
 // A real detector's double box: with every box of the cup, a second one on its upper part
 // (IoU 0.44, so non-maximum suppression keeps both). Each box feeds its own object; both
 // are detected in every frame, so "never seen together" cannot tell them apart. Two solid
