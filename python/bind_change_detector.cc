@@ -229,7 +229,8 @@ void BindChangeDetector(py::module_& module) {
              const PinholeCamera& camera, const std::vector<ObjectId>& observed,
              const std::map<ObjectId, Eigen::Vector3d>& centroids, double timestamp,
              const std::map<ObjectId, Eigen::Vector3d>& sizes,
-             const std::map<ObjectId, int>& classes, const std::vector<ObjectId>& forgotten) {
+             const std::map<ObjectId, int>& classes, const std::vector<ObjectId>& forgotten,
+             const std::vector<ObjectId>& restored) {
             KeyframeObservation observation;
             observation.keyframe_id = keyframe;
             observation.timestamp = timestamp;
@@ -238,6 +239,7 @@ void BindChangeDetector(py::module_& module) {
             observation.camera = camera;
             observation.observed = observed;
             observation.forgotten = forgotten;
+            observation.restored = restored;
             for (const auto& [id, centroid] : centroids) {
               if (!centroid.allFinite()) {
                 throw py::value_error("centroids[" + std::to_string(id) + "] is not finite");
@@ -263,6 +265,7 @@ void BindChangeDetector(py::module_& module) {
           py::arg("timestamp") = 0.0, py::arg("sizes") = std::map<ObjectId, Eigen::Vector3d>{},
           py::arg("classes") = std::map<ObjectId, int>{},
           py::arg("forgotten") = std::vector<ObjectId>{},
+          py::arg("restored") = std::vector<ObjectId>{},
           "Updates the graph with one keyframe and returns every object's state.\n\n"
           "keyframe: int, increasing keyframe id.\n"
           "T_cw: (4, 4) float array, world to camera (camera x right, y down, z forward), "
@@ -273,7 +276,9 @@ void BindChangeDetector(py::module_& module) {
           "new or changed; others keep their last one.\n"
           "timestamp: seconds (for the change log); sizes: {id: (3,) world-axis extents, "
           "metres} (mode in_image); classes: {id: COCO-80 id}; forgotten: ids the map "
-          "dropped (merged duplicates), removed without a change-log entry.\n"
+          "dropped (merged duplicates), removed without a change-log entry; restored: ids of "
+          "removed objects found again at their place (mode restore), back with their "
+          "edges in state 1.\n"
           "Returns KeyframeStates (objects: state 1-4, doubt, active_edge_rate; removed).\n"
           "Raises ValueError when T_cw is not a rigid motion or a centroid is not finite.")
       .def("status", &ObjectChangeDetector::Status, py::arg("id"),

@@ -15,7 +15,10 @@ scene, so every object the change detection removes was removed wrongly. Counts:
   false (re-created)   removals followed by a new object of the same class whose centre
                        lies within the removed object's reach: its cuboid's largest side
                        times F (default 1.0) from its centre. The object was still there;
-  restored             removals undone later (change-log type "restored").
+  restored             removals undone later (change-log type "restored": the object was
+                       found again at its place and is live with its id); a restored
+                       removal is not counted as false;
+  standing             removals not restored: the objects the run lost.
 With --scene-counts (a JSON object: class name -> count of that class in the scene) the
 live objects at the end are compared per class: within T (default 0.25) of the count.
 Prints one block per run (or one JSON object per run with --json). Exits 1 when a file
@@ -86,11 +89,20 @@ def check_run(folder, min_observations, reach_factor, scene_counts, tolerance):
         known[field(entry, "id", objects_path)] = (
             field(entry, "class", objects_path), field(entry, "cuboid", objects_path)["centre"])
 
-    restored = {entry["object_id"] for entry in changes if entry.get("type") == "restored"}
     removals = []
-    for entry in changes:
+    for index, entry in enumerate(changes):
         if field(entry, "type", changes_path) not in ("removed", "moved"):  # a move removes too
             continue
+        # Undone when a later "restored" entry names the object (before it is removed again).
+        restored = False
+        for later in changes[index + 1:]:
+            if later.get("object_id") != entry["object_id"]:
+                continue
+            if later.get("type") in ("removed", "moved"):
+                break
+            if later.get("type") == "restored":
+                restored = True
+                break
         object_id = entry["object_id"]
         centre = field(entry, "centroid", changes_path)
         reach = reach_factor * max(field(entry, "cuboid", changes_path)["size"])
@@ -106,7 +118,7 @@ def check_run(folder, min_observations, reach_factor, scene_counts, tolerance):
             "timestamp": entry.get("timestamp"),
             "observations": field(entry, "observations", changes_path),
             "recreated_as": recreated,
-            "restored": object_id in restored,
+            "restored": restored,
         })
 
     live = {}
@@ -116,8 +128,9 @@ def check_run(folder, min_observations, reach_factor, scene_counts, tolerance):
         "run": folder,
         "removals": len(removals),
         "well_observed_removals": sum(r["observations"] >= min_observations for r in removals),
-        "false_removals": sum(bool(r["recreated_as"]) for r in removals),
+        "false_removals": sum(bool(r["recreated_as"]) and not r["restored"] for r in removals),
         "restored": sum(r["restored"] for r in removals),
+        "standing_removals": sum(not r["restored"] for r in removals),
         "min_observations": min_observations,
         "live_objects": len(objects),
         "live_per_class": dict(sorted(live.items())),
@@ -141,6 +154,7 @@ def print_report(report):
                                                      report["well_observed_removals"]))
     print("  false (re-created at its place): %d" % report["false_removals"])
     print("  restored later: %d" % report["restored"])
+    print("  standing (not restored): %d" % report["standing_removals"])
     for r in report["removed"]:
         notes = []
         if r["recreated_as"]:

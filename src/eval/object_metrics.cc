@@ -6,6 +6,7 @@
 
 #include "ocg/core/file_io.h"
 #include "ocg/eval/trajectory_error.h"
+#include "ocg/io/change_entries.h"
 #include "ocg/io/text_lines.h"
 #include "ocg/io/trajectory.h"
 
@@ -87,12 +88,14 @@ std::vector<RunObject> ReadRunObjects(const std::string& run_dir) {
   if (!std::filesystem::exists(changes_path)) return objects;
   const nlohmann::json changes = ParseJsonFile(changes_path);
   try {
-    for (const nlohmann::json& change : changes.at("changes")) {
-      // A move's entry holds the object removed from its old place ("centroid").
+    const nlohmann::json& list = changes.at("changes");
+    const std::vector<bool> standing = StandingRemovals(list);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      // A move's entry holds the object removed from its old place ("centroid"); a removal
+      // undone by a restore is not a removed object (the object is live).
+      const nlohmann::json& change = list[i];
       const std::string type = change.at("type").get<std::string>();
-      if ((type != "removed" && type != "moved") || change.at("centroid").is_null()) {
-        continue;
-      }
+      if (!standing[i] || change.at("centroid").is_null()) continue;
       RunObject object{change.at("object_id").get<long long>(), change.at("class_id").get<int>(),
                        Vector3(change.at("centroid"), "centroid"), false, std::nullopt};
       if (type == "moved") {

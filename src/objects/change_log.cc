@@ -10,6 +10,7 @@
 
 #include "ocg/core/coco.h"
 #include "ocg/objects/cuboid_json.h"
+#include "ocg/io/change_entries.h"
 
 namespace ocg {
 namespace {
@@ -33,8 +34,11 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   // here). This session's removals of objects it saw pair by the in-session rule; those of
   // objects last seen in an earlier session by the between-session rule.
   std::vector<ObjectRecord> seen_now, seen_before;
-  for (const nlohmann::json& entry : root.at("changes")) {
-    if (entry.at("type") != "removed" || entry.at("cuboid").is_null()) continue;
+  // A removal undone by a restore (the object found again at its place) moved nowhere.
+  const std::vector<bool> standing = StandingRemovals(root.at("changes"));
+  for (std::size_t i = 0; i < root.at("changes").size(); ++i) {
+    const nlohmann::json& entry = root.at("changes")[i];
+    if (entry.at("type") != "removed" || !standing[i] || entry.at("cuboid").is_null()) continue;
     if (entry.value("session", context.session) != context.session) continue;
     ObjectRecord record;
     record.id = entry.at("object_id").get<ObjectId>();

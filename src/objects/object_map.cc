@@ -40,6 +40,28 @@ int MajorityClass(const std::vector<ObjectSighting>& sightings) {
   return best;
 }
 
+// Whether stand_in lived within object's life (first to last sighting) and its untruncated
+// boxes cover object's projected cuboid (IoU at least min_iou, for at least share of them):
+// its detections fit object, at object's depth and size, wherever their own rays met.
+bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, double min_iou,
+                        double share, const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
+  if (stand_in.first_frame <= object.first_frame || stand_in.last_frame >= object.last_frame) {
+    return false;
+  }
+  const auto usable = std::count_if(stand_in.sightings.begin(), stand_in.sightings.end(),
+                                    [](const ObjectSighting& s) { return !s.truncated; });
+  // Most pairs fail at their first boxes: stop once too many missed.
+  const double allowed_misses = (1.0 - share) * static_cast<double>(usable);
+  int misses = 0;
+  for (const ObjectSighting& sighting : stand_in.sightings) {
+    if (sighting.truncated) continue;
+    const std::optional<Box2> projected = ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
+    const bool covered = projected && IntersectionOverUnion(*projected, sighting.box) >= min_iou;
+    if (!covered && ++misses > allowed_misses) return false;
+  }
+  return usable > 0;
+}
+
 bool SeenTogether(const MapObject& a, const MapObject& b) {
   auto i = a.sightings.begin();
   auto j = b.sightings.begin();
@@ -72,6 +94,21 @@ double OverlapShare(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& exte
   const double smaller = std::min(extent_a.prod(), extent_b.prod());
   if (smaller <= 0.0 || (high - low).minCoeff() <= 0.0) return 0.0;
   return (high - low).prod() / smaller;
+}
+
+// A change-log entry of the object as it is now.
+ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timestamp,
+                      const MapObject& object, int session) {
+  ObjectChange change;
+  change.type = type;
+  change.keyframe_id = keyframe_id;
+  change.timestamp = timestamp;
+  change.object_id = object.id;
+  change.class_id = object.class_id;
+  change.cuboid = object.cuboid;
+  change.sightings = object.sightings.size();
+  change.session = session;
+  return change;
 }
 
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
@@ -381,15 +418,8 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
                       std::vector<ObjectChange>* merges) {
   MapObject& into = objects_.at(kept);
   MapObject& from = objects_.at(absorbed);
-  ObjectChange change;
-  change.type = "merged";
-  change.keyframe_id = keyframe_id;
-  change.timestamp = timestamp;
-  change.object_id = absorbed;
+  ObjectChange change = ChangeOf("merged", keyframe_id, timestamp, from, session_);
   change.merged_into = kept;
-  change.class_id = from.class_id;
-  change.cuboid = from.cuboid;
-  change.sightings = from.sightings.size();
   std::vector<ObjectSighting> sightings;
   std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
              from.sightings.end(), std::back_inserter(sightings),
@@ -414,14 +444,62 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   observed_since_keyframe_.erase(absorbed);
   geometry_changed_.erase(absorbed);
   objects_.erase(absorbed);
-  change.session = session_;
   changes_.push_back(change);
   if (merges != nullptr) merges->push_back(change);
+}
+
+std::vector<ObjectId> ObjectMap::RestoreRemoved(std::int64_t keyframe_id, double timestamp,
+                                                std::vector<ObjectChange>* merges) {
+  std::vector<ObjectId> restored;
+  for (auto it = removed_.begin(); it != removed_.end();) {
+    if (timestamp - it->second.removed_at > options_.restore_window) {
+      it = removed_.erase(it);
+      continue;
+    }
+    const MapObject& gone = it->second.object;
+    // The object standing in for it: its class, first detected after its last sighting
+    // (never seen beside it), in its place; the largest overlap wins.
+    const MapObject* found = nullptr;
+    double best = options_.restore_overlap;
+    for (const auto& [id, object] : objects_) {
+      if (!object.has_cuboid || object.class_id != gone.class_id ||
+          object.first_timestamp <= gone.last_timestamp) {
+        continue;
+      }
+      const double overlap = OverlapShare(gone.cuboid.centre, WorldExtent(gone.cuboid, R_wg_),
+                                          object.cuboid.centre, WorldExtent(object.cuboid, R_wg_));
+      if (overlap > best) {
+        best = overlap;
+        found = &object;
+      }
+    }
+    if (found == nullptr) {
+      ++it;
+      continue;
+    }
+    const ObjectId id = gone.id, recreated_as = found->id;
+    const double removed_at = it->second.removed_at;
+    objects_.emplace(id, std::move(it->second.object));
+    it = removed_.erase(it);
+    Merge(id, recreated_as, keyframe_id, timestamp, merges);
+    const MapObject& object = objects_.at(id);
+    ObjectChange change = ChangeOf("restored", keyframe_id, timestamp, object, session_);
+    change.recreated_as = recreated_as;
+    change.removed_at = removed_at;
+    changes_.push_back(change);
+    restored.push_back(id);
+  }
+  return restored;
 }
 
 KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id, double timestamp,
                                                        const SE3& T_cw,
                                                        std::vector<ObjectChange>* merges) {
+  // Restores first: the object found at a removed one's place is that object, and the
+  // hygiene below then treats it as the one object it is.
+  std::vector<ObjectChange> hygiene;
+  if (merges == nullptr) merges = &hygiene;
+  const std::vector<ObjectId> restored = RestoreRemoved(keyframe_id, timestamp, merges);
   // Hygiene: the same object mapped twice (a lost association, a box that jumped, a class
   // the detector confused) shows as two objects at one place that were never detected in
   // the same frame. The merged object takes the class most of its sightings have.
@@ -440,11 +518,22 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
             OverlapShare(first.cuboid.centre, WorldExtent(first.cuboid, R_wg_),
                          second.cuboid.centre,
                          WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
-        if (!one_space && ((first.cuboid.centre - second.cuboid.centre).norm() > reach ||
-                           SeenTogether(first, second))) {
-          continue;
+        bool keep_first = first.sightings.size() >= second.sightings.size();
+        if (!one_space) {
+          const auto along_rays = [&](const MapObject& stand_in, const MapObject& object) {
+            return options_.merge_along_rays &&
+                   SeenAsProjectionOf(stand_in, object, options_.min_reacquire_iou,
+                                      options_.min_inlier_share, R_wg_, camera_);
+          };
+          if (along_rays(second, first)) {
+            keep_first = true;
+          } else if (along_rays(first, second)) {
+            keep_first = false;
+          } else if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) {
+            continue;
+          }
+          if (SeenTogether(first, second)) continue;
         }
-        const bool keep_first = first.sightings.size() >= second.sightings.size();
         return std::make_pair(keep_first ? first.id : second.id, keep_first ? second.id : first.id);
       }
     }
@@ -460,15 +549,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
       ++it;
       continue;
     }
-    ObjectChange change;
-    change.type = "dropped";
-    change.keyframe_id = keyframe_id;
-    change.timestamp = timestamp;
-    change.object_id = object.id;
-    change.class_id = object.class_id;
-    change.cuboid = object.cuboid;
-    change.sightings = object.sightings.size();
-    change.session = session_;
+    const ObjectChange change = ChangeOf("dropped", keyframe_id, timestamp, object, session_);
     changes_.push_back(change);
     if (merges != nullptr) merges->push_back(change);
     observed_since_keyframe_.erase(object.id);
@@ -481,6 +562,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
   observation.timestamp = timestamp;
   observation.T_cw = T_cw;
   observation.camera = camera_;
+  observation.restored = restored;
   for (const auto& [id, frame] : observed_since_keyframe_) {
     if (frame >= session_first_frame_ && objects_.count(id) > 0) observation.observed.push_back(id);
   }
@@ -492,9 +574,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
     update.size = WorldExtent(it->second.cuboid, R_wg_);
     update.class_id = it->second.class_id;
   }
-  if (merges != nullptr) {
-    for (const ObjectChange& change : *merges) observation.forgotten.push_back(change.object_id);
-  }
+  for (const ObjectChange& change : *merges) observation.forgotten.push_back(change.object_id);
   observed_since_keyframe_.clear();
   geometry_changed_.clear();
   return observation;
@@ -503,20 +583,14 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
 void ObjectMap::Remove(const RemovalEvent& event) {
   const auto it = objects_.find(event.object_id);
   if (it == objects_.end()) return;  // merged away meanwhile
-  ObjectChange change;
-  change.type = "removed";
-  change.keyframe_id = event.keyframe_id;
-  change.timestamp = event.timestamp;
-  change.object_id = event.object_id;
-  change.class_id = it->second.class_id;
-  change.cuboid = it->second.cuboid;
-  change.sightings = it->second.sightings.size();
+  ObjectChange change =
+      ChangeOf("removed", event.keyframe_id, event.timestamp, it->second, session_);
   change.doubt = event.doubt;
   change.last_seen = it->second.last_timestamp;
-  change.session = session_;
   changes_.push_back(change);
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
+  if (restore_) removed_[event.object_id] = {std::move(it->second), event.timestamp};
   objects_.erase(it);
 }
 
@@ -584,6 +658,10 @@ std::string ObjectChangesJson(const std::vector<ObjectChange>& changes) {
     } else if (change.type == "merged") {
       entry["merged_into"] = change.merged_into;
       entry["reason"] = "duplicate";
+    } else if (change.type == "restored") {
+      entry["recreated_as"] = change.recreated_as;
+      entry["removed_at"] = change.removed_at;
+      entry["reason"] = "detected again at its place";
     } else {
       entry["reason"] = "too few sightings";
     }

@@ -9,7 +9,8 @@ namespace ocg {
 
 ObjectMapper::ObjectMapper(ObjectsOptions objects, OcgOptions ocg, PinholeCamera camera,
                            bool sequential)
-    : map_(std::move(objects), camera), manager_(std::move(ocg), sequential) {
+    : map_(std::move(objects), camera), manager_(ocg, sequential) {
+  map_.SetRestore(ocg.modes().restore);
   // Runs on the OCG's thread (in sequential mode inside Submit()): never hold map_mutex_
   // while submitting.
   manager_.SetRemovalCallback([this](const KeyframeResult& result) {
@@ -141,7 +142,8 @@ std::vector<ObjectView> ObjectMapper::Views() const {
         {id, object.class_id, object.cuboid, state == states.end() ? 0 : state->second, false});
   }
   for (const ObjectChange& change : map_.changes()) {
-    if (change.type == "removed")
+    // A restored object is live again: its removal is history.
+    if (change.type == "removed" && map_.objects().count(change.object_id) == 0)
       views.push_back({change.object_id, change.class_id, change.cuboid, 5, true});
   }
   return views;

@@ -43,6 +43,9 @@ void ObjectsOptions::Check() const {
   RequireOption(merge_distance >= 0, "Objects.merge_distance", "must be non-negative");
   RequireOption(merge_overlap > 0 && merge_overlap <= 1, "Objects.merge_overlap",
                 "must be in (0, 1]");
+  RequireOption(restore_window >= 0, "Objects.restore_window", "must be non-negative (seconds)");
+  RequireOption(restore_overlap > 0 && restore_overlap <= 1, "Objects.restore_overlap",
+                "must be in (0, 1]");
   RequireOption(up.allFinite() && up.norm() > 1e-9, "Objects.up", "must be a non-zero vector");
   RequireOption(point_box_shrink >= 0 && point_box_shrink < 0.5, "Objects.point_box_shrink",
                 "must be in [0, 0.5)");
@@ -81,6 +84,9 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.max_rays", &options->max_rays);
   file.Read("Objects.merge_distance", &options->merge_distance);
   file.Read("Objects.merge_overlap", &options->merge_overlap);
+  file.Read("Objects.merge_along_rays", &options->merge_along_rays);
+  file.Read("Objects.restore_window", &options->restore_window);
+  file.Read("Objects.restore_overlap", &options->restore_overlap);
   std::vector<double> up;
   if (file.Read("Objects.up", &up)) {
     RequireOption(up.size() == 3, "Objects.up", "needs 3 numbers");

@@ -84,6 +84,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   observed.erase(std::unique(observed.begin(), observed.end()), observed.end());
 
   for (ObjectId id : observation.forgotten) Forget(id);
+  for (ObjectId id : observation.restored) Restore(id);
   // 1. Graph update, with new objects entering in state 1.
   for (ObjectId id : observed) {
     auto [it, created] = records_.try_emplace(id);
@@ -177,7 +178,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   result.keyframe_id = keyframe;
   for (ObjectId id : outliers) {
     result.removed.push_back(MakeRemoval(id, keyframe, observation.timestamp));
-    RemoveObject(id);
+    RemoveObject(id, modes_.restore);
   }
   return result;
 }
@@ -221,9 +222,10 @@ KeyframeResult ObjectChangeDetector::EndSession() {
   return result;
 }
 
-void ObjectChangeDetector::RemoveObject(ObjectId id) {
+void ObjectChangeDetector::RemoveObject(ObjectId id, bool archive) {
   std::vector<ObjectId> neighbours;
   for (const CovisibilityEdge& edge : graph_.Neighbours(id)) neighbours.push_back(edge.neighbour);
+  if (archive) removed_[id] = {records_.at(id), graph_.Neighbours(id)};
   graph_.RemoveNode(id);
   records_.erase(id);
   active_.erase(id);
@@ -233,8 +235,30 @@ void ObjectChangeDetector::RemoveObject(ObjectId id) {
 
 bool ObjectChangeDetector::Forget(ObjectId id) {
   pending_.erase(id);
+  removed_.erase(id);
   if (records_.count(id) == 0) return false;
   RemoveObject(id);
+  return true;
+}
+
+bool ObjectChangeDetector::Restore(ObjectId id) {
+  const auto it = removed_.find(id);
+  if (it == removed_.end() || records_.count(id) > 0) return false;
+  Record& record = records_.emplace(id, it->second.record).first->second;
+  graph_.AddNode(id);
+  // The co-visibility it had is still true of the scene: the objects it was seen with are
+  // where they were, so its neighbours judge it as before the removal.
+  for (const CovisibilityEdge& edge : it->second.edges) {
+    if (!graph_.Contains(edge.neighbour)) continue;
+    graph_.SetEdge(id, edge.neighbour, edge.weight);
+    UpdateIsolation(edge.neighbour);
+  }
+  removed_.erase(it);
+  record.rate = 0.0;
+  record.rate_keyframe = -1;
+  record.judged_by_geometry = false;
+  SetState(id, record, {ObjectState::kObserved, 0.0});
+  UpdateIsolation(id);
   return true;
 }
 

@@ -20,9 +20,9 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {"paper",    "fallback", "in_image",
-                                               "guard",    "view",     "reliability",
-                                               "improved", "off",      "visibility"};
+  static const std::set<std::string> kKnown = {"paper", "fallback",    "in_image", "guard",
+                                               "view",  "reliability", "restore",  "improved",
+                                               "off",   "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
   OcgModes modes;
@@ -38,8 +38,8 @@ OcgModes ParseOcgMode(const std::string& mode) {
     RequireOption(
         kKnown.count(part) > 0, "OCG.mode",
         "unknown mode '" + part +
-            "' (use paper, or fallback, in_image, guard, view, reliability joined with '+', or "
-            "improved; "
+            "' (use paper, or fallback, in_image, guard, view, reliability, restore joined with "
+            "'+', or improved; "
             "baselines: off, visibility)");
   }
   RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
@@ -50,6 +50,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
   modes.dropout_guard = all || parts.count("guard") > 0;
   modes.detected_view = all || parts.count("view") > 0;
   modes.detection_reliability = parts.count("reliability") > 0;  // not in "improved"
+  modes.restore = all || parts.count("restore") > 0;
   return modes;
 }
 

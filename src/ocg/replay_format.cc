@@ -132,6 +132,9 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
     if (root.contains("forgotten")) {
       observation.forgotten = ObjectIdList(root.at("forgotten"), "\"forgotten\"");
     }
+    if (root.contains("restored")) {
+      observation.restored = ObjectIdList(root.at("restored"), "\"restored\"");
+    }
     return observation;
   } catch (const json::exception& error) {
     throw ReplayFormatError(std::string("wrong type: ") + error.what());
@@ -170,6 +173,7 @@ std::string ObservationToJson(const KeyframeObservation& observation) {
   if (!sizes.empty()) root["sizes"] = sizes;
   if (!classes.empty()) root["classes"] = classes;
   if (!observation.forgotten.empty()) root["forgotten"] = observation.forgotten;
+  if (!observation.restored.empty()) root["restored"] = observation.restored;
   return root.dump();
 }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ocg/core/file_io.h"
+#include "ocg/io/change_entries.h"
 #include "ocg/io/point_cloud.h"
 #include "ocg/io/text_lines.h"
 #include "ocg/io/trajectory.h"
@@ -54,9 +55,12 @@ MapScene ReadRunScene(const std::string& run_dir) {
   if (fs::exists(changes_path)) {
     const nlohmann::json changes = ReadJson(changes_path);
     try {
-      for (const nlohmann::json& entry : changes.at("changes")) {
+      const nlohmann::json& list = changes.at("changes");
+      const std::vector<bool> standing = StandingRemovals(list);  // restored ones are live
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const nlohmann::json& entry = list[i];
         const std::string type = entry.at("type").get<std::string>();
-        if (type != "removed" && type != "moved") continue;
+        if (!standing[i]) continue;
         ObjectView view;
         view.id = entry.at("object_id").get<ObjectId>();
         view.class_id = entry.at("class_id").get<int>();

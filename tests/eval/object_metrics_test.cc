@@ -138,6 +138,32 @@ TEST(ObjectMetrics, AMoveEntryCountsItsOldPlaceAsRemoved) {
   EXPECT_NEAR(objects[1].moved_to->x(), 0.4, 1e-12);
 }
 
+// An object removed and restored is live, once: its removal is not a removed object (it
+// would count its place as visited by a removed object twice over); removed again after
+// the restore, it is removed.
+TEST(ObjectMetrics, ARestoredRemovalIsNotARemovedObject) {
+  const std::string run = testing::MakeTempDir("restored_entry");
+  WriteFile(run + "/objects.json",
+            R"({"objects": [{"id": 3, "class_id": 41, "cuboid": {"centre": [0, 0, 0]}}]})");
+  WriteFile(run + "/changes.json", R"({"changes": [
+      {"type": "removed", "object_id": 3, "class_id": 41, "centroid": [0, 0, 0]},
+      {"type": "removed", "object_id": 4, "class_id": 41, "centroid": [1, 0, 0]},
+      {"type": "restored", "object_id": 3, "class_id": 41, "centroid": [0, 0, 0]},
+      {"type": "restored", "object_id": 4, "class_id": 41, "centroid": [1, 0, 0]},
+      {"type": "removed", "object_id": 4, "class_id": 41, "centroid": [1, 0, 0]}]})");
+  const std::vector<RunObject> objects = ReadRunObjects(run);
+  ASSERT_EQ(objects.size(), 2u);
+  EXPECT_EQ(objects[0].id, 3);
+  EXPECT_TRUE(objects[0].live);
+  EXPECT_EQ(objects[1].id, 4);
+  EXPECT_FALSE(objects[1].live);
+  ObjectGroundTruth truth;
+  truth.static_places = {Place(1, 41, 0.0)};
+  const ObjectMetrics m = ComputeObjectMetrics(truth, objects);
+  EXPECT_EQ(m.corr_s, 1);
+  EXPECT_EQ(m.removed_objects, 1);
+}
+
 // A move is reported right only when it links the old place to the new one: the same
 // removal linked to a cup elsewhere, or a removal left unlinked, is no reported move.
 TEST(ObjectMetrics, AMoveIsReportedRightOnlyToItsNewPlace) {

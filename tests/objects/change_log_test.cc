@@ -213,5 +213,39 @@ TEST(ChangeLog, SeenTogetherIsNoMove) {
   EXPECT_EQ(revised["changes"][0]["type"], "removed");
 }
 
+// A removal undone by a restore (the object found again at its own place, live with its
+// id): it went nowhere, so the cup that appeared across the room in the same session is
+// an addition, not where it moved to (issue 19's between-session link must not take it).
+TEST(ChangeLog, ARestoredRemovalIsNoMove) {
+  ObjectChange gone = Removed(3, kCup, 0.0, 2010, 1010);
+  gone.session = 1;
+  ObjectChange back = Removed(3, kCup, 0.0, 2020, 1010);
+  back.type = "restored";
+  back.recreated_as = 12;
+  back.removed_at = 2010;
+  back.session = 1;
+  const std::string objects =
+      nlohmann::json({{"format", "ocg-objects"},
+                      {"objects", {Live(3, kCup, 0.0, 900, 0), Live(9, kCup, 3.0, 2005, 1)}}})
+          .dump();
+  ChangeLogContext context;
+  context.session = 1;
+  context.session_start = 2000;
+  const nlohmann::json changes =
+      nlohmann::json::parse(ReviseChangeLog(ObjectChangesJson({gone}), objects, context))
+          .at("changes");
+  ASSERT_EQ(changes[0]["type"], "moved") << "without the restore, the case is a move";
+  const nlohmann::json revised =
+      nlohmann::json::parse(ReviseChangeLog(ObjectChangesJson({gone, back}), objects, context))
+          .at("changes");
+  ASSERT_EQ(revised.size(), 3u) << revised.dump(1);
+  EXPECT_EQ(revised[0]["type"], "removed");
+  EXPECT_EQ(revised[1]["type"], "restored");
+  EXPECT_EQ(revised[1]["recreated_as"], 12);
+  EXPECT_EQ(revised[1]["reason"], "detected again at its place");
+  EXPECT_EQ(revised[2]["type"], "added");
+  EXPECT_EQ(revised[2]["object_id"], 9);
+}
+
 }  // namespace
 }  // namespace ocg

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 
 #include "ocg/io/trajectory.h"
 #include "ocg/objects/assignment.h"
@@ -361,6 +362,59 @@ TEST_F(TwoObjectScene, TheSameObjectMappedTwiceIsMerged) {
   for (const auto& [id, object] : map.objects()) EXPECT_EQ(object.sightings.size(), 50u);
 }
 
+// A persistent class flip: for frames 30-41 the detector calls the cup a bowl, with boxes
+// that drift sideways by a few pixels (as real boxes do). The bowl's few rays, 13 degrees
+// apart, meet far from the cup in depth, so it is an object of its own, beyond the merge
+// distance; yet it lived within the cup's life, never beside it, and every box of it
+// covers the cup's projection: it is the cup, merged. A cup moved away (found elsewhere
+// after its last sighting) is not.
+TEST_F(TwoObjectScene, AnObjectSeenUnderAnotherClassForAWhileIsMergedIntoIt) {
+  const auto run = [this](bool merge_along_rays, const Eigen::Vector3d& moved) {
+    ObjectsOptions options;
+    options.merge_along_rays = merge_along_rays;
+    ObjectMap map(options, Camera());
+    for (int frame = 0; frame < 70; ++frame) {
+      const SE3 T_cw = OrbitPose(0.02 * frame);
+      if (frame == 40) cup_.centre += moved;
+      std::vector<Detection> detections = DetectionsAt(T_cw);
+      if (frame >= 30 && frame < 42 && moved.isZero()) {
+        detections[0].class_id = 45;
+        detections[0].x += 0.5 * (frame - 30);
+      }
+      map.AddFrame(frame, frame / 30.0, T_cw, FilterDetections(detections, options, Camera()));
+    }
+    cup_.centre -= moved;
+    std::vector<ObjectChange> merges;
+    map.MakeKeyframeObservation(0, 70 / 30.0, OrbitPose(1.4), &merges);
+    return std::make_pair(map.objects(), merges);
+  };
+  const auto [kept, none] = run(false, Eigen::Vector3d::Zero());
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_TRUE(none.empty());
+  const MapObject* cup = nullptr;
+  const MapObject* bowl = nullptr;
+  for (const auto& [id, object] : kept) {
+    if (object.class_id == 41) cup = &object;
+    if (object.class_id == 45) bowl = &object;
+  }
+  ASSERT_TRUE(cup != nullptr && bowl != nullptr);
+  EXPECT_GT((bowl->cuboid.centre - cup->cuboid.centre).norm(),
+            ObjectsOptions().merge_distance * cup->cuboid.size.maxCoeff())
+      << "the case needs a stand-in beyond the merge distance";
+
+  const auto [merged, merges] = run(true, Eigen::Vector3d::Zero());
+  ASSERT_EQ(merged.size(), 2u);
+  ASSERT_EQ(merges.size(), 1u);
+  EXPECT_EQ(merges[0].object_id, bowl->id);
+  EXPECT_EQ(merges[0].merged_into, cup->id);
+  EXPECT_EQ(merged.at(cup->id).class_id, 41);  // the majority of its sightings
+  EXPECT_EQ(merged.at(cup->id).sightings.size(), 70u);
+
+  const auto [after_move, move_merges] = run(true, Eigen::Vector3d(0.2, -0.15, 0));
+  EXPECT_EQ(after_move.size(), 3u);  // the cup at its old place and at its new one
+  EXPECT_TRUE(move_merges.empty());
+}
+
 // A real detector's double box: with every box of the cup, a second one on its upper part
 // (IoU 0.44, so non-maximum suppression keeps both). Each box feeds its own object; both
 // are detected in every frame, so "never seen together" cannot tell them apart. Two solid
@@ -661,6 +715,70 @@ TEST(RealCabinet, CuboidFromBoxesMatchesTheGroundTruth) {
   // short side is not checked: seen from the front only, its depth is poorly observed.
   const double long_yaw = cuboid.size.x() >= cuboid.size.y() ? cuboid.yaw : cuboid.yaw + kPi / 2;
   EXPECT_LT(std::abs(std::remainder(long_yaw - 3.10232, kPi)), 10 * kPi / 180);
+}
+
+// A detector that loses the cup for a while: the OCG removes it, and once it is detected
+// again a new cup object forms at its place. With restore on (OCG.mode "restore"), that is
+// the cup found again: back with its id and sightings, a "restored" change, the OCG told
+// to restore it and to forget the stand-in. Off, after the window, or found elsewhere (a
+// move), the new cup stays a new object.
+TEST_F(TwoObjectScene, ARemovedObjectFoundAgainAtItsPlaceIsRestored) {
+  struct Outcome {
+    ObjectId removed = 0;
+    std::map<ObjectId, std::size_t> cups;  // live cups: id -> sightings
+    KeyframeObservation observation;
+    std::vector<ObjectChange> changes;
+  };
+  const auto run = [this](bool restore, double window, const Eigen::Vector3d& shift) {
+    ObjectsOptions options;
+    options.restore_window = window;
+    ObjectMap map(options, Camera());
+    map.SetRestore(restore);
+    Outcome outcome;
+    Watch(map, options, 0, 40);
+    map.MakeKeyframeObservation(0, 40 / 30.0, OrbitPose(0.8), nullptr);
+    for (const auto& [id, object] : map.objects()) {
+      if (object.class_id == 41) outcome.removed = id;
+    }
+    Watch(map, options, 40, 50, /*cup_visible=*/false);
+    RemovalEvent event;
+    event.object_id = outcome.removed;
+    event.keyframe_id = 1;
+    event.timestamp = 50 / 30.0;
+    map.Remove(event);
+    cup_.centre += shift;
+    Watch(map, options, 50, 100);
+    cup_.centre -= shift;
+    outcome.observation = map.MakeKeyframeObservation(2, 100 / 30.0, OrbitPose(2.0), nullptr);
+    for (const auto& [id, object] : map.objects()) {
+      if (object.class_id == 41) outcome.cups[id] = object.sightings.size();
+    }
+    outcome.changes = map.changes();
+    return outcome;
+  };
+  const Outcome restored = run(true, 60.0, Eigen::Vector3d::Zero());
+  ASSERT_EQ(restored.cups.size(), 1u);
+  EXPECT_EQ(restored.cups.begin()->first, restored.removed);
+  EXPECT_GE(restored.cups.begin()->second, 40u + 45u);  // its history and the new sightings
+  EXPECT_EQ(restored.observation.restored, (std::vector<ObjectId>{restored.removed}));
+  ASSERT_FALSE(restored.changes.empty());
+  const ObjectChange& change = restored.changes.back();
+  EXPECT_EQ(change.type, "restored");
+  EXPECT_EQ(change.object_id, restored.removed);
+  EXPECT_DOUBLE_EQ(change.removed_at, 50 / 30.0);
+  EXPECT_NE(change.recreated_as, restored.removed);
+  EXPECT_EQ(restored.observation.forgotten, (std::vector<ObjectId>{change.recreated_as}));
+  EXPECT_LT((change.cuboid.centre - cup_.centre).norm(), 0.15 * cup_.size.maxCoeff());
+
+  for (const auto& [what, outcome] :
+       {std::pair{"restore off", run(false, 60.0, Eigen::Vector3d::Zero())},
+        std::pair{"after the window", run(true, 1.0, Eigen::Vector3d::Zero())},
+        std::pair{"moved 0.25 m", run(true, 60.0, Eigen::Vector3d(0.2, -0.15, 0))}}) {
+    ASSERT_EQ(outcome.cups.size(), 1u) << what;
+    EXPECT_NE(outcome.cups.begin()->first, outcome.removed) << what;
+    EXPECT_TRUE(outcome.observation.restored.empty()) << what;
+    for (const ObjectChange& entry : outcome.changes) EXPECT_NE(entry.type, "restored") << what;
+  }
 }
 
 }  // namespace

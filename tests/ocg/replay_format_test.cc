@@ -34,8 +34,13 @@ TEST(ReplayFormat, RoundTrip) {
   observation.camera.k1 = 0.1;
   observation.updates[5].centroid = Eigen::Vector3d(0.5, 0.25, 0.125);
   observation.updates[5].size = Eigen::Vector3d(1, 2, 3);
+  observation.forgotten = {8};
+  observation.restored = {2};
   const KeyframeObservation parsed = ParseObservationJson(ObservationToJson(observation));
   EXPECT_EQ(parsed.observed, observation.observed);
+  EXPECT_EQ(parsed.forgotten, (std::vector<ObjectId>{8}));
+  EXPECT_EQ(parsed.restored, (std::vector<ObjectId>{2}));
+  EXPECT_TRUE(ParseObservationJson(kLine).restored.empty());
   EXPECT_TRUE(parsed.T_cw.Matrix().isApprox(observation.T_cw.Matrix(), 1e-12));
   EXPECT_DOUBLE_EQ(parsed.camera.k1, 0.1);
   EXPECT_TRUE(parsed.updates.at(5).size->isApprox(Eigen::Vector3d(1, 2, 3)));

@@ -35,8 +35,10 @@ class Story : public ::testing::Test {
   KeyframeResult AtShelf(std::vector<ObjectId> seen) {
     return Step(LookAt({8, 0, 0.8}, {10, 0, 0}), seen);
   }
-  KeyframeResult Step(const SE3& T_cw, const std::vector<ObjectId>& seen) {
+  KeyframeResult Step(const SE3& T_cw, const std::vector<ObjectId>& seen,
+                      const std::vector<ObjectId>& restored = {}) {
     KeyframeObservation observation = MakeObservation(keyframe_++, T_cw, seen);
+    observation.restored = restored;
     for (ObjectId id : seen) {
       observation.updates[id].centroid = kPlaces.at(id);
       observation.updates[id].class_id = 41;
@@ -163,6 +165,68 @@ TEST_F(Story, ObjectsThatVanishTogetherAreRemovedTogether) {
   ASSERT_EQ(leaving.removed.size(), 2u);
   EXPECT_EQ(leaving.removed[0].object_id, 1);
   EXPECT_EQ(leaving.removed[1].object_id, 7);
+}
+
+// Object 1 is missed at the table until the OCG removes it; then the object map finds it
+// again at its place and says so (observation.restored).
+class RestoreStory : public Story {
+ protected:
+  explicit RestoreStory(const std::string& mode = "restore") : Story(mode) {}
+  void RemoveObjectOne() {
+    for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});
+    AtShelf({5, 6});
+    AtTable({2, 3, 4});
+    AtTable({2, 3, 4});
+    const KeyframeResult leaving = AtShelf({5, 6});
+    ASSERT_EQ(leaving.removed.size(), 1u);
+    ASSERT_FALSE(detector_.graph().Contains(1));
+  }
+  void FoundAgain() { Step(LookAt({-2, 0, 0.8}, {0, 0, 0}), {1, 2, 3, 4}, {1}); }
+};
+
+TEST_F(RestoreStory, RestoredObjectComesBackWithItsEdgesAndNoDoubt) {
+  RemoveObjectOne();
+  FoundAgain();
+  EXPECT_EQ(StateOf(1), S::kObserved);
+  EXPECT_EQ(DoubtOf(1), 0.0);
+  // Three keyframes with 2 before the removal, one now: its co-visibility is kept.
+  EXPECT_EQ(detector_.graph().EdgeWeight(1, 2), 4u);
+  EXPECT_EQ(detector_.graph().WeightSum(2), 4u + 6u + 6u);  // with 1, 3 and 4
+  EXPECT_EQ(detector_.Status(1)->observations, 4u);
+  EXPECT_EQ(detector_.Status(1)->first_keyframe, 0);
+  // Judged as before: missed again at the table with its neighbours seen, it is suspicious.
+  AtTable({2, 3, 4});
+  EXPECT_EQ(StateOf(1), S::kRecentlyObserved);
+  AtShelf({5, 6});
+  AtTable({2, 3, 4});
+  EXPECT_EQ(StateOf(1), S::kSuspicious);
+  EXPECT_EQ(DoubtOf(1), 30.0);
+}
+
+TEST_F(RestoreStory, OnlyAnObjectItRemovedComesBack) {
+  RemoveObjectOne();
+  EXPECT_FALSE(detector_.Restore(2)) << "in the graph";
+  EXPECT_FALSE(detector_.Restore(9)) << "never known";
+  EXPECT_TRUE(detector_.Forget(2));
+  EXPECT_FALSE(detector_.Restore(2)) << "forgotten (merged), not removed";
+  EXPECT_TRUE(detector_.Restore(1));
+  EXPECT_FALSE(detector_.Restore(1)) << "restored already";
+  EXPECT_EQ(detector_.graph().EdgeWeight(1, 2), 0u);  // 2 is gone
+  EXPECT_EQ(detector_.graph().EdgeWeight(1, 3), 3u);
+}
+
+// Paper mode keeps no removed objects: a restore request is ignored and the object re-enters
+// as a new node, as SPEC 3 says.
+TEST_F(Story, RestoreRequestIsIgnoredInPaperMode) {
+  for (int i = 0; i < 3; ++i) AtTable({1, 2, 3, 4});
+  AtShelf({5, 6});
+  AtTable({2, 3, 4});
+  AtTable({2, 3, 4});
+  ASSERT_EQ(AtShelf({5, 6}).removed.size(), 1u);
+  Step(LookAt({-2, 0, 0.8}, {0, 0, 0}), {1, 2, 3, 4}, {1});
+  EXPECT_EQ(StateOf(1), S::kObserved);
+  EXPECT_EQ(detector_.graph().EdgeWeight(1, 2), 1u);
+  EXPECT_EQ(detector_.Status(1)->observations, 1u);
 }
 
 class FallbackStory : public Story {

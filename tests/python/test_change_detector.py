@@ -49,6 +49,31 @@ def test_replay_example_matches_ocg_replay(tools, source_dir, tmp_path, mode):
     assert [(c["state"], c["doubt"]) for c in cup[5:7]] == [(4, 30.0), (4, 60.0)]
 
 
+def test_restored_object_comes_back_with_its_history(source_dir):
+    # The example's cup (object 1) is removed at keyframe 7; found again at its place, the
+    # object map says so ("restored"): with restore (part of improved) it is back in state 1
+    # with its observations, in paper mode it is a new node.
+    example = os.path.join(source_dir, "tests", "data", "ocg_example.jsonl")
+    first = json.loads(open(example).readline())
+    observations = {}
+    for mode in ("improved", "paper"):
+        detector = ocg.ChangeDetector(ocg.OcgOptions(mode=mode))
+        for text in open(example):
+            record = json.loads(text)
+            detector.process(record["keyframe"], np.array(record["T_cw"], dtype=float).reshape(4, 4),
+                             ocg.PinholeCamera(**record["camera"]), record["observed"],
+                             {int(k): v for k, v in record.get("centroids", {}).items()})
+        assert detector.status(1) is None
+        states = detector.process(9, np.array(first["T_cw"], dtype=float).reshape(4, 4),
+                                  ocg.PinholeCamera(**first["camera"]), first["observed"],
+                                  restored=[1])
+        cup = next(o for o in states.objects if o.id == 1)
+        assert (cup.state, cup.doubt) == (1, 0.0)
+        observations[mode] = detector.status(1).observations
+    assert observations["paper"] == 1
+    assert observations["improved"] > 1
+
+
 def test_removal_event_names_the_object():
     detector = ocg.ChangeDetector()
     camera = ocg.PinholeCamera(500.0, 500.0, 320.0, 240.0, 640, 480)

@@ -51,6 +51,25 @@ check "a stricter observation count" python3 "$CHECK" --min-observations 50 "$ru
 output_has "none observed >= 50 times" "of objects observed >= 50 times: 0"
 check "a smaller reach" python3 "$CHECK" --reach 0.1 "$run"
 output_has "5 cm is beyond 0.1 x 0.25 m" "false (re-created at its place): 0"
+# The same run with bottle 1 restored at keyframe 7 (bottle 3 merged into it): the removal
+# is undone, so it is not a false one and not standing.
+restored="$WORK/restored"
+mkdir -p "$restored"
+cp "$run/ocg_observations.jsonl" "$restored/"
+python3 - "$run" "$restored" <<'PY'
+import json, sys
+changes = json.load(open(sys.argv[1] + "/changes.json"))
+back = dict(changes["changes"][0], type="restored", keyframe=7, timestamp=7.0, recreated_as=3)
+changes["changes"].append(back)
+json.dump(changes, open(sys.argv[2] + "/changes.json", "w"))
+objects = json.load(open(sys.argv[1] + "/objects.json"))
+objects["objects"][0]["id"] = 1
+json.dump(objects, open(sys.argv[2] + "/objects.json", "w"))
+PY
+check "constructed run with a restore" python3 "$CHECK" "$restored"
+output_has "the bottle's removal restored" "restored later: 1"
+output_has "a restored removal is not false" "false (re-created at its place): 0"
+output_has "only the cup's removal stands" "standing (not restored): 1"
 echo '{"keyframe": 9, "observed": 7' >>"$run/ocg_observations.jsonl"
 fails_with "a malformed observation line is named" "ocg_observations.jsonl:10" python3 "$CHECK" "$run"
 

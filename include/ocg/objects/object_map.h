@@ -70,8 +70,8 @@ struct ObjectView {
 std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes);
 
 struct ObjectChange {
-  // "removed" (by the OCG), "merged" (a duplicate, hygiene) or "dropped" (too few
-  // sightings, hygiene)
+  // "removed" (by the OCG), "merged" (a duplicate, hygiene), "dropped" (too few
+  // sightings, hygiene) or "restored" (a removed object found again at its place)
   std::string type;
   std::int64_t keyframe_id = 0;
   double timestamp = 0.0;
@@ -82,7 +82,11 @@ struct ObjectChange {
   std::size_t sightings = 0;
   double doubt = 0.0;      // "removed" only
   double last_seen = 0.0;  // "removed" only: timestamp of the last sighting
-  int session = 0;         // the session that made the change (StartSession)
+  // "restored" only: the object that was found at its place (merged into it) and when it
+  // had been removed
+  ObjectId recreated_as = 0;
+  double removed_at = 0.0;
+  int session = 0;  // the session that made the change (StartSession)
 };
 
 struct FrameAssociation {
@@ -123,8 +127,13 @@ class ObjectMap {
   KeyframeObservation MakeKeyframeObservation(std::int64_t keyframe_id, double timestamp,
                                               const SE3& T_cw, std::vector<ObjectChange>* merges);
 
-  // The OCG declared the object an outlier: it leaves the map and enters the change log.
+  // The OCG declared the object an outlier: it leaves the map and enters the change log
+  // (with restore on, it is kept aside for Objects.restore_window seconds).
   void Remove(const RemovalEvent& event);
+  // OCG.mode "restore": removed objects found again at their place are brought back at
+  // the next keyframe (MakeKeyframeObservation: a "restored" change, the object found
+  // there merged into it, the OCG told through observation.restored).
+  void SetRestore(bool restore) { restore_ = restore; }
 
   const std::map<ObjectId, MapObject>& objects() const { return objects_; }
   std::size_t CandidateCount() const { return candidates_.size(); }
@@ -147,6 +156,9 @@ class ObjectMap {
   std::optional<double> PointSetYaw(const MapObject& object) const;
   void Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
              std::vector<ObjectChange>* merges);
+  // Brings back the removed objects a map object now stands in for; returns their ids.
+  std::vector<ObjectId> RestoreRemoved(std::int64_t keyframe_id, double timestamp,
+                                       std::vector<ObjectChange>* merges);
   struct PointCue;
   // Whether one of box_points is a point on the object (voted for, within its largest
   // extent of its centre).
@@ -165,6 +177,12 @@ class ObjectMap {
   std::map<ObjectId, std::int64_t> observed_since_keyframe_;  // id -> last frame
   std::map<ObjectId, bool> geometry_changed_;
   std::vector<ObjectChange> changes_;
+  bool restore_ = false;
+  struct RemovedObject {
+    MapObject object;
+    double removed_at = 0.0;  // timestamp
+  };
+  std::map<ObjectId, RemovedObject> removed_;  // restore on: removed within the window
   ObjectId next_object_id_ = 1;
   ObjectId next_candidate_id_ = -1;
   int session_ = 0;
@@ -173,7 +191,7 @@ class ObjectMap {
 
 // objects.json (SPEC 5): the live objects with their cuboid and OCG state.
 std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states);
-// changes.json: {"changes": [{"type": "removed" | "merged", ...}]}.
+// changes.json: {"changes": [{"type": "removed" | "merged" | "dropped" | "restored", ...}]}.
 std::string ObjectChangesJson(const std::vector<ObjectChange>& changes);
 
 }  // namespace ocg

@@ -68,6 +68,24 @@ struct ObjectsOptions {
   // space, but a real detector puts a second, nested box on one object now and then (two
   // boxes per bottle), and each box feeds its own object. 1 turns it off.
   double merge_overlap = 0.5;
+  // Objects.merge_along_rays: an object whose whole life (first to last sighting) lies
+  // within another's, never seen in the same frame as it, and whose untruncated boxes
+  // cover the other's projected cuboid (IoU at least min_reacquire_iou, for
+  // min_inlier_share of them) is the other seen again, any class: merged. A detector that
+  // calls an object by another class for a while (a persistent class flip) makes a second
+  // object from a short stretch of views, at the depth its narrow rays happen to meet,
+  // beyond merge_distance; its boxes still fit the first object where it is. An object
+  // moved away is never seen again at its old place, so its new one does not lie within
+  // its life.
+  bool merge_along_rays = true;
+  // Restore (OCG.mode "restore"): an object the OCG removed is brought back, with its id
+  // and history, when within Objects.restore_window seconds of the removal a map object of
+  // its class first detected after its last sighting takes up its place: their boxes
+  // (world-axis extents of the cuboids) share more than Objects.restore_overlap of the
+  // smaller one's volume. A detector that lost an object for a while finds it again where
+  // it was; an object moved away is found elsewhere, outside its old cuboid.
+  double restore_window = 60.0;
+  double restore_overlap = 0.5;
 
   // Objects.up: the world's up direction (gravity-aligned cuboids, yaw about it). In
   // pose-given mode the given trajectory's world frame decides it.

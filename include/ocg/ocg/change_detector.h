@@ -73,6 +73,11 @@ class ObjectChangeDetector {
   // change-log entry, and geometry given for it but not yet used is dropped too.
   // Returns false when unknown.
   bool Forget(ObjectId id);
+  // "restore" mode: brings back an object this detector removed, in state 1 with no doubt,
+  // its counts and view record kept, with the edges it had when removed to objects still in
+  // the graph. Returns false (and does nothing) when the object is in the graph or was not
+  // removed in "restore" mode. Process() calls it for observation.restored.
+  bool Restore(ObjectId id);
 
   std::optional<ObjectStatus> Status(ObjectId id) const;
   // Geometry given for an object not in the graph, kept for its first observation.
@@ -107,7 +112,8 @@ class ObjectChangeDetector {
   void ApplyUpdate(Record& record, const ObjectGeometryUpdate& update);
   void SetState(ObjectId id, Record& record, const StateAndDoubt& next);
   void UpdateIsolation(ObjectId id);
-  void RemoveObject(ObjectId id);
+  // archive: keep the record and edges for Restore() ("restore" mode removals).
+  void RemoveObject(ObjectId id, bool archive = false);
   RemovalEvent MakeRemoval(ObjectId id, std::int64_t keyframe, double timestamp) const;
   ObjectStatus MakeStatus(ObjectId id, const Record& record) const;
 
@@ -120,6 +126,13 @@ class ObjectChangeDetector {
   std::unordered_map<ObjectId, ObjectGeometryUpdate> pending_;
   std::unordered_set<ObjectId> active_;    // states 1, 2 and 4
   std::unordered_set<ObjectId> isolated_;  // degree 0 (judged geometrically in "fallback")
+  // "restore" mode: objects removed as outliers, as they were, until restored or forgotten.
+  // Not in ocg.json: a restore happens within the run that removed the object.
+  struct Removed {
+    Record record;
+    std::vector<CovisibilityEdge> edges;
+  };
+  std::unordered_map<ObjectId, Removed> removed_;
   std::int64_t last_keyframe_ = -1;
   double last_timestamp_ = 0.0;
   bool any_keyframe_ = false;

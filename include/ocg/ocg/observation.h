@@ -32,6 +32,12 @@ struct KeyframeObservation {
   // Objects the map dropped for its own reasons since the last keyframe (duplicates merged
   // into another): forgotten before this keyframe's update, without a change-log entry.
   std::vector<ObjectId> forgotten;
+  // Objects the OCG removed that the map found again at their own place ("restore" mode):
+  // back in the graph before this keyframe's update, in state 1 with no doubt, with the
+  // edges they had when removed (to objects still in the graph). An id the OCG did not
+  // remove, or removed in a mode without "restore", is ignored: it re-enters as a new node
+  // when observed.
+  std::vector<ObjectId> restored;
 };
 
 }  // namespace ocg

@@ -23,6 +23,7 @@ struct OcgModes {
   bool dropout_guard = false;          // "guard"
   bool detected_view = false;          // "view"
   bool detection_reliability = false;  // "reliability"
+  bool restore = false;                // "restore"
 };
 
 // Parses OCG.mode; throws OptionError naming the key when it is not a valid mode.
@@ -41,7 +42,10 @@ struct OcgOptions {
   //               min(1, ln(1 - p) / ln(1 - reliable_detection_rate)); not part of
   //               "improved" (it kept spurious objects and removed no fewer static ones
   //               on the generated sequences: docs/ocg.md), "improved+reliability" adds it,
-  //   "improved"  fallback+in_image+guard+view, the default (on TUM fr3 long_office's real
+  //   "restore"   an object removed and then detected again at its own place (the object
+  //               map decides: its Objects.restore_* settings) comes back with its id, its
+  //               history and its edges, instead of as a new object,
+  //   "improved"  fallback+in_image+guard+view+restore, the default (on TUM fr3 long_office's real
   //               detections it removes no object of that static scene, paper removes 9;
   //               docs/results.md). See docs/ocg.md for the case each one fixes.
   // Baselines for comparison: "off" (nothing is ever removed) and "visibility" (an object
