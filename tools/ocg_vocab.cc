@@ -1,8 +1,10 @@
 // ocg_vocab: train a bag-of-words vocabulary of ORB descriptors, convert ORB-SLAM2's
-// ORBvoc.txt to our binary format (and back), and describe a vocabulary file.
+// ORBvoc.txt to our binary format (and back), describe a vocabulary file, and compare
+// vocabularies on frame pairs of real sequences.
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
@@ -11,6 +13,7 @@
 #include "cli_common.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/features/bow_pairs.h"
 #include "ocg/features/orb_extractor.h"
 #include "ocg/features/vocabulary.h"
 
@@ -69,6 +72,32 @@ void Describe(const ocg::Vocabulary& vocabulary, const std::string& path, double
             << " words, loaded in " << seconds << " s\n";
 }
 
+// ORB descriptors of every image, in order.
+std::vector<std::vector<ocg::Descriptor>> ExtractAll(const std::vector<std::string>& images,
+                                                     const ocg::OrbExtractorOptions& orb) {
+  ocg::OrbExtractor extractor(orb);
+  std::vector<std::vector<ocg::Descriptor>> descriptors;
+  ocg::ProgressLine progress("images", images.size());
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const cv::Mat gray = cv::imread(images[i], cv::IMREAD_GRAYSCALE);
+    if (gray.empty()) throw ocg::FileError("cannot read image '" + images[i] + "'");
+    std::vector<cv::KeyPoint> keypoints;
+    descriptors.emplace_back();
+    extractor.Detect(gray, &keypoints, &descriptors.back());
+    progress.Update(i + 1);
+  }
+  progress.Finish();
+  return descriptors;
+}
+
+void PrintPairStats(const std::string& source, const std::string& vocabulary,
+                    const ocg::BowPairStats& stats) {
+  std::printf("| %s | %s | %zu / %zu | %.4f / %.4f | %.3f |", source.c_str(), vocabulary.c_str(),
+              stats.true_pairs, stats.false_pairs, stats.mean_true, stats.mean_false, stats.auc);
+  for (const double auc : stats.auc_by_gap) std::printf(" %.3f", auc);
+  std::printf(" | %.3f |\n", stats.recall_at_near);
+}
+
 double Since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -125,7 +154,49 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
 
+  auto* pairs = app.add_subcommand(
+      "pairs",
+      "compare vocabularies on frame pairs of sequences that never revisit a place: BoW "
+      "scores of frames 1..near apart (same place) against frames >= far apart");
+  std::vector<std::string> vocabularies, pair_sources;
+  ocg::BowPairOptions pair_options;
+  pairs->add_option("--vocabulary", vocabularies, "vocabulary file (repeat to compare several)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  pairs->add_option("--images", pair_sources, "a sequence: folder, TUM rgb.txt or list (repeat)")
+      ->required();
+  pairs->add_option("--near", pair_options.near, "frames 1..near apart see the same place")
+      ->capture_default_str();
+  pairs->add_option("--far", pair_options.far, "frames at least far apart see other places")
+      ->capture_default_str();
+  pairs
+      ->add_option("--settings", settings_path,
+                   "settings file whose ORBextractor.* keys configure the features")
+      ->check(CLI::ExistingFile);
+
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
+    if (*pairs) {
+      pair_options.Check();
+      ocg::OrbExtractorOptions orb;
+      if (!settings_path.empty()) orb = ocg::LoadSettings(settings_path).settings.orb;
+      std::vector<ocg::Vocabulary> loaded;
+      for (const std::string& path : vocabularies) loaded.push_back(ocg::Vocabulary::Load(path));
+      std::printf(
+          "| sequence | vocabulary | true / false pairs | mean score true / false | AUC "
+          "| AUC at gap 1..%d | recall at gap %d |\n|---|---|---|---|---|---|---|\n",
+          pair_options.near, pair_options.near);
+      for (const std::string& source : pair_sources) {
+        const auto descriptors = ExtractAll(ListImages(source), orb);
+        for (std::size_t v = 0; v < loaded.size(); ++v) {
+          std::vector<ocg::BowVector> bows(descriptors.size());
+          for (std::size_t i = 0; i < descriptors.size(); ++i) {
+            loaded[v].Transform(descriptors[i], &bows[i]);
+          }
+          PrintPairStats(source, vocabularies[v], ocg::CompareBowPairs(bows, pair_options));
+        }
+      }
+      return;
+    }
     if (*info) {
       const auto start = std::chrono::steady_clock::now();
       const ocg::Vocabulary vocabulary = ocg::Vocabulary::Load(info_path);
@@ -155,20 +226,9 @@ int main(int argc, char** argv) {
     }
     std::cout << "extracting ORB features (" << orb.features << " per image) from " << images.size()
               << " images\n";
-    ocg::OrbExtractor extractor(orb);
-    std::vector<std::vector<ocg::Descriptor>> descriptors;
+    const auto descriptors = ExtractAll(images, orb);
     std::size_t total = 0;
-    ocg::ProgressLine progress("images", images.size());
-    for (std::size_t i = 0; i < images.size(); ++i) {
-      const cv::Mat gray = cv::imread(images[i], cv::IMREAD_GRAYSCALE);
-      if (gray.empty()) throw ocg::FileError("cannot read image '" + images[i] + "'");
-      std::vector<cv::KeyPoint> keypoints;
-      descriptors.emplace_back();
-      extractor.Detect(gray, &keypoints, &descriptors.back());
-      total += descriptors.back().size();
-      progress.Update(i + 1);
-    }
-    progress.Finish();
+    for (const auto& image : descriptors) total += image.size();
     std::cout << "clustering " << total << " descriptors (k = " << training.branching
               << ", L = " << training.depth << ", seed " << training.seed << ")\n";
     const auto start = std::chrono::steady_clock::now();

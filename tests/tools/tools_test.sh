@@ -66,6 +66,10 @@ check "to ORB-SLAM2 text" "$BIN/ocg_vocab" convert --in "$WORK/v.ocgvoc" --out "
 check "text header" grep -qx "4 3 0 0" "$WORK/v.txt"
 check "ORBvoc text to binary" "$BIN/ocg_vocab" convert --orbvoc "$WORK/v.txt" --out "$WORK/v2.ocgvoc"
 check "binary round trip identical" cmp "$WORK/v.ocgvoc" "$WORK/v2.ocgvoc"
+check "ocg_vocab pairs" bash -c "'$BIN/ocg_vocab' pairs --vocabulary '$WORK/v.ocgvoc' --vocabulary '$WORK/v2.ocgvoc' --images '$WORK/frames/rgb.txt' --near 1 --far 3 --log-level warn >'$WORK/pairs.log'"
+# 6 frames: 5 pairs 1 apart, 3 + 2 + 1 pairs at least 3 apart; one row per vocabulary.
+check "pairs counted, a row per vocabulary" test "$(grep -c '| 5 / 6 |' "$WORK/pairs.log")" = 2
+fails_with "pairs refuses far inside near" "far (1) must exceed near (1)" "$BIN/ocg_vocab" pairs --vocabulary "$WORK/v.ocgvoc" --images "$WORK/frames/rgb.txt" --near 1 --far 1
 printf '4 3 0 0\n0 1 7\n' >"$WORK/broken.txt"
 fails_with "broken vocabulary names file and line" "broken.txt:2: missing descriptor byte" "$BIN/ocg_vocab" convert --orbvoc "$WORK/broken.txt" --out "$WORK/never.ocgvoc"
 check "nothing written on failure" test ! -e "$WORK/never.ocgvoc"
