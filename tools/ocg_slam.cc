@@ -168,6 +168,7 @@ int main(int argc, char** argv) {
   std::string settings_path, sequence_path, format = "tum", detections, output, vocabulary_path;
   int max_frames = 0;
   bool realtime = false;
+  int read_ahead = -1;
   run->add_option("--settings", settings_path, "settings file (ours or ORB-SLAM2's)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -199,6 +200,11 @@ int main(int argc, char** argv) {
                   "several OCG modes, comma-separated, from one SLAM run: each mode's run "
                   "folder is OUT/<mode>/ (sequential mode, needs --detections)")
       ->excludes(mode_option);
+  run->add_option("--read-ahead", read_ahead,
+                  "decode up to N images ahead on a thread of their own (0: decode each when "
+                  "it is due, on the tracking thread); default: 4 when the run may use two "
+                  "cores or more, else 0")
+      ->check(CLI::NonNegativeNumber);
   run->add_flag("--realtime", realtime,
                 "feed images at the pace of their timestamps (never drops frames)");
   std::string load_map, save_map;
@@ -332,7 +338,9 @@ int main(int argc, char** argv) {
     std::vector<std::string> image_paths;
     image_paths.reserve(frames);
     for (std::size_t i = 0; i < frames; ++i) image_paths.push_back(sequence.images[i].path);
-    ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE);
+    ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE,
+                               read_ahead >= 0 ? static_cast<std::size_t>(read_ahead)
+                                               : ocg::ImageReadAhead::AutomaticDepth());
     for (std::size_t i = 0; i < frames; ++i) {
       const ocg::TimedImage& image = sequence.images[i];
       if (realtime) {

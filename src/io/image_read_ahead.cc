@@ -2,6 +2,10 @@
 
 #include <stdexcept>
 
+#if defined(__linux__)
+#include <sched.h>
+#endif
+
 #include <opencv2/imgcodecs.hpp>
 
 #include "ocg/core/file_io.h"
@@ -10,7 +14,8 @@
 namespace ocg {
 
 ImageReadAhead::ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth)
-    : paths_(std::move(paths)), imread_flags_(imread_flags), depth_(depth == 0 ? 1 : depth) {
+    : paths_(std::move(paths)), imread_flags_(imread_flags), depth_(depth) {
+  if (depth_ == 0) return;  // read in Next(), on the caller's thread
   reader_ = std::thread([this] {
     NameThisThread("image_reader");
     Run();
@@ -23,7 +28,19 @@ ImageReadAhead::~ImageReadAhead() {
     stopping_ = true;
   }
   changed_.notify_all();
-  reader_.join();
+  if (reader_.joinable()) reader_.join();
+}
+
+ImageReadAhead::Decoded ImageReadAhead::Decode(const std::string& path) const {
+  // cv::imread reports a missing or undecodable file by an empty image; an exception
+  // from a broken codec must not end the reader thread, so it is turned into the same.
+  Decoded decoded;
+  try {
+    decoded.image = cv::imread(path, imread_flags_);
+  } catch (const cv::Exception&) {
+    decoded.image.release();
+  }
+  return decoded;
 }
 
 void ImageReadAhead::Run() {
@@ -33,14 +50,7 @@ void ImageReadAhead::Run() {
       changed_.wait(lock, [this] { return stopping_ || ready_.size() < depth_; });
       if (stopping_) return;
     }
-    // cv::imread reports a missing or undecodable file by an empty image; an exception
-    // from a broken codec must not end the thread, so it is turned into the same.
-    Decoded decoded;
-    try {
-      decoded.image = cv::imread(path, imread_flags_);
-    } catch (const cv::Exception&) {
-      decoded.image.release();
-    }
+    Decoded decoded = Decode(path);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ready_.push_back(std::move(decoded));
@@ -49,16 +59,29 @@ void ImageReadAhead::Run() {
   }
 }
 
+std::size_t ImageReadAhead::AutomaticDepth() {
+  constexpr std::size_t kDepth = 4;
+#if defined(__linux__)
+  cpu_set_t cores;
+  CPU_ZERO(&cores);
+  if (sched_getaffinity(0, sizeof(cores), &cores) == 0) return CPU_COUNT(&cores) >= 2 ? kDepth : 0;
+#endif
+  return std::thread::hardware_concurrency() >= 2 ? kDepth : 0;
+}
+
 cv::Mat ImageReadAhead::Next() {
   if (!HasNext()) throw std::logic_error("ImageReadAhead::Next: every image was taken");
   Decoded decoded;
-  {
+  if (depth_ == 0) {
+    decoded = Decode(paths_[taken_]);
+  } else {
     std::unique_lock<std::mutex> lock(mutex_);
     changed_.wait(lock, [this] { return !ready_.empty(); });
     decoded = std::move(ready_.front());
     ready_.pop_front();
+    lock.unlock();
+    changed_.notify_all();
   }
-  changed_.notify_all();
   const std::string& path = paths_[taken_++];
   if (decoded.image.empty()) throw FileError("cannot read image '" + path + "'");
   return decoded.image;

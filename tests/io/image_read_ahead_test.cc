@@ -40,16 +40,18 @@ class ImageReadAheadTest : public ::testing::Test {
 TEST_F(ImageReadAheadTest, GivesTheImagesInOrderAsReadingThemOneByOne) {
   std::vector<std::string> paths;
   for (int i = 0; i < 12; ++i) paths.push_back(WriteImage(i));
-  ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 3);
-  for (const std::string& path : paths) {
-    ASSERT_TRUE(reader.HasNext());
-    const cv::Mat expected = cv::imread(path, cv::IMREAD_GRAYSCALE);
-    const cv::Mat image = reader.Next();
-    ASSERT_EQ(image.size(), expected.size());
-    EXPECT_EQ(cv::countNonZero(image != expected), 0) << path;
+  for (const std::size_t depth : {std::size_t{0}, std::size_t{3}}) {
+    ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, depth);
+    for (const std::string& path : paths) {
+      ASSERT_TRUE(reader.HasNext());
+      const cv::Mat expected = cv::imread(path, cv::IMREAD_GRAYSCALE);
+      const cv::Mat image = reader.Next();
+      ASSERT_EQ(image.size(), expected.size());
+      EXPECT_EQ(cv::countNonZero(image != expected), 0) << path << ", depth " << depth;
+    }
+    EXPECT_FALSE(reader.HasNext());
+    EXPECT_THROW(reader.Next(), std::logic_error);
   }
-  EXPECT_FALSE(reader.HasNext());
-  EXPECT_THROW(reader.Next(), std::logic_error);
 }
 
 TEST_F(ImageReadAheadTest, AnUnreadableImageFailsInItsTurnNamingTheFile) {
@@ -59,16 +61,18 @@ TEST_F(ImageReadAheadTest, AnUnreadableImageFailsInItsTurnNamingTheFile) {
   std::ofstream(broken) << "not a PNG";
   paths.push_back(broken);
   paths.push_back(WriteImage(4));
-  ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 2);
-  for (int i = 0; i < 3; ++i) EXPECT_FALSE(reader.Next().empty());
-  try {
-    reader.Next();
-    FAIL() << "an unreadable image was returned";
-  } catch (const FileError& error) {
-    EXPECT_NE(std::string(error.what()).find("broken.png"), std::string::npos) << error.what();
+  for (const std::size_t depth : {std::size_t{0}, std::size_t{2}}) {
+    ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, depth);
+    for (int i = 0; i < 3; ++i) EXPECT_FALSE(reader.Next().empty());
+    try {
+      reader.Next();
+      FAIL() << "an unreadable image was returned";
+    } catch (const FileError& error) {
+      EXPECT_NE(std::string(error.what()).find("broken.png"), std::string::npos) << error.what();
+    }
+    // The images after it are still given.
+    EXPECT_EQ(reader.Next().at<unsigned char>(0, 0), 40);
   }
-  // The images after it are still given.
-  EXPECT_EQ(reader.Next().at<unsigned char>(0, 0), 40);
 }
 
 TEST_F(ImageReadAheadTest, StopsWithoutWaitingForImagesNobodyTakes) {

@@ -5,7 +5,8 @@
 // read ahead, it runs while the consumer tracks the previous frame instead of between
 // frames. The images and their order are exactly those of reading one after the other.
 //
-// Threading: the constructor starts the reader thread ("image_reader"); HasNext and Next
+// Threading: the constructor starts the reader thread ("image_reader") unless depth is 0;
+// HasNext and Next
 // are called from one consumer thread; the destructor stops and joins the reader (images
 // read ahead and never taken are dropped).
 
@@ -24,11 +25,17 @@ namespace ocg {
 class ImageReadAhead {
  public:
   // paths: image files, read in this order. imread_flags: cv::IMREAD_* (e.g. GRAYSCALE).
-  // depth: at most this many decoded images wait for the consumer (>= 1).
+  // depth: at most this many decoded images wait for the consumer; 0 starts no thread and
+  // decodes each image in Next() (on one core a reader thread only competes with the
+  // consumer: bench/slam_speed.py --cores 1 measured it).
   ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth = 4);
   ~ImageReadAhead();
   ImageReadAhead(const ImageReadAhead&) = delete;
   ImageReadAhead& operator=(const ImageReadAhead&) = delete;
+
+  // The depth to use by default: 4 when this process may run on two cores or more, else
+  // 0 (Linux: the CPU affinity mask, so taskset and cgroup pinning count).
+  static std::size_t AutomaticDepth();
 
   bool HasNext() const { return taken_ < paths_.size(); }
 
@@ -42,6 +49,7 @@ class ImageReadAhead {
     cv::Mat image;  // empty when the file could not be read
   };
   void Run();
+  Decoded Decode(const std::string& path) const;
 
   const std::vector<std::string> paths_;
   const int imread_flags_;
