@@ -9,8 +9,8 @@
 #include <string>
 
 #include "ocg/core/coco.h"
-#include "ocg/objects/cuboid_json.h"
 #include "ocg/io/change_entries.h"
+#include "ocg/objects/cuboid_json.h"
 
 namespace ocg {
 namespace {
