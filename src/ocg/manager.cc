@@ -28,14 +28,21 @@ OcgManager::~OcgManager() {
 
 void OcgManager::SetRemovalCallback(RemovalCallback callback) { callback_ = std::move(callback); }
 
-void OcgManager::ProcessOne(const KeyframeObservation& observation) {
+// step runs on the detector under state_mutex_; its removals are recorded there and
+// reach the callback after the lock is released.
+template <typename Step>
+void OcgManager::Publish(Step&& step) {
   KeyframeResult result;
   {
     std::lock_guard<std::mutex> lock(state_mutex_);
-    result = detector_.Process(observation);
+    result = step();
     removals_.insert(removals_.end(), result.removed.begin(), result.removed.end());
   }
   if (callback_ && !result.removed.empty()) callback_(result);
+}
+
+void OcgManager::ProcessOne(const KeyframeObservation& observation) {
+  Publish([&] { return detector_.Process(observation); });
 }
 
 void OcgManager::RethrowWorkerError() {
@@ -99,13 +106,7 @@ void OcgManager::StartSession() {
 
 void OcgManager::EndSession() {
   WaitUntilIdle();
-  KeyframeResult result;
-  {
-    std::lock_guard<std::mutex> lock(state_mutex_);
-    result = detector_.EndSession();
-    removals_.insert(removals_.end(), result.removed.begin(), result.removed.end());
-  }
-  if (callback_ && !result.removed.empty()) callback_(result);
+  Publish([&] { return detector_.EndSession(); });
 }
 
 void OcgManager::Shutdown() {

@@ -118,6 +118,20 @@ LocalMapping::~LocalMapping() {
   }
 }
 
+// Runs work with the map lock released (taken held, given back held). Its time, waiting
+// to lock again included, counts as not holding the lock (run.json's
+// local_mapping_map_lock_held_per_keyframe).
+template <typename Work>
+auto LocalMapping::WithoutMapLock(std::unique_lock<std::mutex>& map_lock, Work&& work) {
+  map_lock.unlock();
+  const auto unlocked = std::chrono::steady_clock::now();
+  auto result = work();
+  map_lock.lock();
+  unlocked_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - unlocked).count();
+  return result;
+}
+
 void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_lock<std::mutex> lock(map_->mutex());
@@ -180,7 +194,6 @@ LocalMapping::TriangulationView LocalMapping::ViewOf(const KeyFramePtr& keyframe
   TriangulationView view;
   view.keyframe = keyframe;
   view.T_cw = keyframe->T_cw;
-  view.median_depth = MedianDepth(*keyframe);
   view.has_point.resize(keyframe->points.size());
   for (std::size_t i = 0; i < keyframe->points.size(); ++i)
     view.has_point[i] = keyframe->points[i] ? 1 : 0;
@@ -201,18 +214,18 @@ void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe,
   const auto views_of_the_map = [&] {
     std::vector<TriangulationView> views;
     views.push_back(ViewOf(keyframe));
-    for (const KeyFramePtr& neighbour : neighbours) views.push_back(ViewOf(neighbour));
+    for (const KeyFramePtr& neighbour : neighbours) {
+      views.push_back(ViewOf(neighbour));
+      views.back().median_depth = MedianDepth(*neighbour);  // the new keyframe's is not used
+    }
     return views;
   };
   std::vector<TriangulationView> views = views_of_the_map();
   const std::uint64_t corrections = map_->corrections();
-  map_lock.unlock();
-  const auto unlocked = std::chrono::steady_clock::now();
-  if (before_triangulation_) before_triangulation_();
-  std::vector<NewPoint> found = FindNewPoints(&views);
-  map_lock.lock();
-  unlocked_seconds_ +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - unlocked).count();
+  std::vector<NewPoint> found = WithoutMapLock(map_lock, [&] {
+    if (before_triangulation_) before_triangulation_();
+    return FindNewPoints(&views);
+  });
   if (map_->corrections() != corrections) {
     views = views_of_the_map();
     found = FindNewPoints(&views);
@@ -384,14 +397,10 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
   }
   KeyFrameAdjustment adjustment = PrepareAdjustment(*map_, camera_, pyramid_, local);
   const std::uint64_t corrections = map_->corrections();
-  map_lock.unlock();
-  const auto unlocked = std::chrono::steady_clock::now();
-  if (before_local_solve_) before_local_solve_();
-  const bool solved = SolveAdjustment(&adjustment, options_.local_ba_iterations);
-  map_lock.lock();
-  // Waiting to lock again counts as not holding it.
-  unlocked_seconds_ +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - unlocked).count();
+  const bool solved = WithoutMapLock(map_lock, [&] {
+    if (before_local_solve_) before_local_solve_();
+    return SolveAdjustment(&adjustment, options_.local_ba_iterations);
+  });
   if (!solved) return;
   if (map_->corrections() != corrections) {
     ++stats_.local_adjustments_dropped;

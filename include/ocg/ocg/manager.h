@@ -65,6 +65,8 @@ class OcgManager {
   friend struct MapFileAccess;  // map files (src/app/object_map_file.cc)
   void WorkerLoop();
   void ProcessOne(const KeyframeObservation& observation);
+  template <typename Step>
+  void Publish(Step&& step);
   void RethrowWorkerError();
 
   const bool sequential_;

@@ -101,7 +101,7 @@ class LocalMapping {
   struct TriangulationView {
     KeyFramePtr keyframe;  // its features and vocabulary vector, fixed once it exists
     SE3 T_cw;
-    double median_depth = 0.0;
+    double median_depth = 0.0;    // neighbours only
     std::vector<char> has_point;  // per feature: a map point is attached
   };
   struct NewPoint {
@@ -110,6 +110,8 @@ class LocalMapping {
     Eigen::Vector3d position;
   };
   static TriangulationView ViewOf(const KeyFramePtr& keyframe);
+  template <typename Work>
+  auto WithoutMapLock(std::unique_lock<std::mutex>& map_lock, Work&& work);
   // Takes the map lock held and gives it back held; matches and triangulates without it.
   void TriangulateNewPoints(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
   // views: the new keyframe first, then its neighbours. Marks the new keyframe's features
@@ -128,7 +130,7 @@ class LocalMapping {
   BowDatabase* database_;
   std::list<MapPointPtr> recent_points_;
   LocalMappingStats stats_;
-  double unlocked_seconds_ = 0.0;  // of the keyframe being processed: the solve without the lock
+  double unlocked_seconds_ = 0.0;  // of the keyframe being processed: work without the lock
 
   std::function<void(const KeyFramePtr&)> keyframe_mapped_;
   std::function<void()> before_local_solve_;
