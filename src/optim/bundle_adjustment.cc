@@ -2,9 +2,11 @@
 
 #include <ceres/ceres.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "ocg/optim/pose_parameters.h"
 #include "ocg/optim/reprojection_cost.h"
@@ -25,6 +27,8 @@ double Chi2(const PinholeCamera& camera, const SE3& T_cw, const Eigen::Vector3d&
 
 void BundleAdjustmentOptions::Check() const {
   if (max_iterations < 1) throw std::invalid_argument("bundle adjustment: max_iterations < 1");
+  if (refine_iterations < 0)
+    throw std::invalid_argument("bundle adjustment: refine_iterations < 0");
   if (huber_threshold <= 0.0 || outlier_chi2 <= 0.0) {
     throw std::invalid_argument("bundle adjustment: thresholds must be positive");
   }
@@ -39,98 +43,163 @@ void PoseOptimizationOptions::Check() const {
   }
 }
 
+namespace {
+
+// The problem's keyframes and points as Ceres parameter blocks.
+struct BaParameters {
+  std::vector<PoseParameters> poses;
+  std::vector<std::array<double, 3>> points;
+};
+
+// One Ceres solve over the observations marked used; loss null: plain squared loss.
+// Eliminating the points first is what makes it a Schur problem: the ordering is given,
+// not searched for (Ceres' independent-set search costs as much as a small solve).
+ceres::Solver::Summary SolveOnce(const BundleAdjustmentProblem& problem,
+                                 const std::vector<char>& used, ceres::LossFunction* loss,
+                                 int iterations, SchurComplement schur, BaParameters* parameters,
+                                 bool* any_free) {
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem ceres_problem(problem_options);
+  PoseManifold manifold;
+  for (std::size_t i = 0; i < problem.observations.size(); ++i) {
+    if (!used[i]) continue;
+    const BaObservation& o = problem.observations[i];
+    auto* cost = new ReprojectionCost(problem.camera, o.pixel, std::sqrt(o.inverse_sigma2));
+    ceres_problem.AddResidualBlock(cost, loss,
+                                   parameters->poses[static_cast<std::size_t>(o.keyframe)].data(),
+                                   parameters->points[static_cast<std::size_t>(o.point)].data());
+  }
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  int free_keyframes = 0;
+  bool free_points = false;
+  for (std::size_t k = 0; k < parameters->poses.size(); ++k) {
+    double* pose = parameters->poses[k].data();
+    if (!ceres_problem.HasParameterBlock(pose)) continue;
+    ceres_problem.SetManifold(pose, &manifold);
+    if (problem.keyframes[k].fixed) {
+      ceres_problem.SetParameterBlockConstant(pose);
+    } else {
+      ++free_keyframes;
+      ordering->AddElementToGroup(pose, 1);
+    }
+  }
+  for (std::size_t p = 0; p < parameters->points.size(); ++p) {
+    double* point = parameters->points[p].data();
+    if (!ceres_problem.HasParameterBlock(point)) continue;
+    if (problem.points[p].fixed) {
+      ceres_problem.SetParameterBlockConstant(point);
+    } else {
+      free_points = true;
+      ordering->AddElementToGroup(point, 0);
+    }
+  }
+  ceres::Solver::Summary summary;
+  *any_free = free_keyframes > 0 || free_points;
+  if (!*any_free || ceres_problem.NumResidualBlocks() == 0) return summary;
+  const bool dense = schur == SchurComplement::kDense ||
+                     (schur == SchurComplement::kAuto && free_keyframes <= kDenseSchurMaxKeyframes);
+  ceres::Solver::Options options =
+      SolverOptions(iterations, dense ? LinearSolver::kDenseSchur : LinearSolver::kSparseSchur);
+  // Without free points or free keyframes there is nothing to eliminate: Ceres picks.
+  if (free_points && free_keyframes > 0) options.linear_solver_ordering = ordering;
+  ceres::Solve(options, &ceres_problem, &summary);
+  return summary;
+}
+
+}  // namespace
+
 BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
                                     const BundleAdjustmentOptions& options) {
   options.Check();
   BundleAdjustmentReport report;
-  std::vector<PoseParameters> poses;
+  BaParameters parameters;
   for (const BaKeyframe& keyframe : problem->keyframes)
-    poses.push_back(ToParameters(keyframe.T_cw));
-  std::vector<std::array<double, 3>> points;
+    parameters.poses.push_back(ToParameters(keyframe.T_cw));
   for (const BaPoint& point : problem->points) {
-    points.push_back({point.position.x(), point.position.y(), point.position.z()});
+    parameters.points.push_back({point.position.x(), point.position.y(), point.position.z()});
   }
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem ceres_problem(problem_options);
-  PoseManifold manifold;
-  double initial_sum = 0.0;
-  for (const BaObservation& o : problem->observations) {
+  const auto judge = [&](const BaParameters& at, std::size_t i, double* pixels2) {
+    const BaObservation& o = problem->observations[i];
+    const SE3 T_cw = FromParameters(at.poses[static_cast<std::size_t>(o.keyframe)].data());
+    const auto& p = at.points[static_cast<std::size_t>(o.point)];
     bool in_front = false;
-    const double chi2 =
-        Chi2(problem->camera, problem->keyframes[static_cast<std::size_t>(o.keyframe)].T_cw,
-             problem->points[static_cast<std::size_t>(o.point)].position, o.pixel, 1.0, &in_front);
+    *pixels2 =
+        Chi2(problem->camera, T_cw, Eigen::Vector3d(p[0], p[1], p[2]), o.pixel, 1.0, &in_front);
+    return in_front && *pixels2 * o.inverse_sigma2 <= options.outlier_chi2;
+  };
+  std::vector<char> used(problem->observations.size(), 0);
+  double initial_sum = 0.0;
+  for (std::size_t i = 0; i < problem->observations.size(); ++i) {
+    double pixels2 = 0.0;
+    judge(parameters, i, &pixels2);
     // A point behind its camera has no usable projection: it would only pull the solve
     // with a meaningless residual. It stays out and is judged an outlier afterwards
     // unless the other observations bring it in front.
-    if (!in_front) {
+    if (!std::isfinite(pixels2)) {
       ++report.behind_camera;
       continue;
     }
-    initial_sum += chi2;
-    const double sqrt_information = std::sqrt(o.inverse_sigma2);
-    auto* cost = new ReprojectionCost(problem->camera, o.pixel, sqrt_information);
-    double* pose = poses[static_cast<std::size_t>(o.keyframe)].data();
-    double* point = points[static_cast<std::size_t>(o.point)].data();
-    ceres_problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_threshold), pose,
-                                   point);
-  }
-  bool any_free = false;
-  for (std::size_t k = 0; k < poses.size(); ++k) {
-    if (!ceres_problem.HasParameterBlock(poses[k].data())) continue;
-    ceres_problem.SetManifold(poses[k].data(), &manifold);
-    if (problem->keyframes[k].fixed) {
-      ceres_problem.SetParameterBlockConstant(poses[k].data());
-    } else {
-      any_free = true;
-    }
-  }
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    if (!ceres_problem.HasParameterBlock(points[p].data())) continue;
-    if (problem->points[p].fixed) {
-      ceres_problem.SetParameterBlockConstant(points[p].data());
-    } else {
-      any_free = true;
-    }
+    used[i] = 1;
+    initial_sum += pixels2;
   }
   const double count = std::max<std::size_t>(1, problem->observations.size());
   report.initial_rms_pixels = std::sqrt(initial_sum / count);
-  if (any_free && ceres_problem.NumResidualBlocks() > 0) {
-    ceres::Solver::Summary summary;
-    ceres::Solve(SolverOptions(options.max_iterations, LinearSolver::kSchur), &ceres_problem,
-                 &summary);
+  ceres::HuberLoss huber(options.huber_threshold);
+  bool any_free = false;
+  ceres::Solver::Summary summary = SolveOnce(*problem, used, &huber, options.max_iterations,
+                                             options.schur, &parameters, &any_free);
+  if (!any_free || summary.num_residual_blocks == 0) {
+    report.solved = true;
+    report.message = "nothing to optimize";
+  } else {
     report.solved = summary.IsSolutionUsable();
     report.message = summary.BriefReport();
     report.iterations = static_cast<int>(summary.iterations.size());
-    if (report.solved) {
-      for (std::size_t k = 0; k < poses.size(); ++k) {
-        if (!problem->keyframes[k].fixed)
-          problem->keyframes[k].T_cw = FromParameters(poses[k].data());
-      }
-      for (std::size_t p = 0; p < points.size(); ++p) {
-        if (!problem->points[p].fixed) {
-          problem->points[p].position = {points[p][0], points[p][1], points[p][2]};
-        }
+  }
+  if (!report.solved) {
+    parameters = BaParameters();  // the problem's own values, for judging the outliers
+    for (const BaKeyframe& keyframe : problem->keyframes)
+      parameters.poses.push_back(ToParameters(keyframe.T_cw));
+    for (const BaPoint& point : problem->points) {
+      parameters.points.push_back({point.position.x(), point.position.y(), point.position.z()});
+    }
+  } else if (options.refine_iterations > 0 && any_free) {
+    BaParameters refined = parameters;
+    for (std::size_t i = 0; i < problem->observations.size(); ++i) {
+      double pixels2 = 0.0;
+      used[i] = judge(parameters, i, &pixels2) ? 1 : 0;
+    }
+    const ceres::Solver::Summary second = SolveOnce(
+        *problem, used, nullptr, options.refine_iterations, options.schur, &refined, &any_free);
+    if (any_free && second.IsSolutionUsable()) {
+      parameters = std::move(refined);
+      report.message = second.BriefReport();
+      report.iterations += static_cast<int>(second.iterations.size());
+    }
+  }
+  if (report.solved) {
+    for (std::size_t k = 0; k < parameters.poses.size(); ++k) {
+      if (!problem->keyframes[k].fixed)
+        problem->keyframes[k].T_cw = FromParameters(parameters.poses[k].data());
+    }
+    for (std::size_t p = 0; p < parameters.points.size(); ++p) {
+      if (!problem->points[p].fixed) {
+        const auto& x = parameters.points[p];
+        problem->points[p].position = {x[0], x[1], x[2]};
       }
     }
-  } else {
-    report.solved = true;
-    report.message = "nothing to optimize";
   }
   double final_sum = 0.0;
   report.outlier.assign(problem->observations.size(), false);
   for (std::size_t i = 0; i < problem->observations.size(); ++i) {
-    const BaObservation& o = problem->observations[i];
-    bool in_front = false;
-    const SE3& T_cw = problem->keyframes[static_cast<std::size_t>(o.keyframe)].T_cw;
-    const Eigen::Vector3d& X = problem->points[static_cast<std::size_t>(o.point)].position;
-    const double chi2 = Chi2(problem->camera, T_cw, X, o.pixel, o.inverse_sigma2, &in_front);
-    const double pixels2 = Chi2(problem->camera, T_cw, X, o.pixel, 1.0, &in_front);
-    if (in_front) final_sum += pixels2;
-    if (!in_front || chi2 > options.outlier_chi2) {
+    double pixels2 = 0.0;
+    if (!judge(parameters, i, &pixels2)) {
       report.outlier[i] = true;
       ++report.outliers;
     }
+    if (std::isfinite(pixels2)) final_sum += pixels2;
   }
   report.final_rms_pixels = std::sqrt(final_sum / count);
   return report;

@@ -11,7 +11,10 @@ ceres::Solver::Options SolverOptions(int iterations, LinearSolver solver) {
   options.num_threads = 1;  // reproducible sums
   const bool sparse = ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
   switch (solver) {
-    case LinearSolver::kSchur:
+    case LinearSolver::kDenseSchur:
+      options.linear_solver_type = ceres::DENSE_SCHUR;
+      break;
+    case LinearSolver::kSparseSchur:
       options.linear_solver_type = sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
       break;
     case LinearSolver::kSparse:

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <ctime>
 #include <set>
 
 #include "ocg/core/options.h"
@@ -46,6 +47,14 @@ double MedianDepth(const KeyFrame& keyframe) {
   return Median(std::move(depths));
 }
 
+// CPU seconds this thread has used: unlike wall time, what another process on the same
+// cores takes does not count.
+double ThreadCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
 Eigen::Matrix<double, 3, 4> Projection(const Eigen::Matrix3d& K, const SE3& T_cw) {
   Eigen::Matrix<double, 3, 4> P;
   P.leftCols<3>() = K * T_cw.rotation();
@@ -68,6 +77,8 @@ void LocalMappingOptions::Check() const {
                 "must be in [0, 1]");
   RequireOption(fuse_radius > 0.0, "LocalMapping.fuseRadius", "must be positive");
   RequireOption(local_ba_iterations >= 1, "LocalMapping.baIterations", "must be positive");
+  RequireOption(local_ba_refine_iterations >= 0, "LocalMapping.baRefineIterations",
+                "must not be negative");
   RequireOption(redundant_ratio > 0.0 && redundant_ratio <= 1.0, "LocalMapping.redundantRatio",
                 "must be in (0, 1]");
   RequireOption(redundant_observers >= 1, "LocalMapping.redundantObservers", "must be positive");
@@ -83,6 +94,7 @@ void ReadSettings(const SettingsFile& file, LocalMappingOptions* options) {
   file.Read("LocalMapping.minFoundRatio", &options->min_found_ratio);
   file.Read("LocalMapping.fuseRadius", &options->fuse_radius);
   file.Read("LocalMapping.baIterations", &options->local_ba_iterations);
+  file.Read("LocalMapping.baRefineIterations", &options->local_ba_refine_iterations);
   file.Read("LocalMapping.redundantRatio", &options->redundant_ratio);
   file.Read("LocalMapping.redundantObservers", &options->redundant_observers);
   int capacity = static_cast<int>(options->queue_capacity);
@@ -134,6 +146,7 @@ auto LocalMapping::WithoutMapLock(std::unique_lock<std::mutex>& map_lock, Work&&
 
 void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   std::unique_lock<std::mutex> lock(map_->mutex());
   unlocked_seconds_ = 0.0;
   const auto locked = std::chrono::steady_clock::now();
@@ -146,6 +159,7 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   ++stats_.keyframes;
   const auto end = std::chrono::steady_clock::now();
   stats_.keyframe_seconds.push_back(std::chrono::duration<double>(end - start).count());
+  stats_.keyframe_cpu_seconds.push_back(ThreadCpuSeconds() - cpu_start);
   stats_.map_lock_held_seconds.push_back(std::chrono::duration<double>(end - locked).count() -
                                          unlocked_seconds_);
 }
@@ -391,6 +405,7 @@ void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
 void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
                                          std::unique_lock<std::mutex>& map_lock) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   std::vector<KeyFramePtr> local = {keyframe};
   for (const KeyFramePtr& k : map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
     local.push_back(k);
@@ -399,7 +414,8 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
   const std::uint64_t corrections = map_->corrections();
   const bool solved = WithoutMapLock(map_lock, [&] {
     if (before_local_solve_) before_local_solve_();
-    return SolveAdjustment(&adjustment, options_.local_ba_iterations);
+    return SolveAdjustment(&adjustment, options_.local_ba_iterations,
+                           options_.local_ba_refine_iterations);
   });
   if (!solved) return;
   if (map_->corrections() != corrections) {
@@ -409,6 +425,7 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
   ApplyAdjustment(*map_, pyramid_, adjustment);
   stats_.ba_seconds.push_back(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  stats_.ba_cpu_seconds.push_back(ThreadCpuSeconds() - cpu_start);
 }
 
 void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe) {

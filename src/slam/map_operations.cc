@@ -106,10 +106,11 @@ KeyFrameAdjustment PrepareAdjustment(const Map& map, const PinholeCamera& camera
   return adjustment;
 }
 
-bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations) {
+bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations, int refine_iterations) {
   if (adjustment->keyframes.empty()) return false;
   BundleAdjustmentOptions options;
   options.max_iterations = iterations;
+  options.refine_iterations = refine_iterations;
   adjustment->report = BundleAdjust(&adjustment->problem, options);
   if (!adjustment->report.solved) {
     // The map keeps its poses; say which keyframes were left unadjusted and why.
@@ -172,9 +173,10 @@ int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustm
 }
 
 bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
-                     const std::vector<KeyFramePtr>& keyframes, int iterations) {
+                     const std::vector<KeyFramePtr>& keyframes, int iterations,
+                     int refine_iterations) {
   KeyFrameAdjustment adjustment = PrepareAdjustment(map, camera, pyramid, keyframes);
-  if (!SolveAdjustment(&adjustment, iterations)) return false;
+  if (!SolveAdjustment(&adjustment, iterations, refine_iterations)) return false;
   ApplyAdjustment(map, pyramid, adjustment);
   return true;
 }

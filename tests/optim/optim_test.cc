@@ -221,6 +221,94 @@ TEST(BundleAdjustment, IsReproducible) {
   }
 }
 
+// ORB-SLAM2's local adjustment: a few robust iterations, then the observations judged
+// outliers are left out and the rest solved with the squared loss. The second solve must
+// find every gross outlier and land on the least-squares estimate of the inliers alone,
+// where the robust iterations by themselves are not yet.
+TEST(BundleAdjustment, SecondSolveWithoutOutliersIsTheInliersLeastSquaresEstimate) {
+  std::mt19937_64 rng(8);
+  std::vector<SE3> true_poses;
+  std::vector<Eigen::Vector3d> true_points;
+  BundleAdjustmentProblem start = MakeScene(rng, &true_poses, &true_points);
+  start.keyframes[1].fixed = true;  // with keyframe 0, fixes the scale: one optimum to compare
+  std::vector<bool> planted(start.observations.size(), false);
+  // A tenth of the last keyframe's observations, where their points are seen by all five
+  // keyframes (the other four hold the points, so the outliers pull on that pose).
+  std::vector<int> views(start.points.size(), 0);
+  for (const BaObservation& o : start.observations) ++views[static_cast<std::size_t>(o.point)];
+  int last_keyframe_observations = 0;
+  for (std::size_t i = 0; i < start.observations.size(); ++i) {
+    const BaObservation& o = start.observations[i];
+    if (o.keyframe != 4 || views[static_cast<std::size_t>(o.point)] < 5) continue;
+    if (last_keyframe_observations++ % 10 != 0) continue;
+    start.observations[i].pixel += Eigen::Vector2d(12.0, 9.0);
+    planted[i] = true;
+  }
+  for (std::size_t k = 2; k < start.keyframes.size(); ++k) {
+    start.keyframes[k].T_cw = RandomPose(rng, 0.01, 0.02) * start.keyframes[k].T_cw;
+  }
+  // Reference: the squared loss (a Huber threshold no residual reaches) on the inliers.
+  BundleAdjustmentProblem reference = start;
+  reference.observations.clear();
+  for (std::size_t i = 0; i < start.observations.size(); ++i) {
+    if (!planted[i]) reference.observations.push_back(start.observations[i]);
+  }
+  BundleAdjustmentOptions least_squares;
+  least_squares.huber_threshold = 1e6;
+  least_squares.max_iterations = 100;
+  ASSERT_TRUE(BundleAdjust(&reference, least_squares).solved);
+
+  BundleAdjustmentProblem robust = start;
+  BundleAdjustmentOptions robust_only;
+  robust_only.max_iterations = 5;  // the first solve alone
+  ASSERT_TRUE(BundleAdjust(&robust, robust_only).solved);
+  BundleAdjustmentProblem refined = start;
+  BundleAdjustmentOptions two_solves;
+  two_solves.max_iterations = 5;
+  two_solves.refine_iterations = 10;
+  const BundleAdjustmentReport report = BundleAdjust(&refined, two_solves);
+  ASSERT_TRUE(report.solved) << report.message;
+
+  const auto largest_offset = [&](const BundleAdjustmentProblem& problem) {
+    double offset = 0.0;
+    for (std::size_t k = 0; k < problem.keyframes.size(); ++k) {
+      offset = std::max(offset, (problem.keyframes[k].T_cw.Inverse().translation() -
+                                 reference.keyframes[k].T_cw.Inverse().translation())
+                                    .norm());
+    }
+    return offset;  // metres, cameras 0.15-0.6 m apart
+  };
+  // Ceres stops at a relative cost change of 1e-6: a few hundredths of a millimetre here.
+  EXPECT_LT(largest_offset(refined), 2e-4);
+  EXPECT_GT(largest_offset(robust), 10.0 * largest_offset(refined));
+  for (std::size_t i = 0; i < planted.size(); ++i) EXPECT_EQ(report.outlier[i], planted[i]) << i;
+}
+
+// The dense Schur complement (local adjustments) is a faster way to the same solution.
+TEST(BundleAdjustment, DenseAndSparseSchurComplementsAgree) {
+  std::mt19937_64 rng(9);
+  std::vector<SE3> true_poses;
+  std::vector<Eigen::Vector3d> true_points;
+  BundleAdjustmentProblem dense = MakeScene(rng, &true_poses, &true_points);
+  for (std::size_t k = 1; k < dense.keyframes.size(); ++k) {
+    dense.keyframes[k].T_cw = RandomPose(rng, 0.01, 0.02) * dense.keyframes[k].T_cw;
+  }
+  BundleAdjustmentProblem sparse = dense;
+  BundleAdjustmentOptions options;
+  options.schur = SchurComplement::kDense;
+  ASSERT_TRUE(BundleAdjust(&dense, options).solved);
+  options.schur = SchurComplement::kSparse;
+  ASSERT_TRUE(BundleAdjust(&sparse, options).solved);
+  for (std::size_t k = 0; k < dense.keyframes.size(); ++k) {
+    EXPECT_LT(
+        (dense.keyframes[k].T_cw.translation() - sparse.keyframes[k].T_cw.translation()).norm(),
+        1e-9);
+  }
+  for (std::size_t p = 0; p < dense.points.size(); ++p) {
+    EXPECT_LT((dense.points[p].position - sparse.points[p].position).norm(), 1e-9);
+  }
+}
+
 TEST(ReprojectionCost, StaysFiniteAtAndBehindTheCamera) {
   const PinholeCamera camera;
   const PoseParameters pose = ToParameters(SE3());

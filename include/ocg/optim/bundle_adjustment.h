@@ -13,12 +13,28 @@
 
 namespace ocg {
 
+// How Ceres solves the reduced camera system (6 x 6 blocks, one per free keyframe, after
+// the points are eliminated). kAuto: dense Cholesky up to kDenseSchurMaxKeyframes free
+// keyframes (a local adjustment: the dense factorization of a few hundred unknowns costs
+// less than the sparse one's symbolic analysis and bookkeeping), sparse above (a global
+// adjustment of hundreds of keyframes, each seeing only its neighbours).
+enum class SchurComplement { kAuto, kDense, kSparse };
+constexpr int kDenseSchurMaxKeyframes = 60;
+
 struct BundleAdjustmentOptions {
-  int max_iterations = 50;
+  int max_iterations = 50;  // of the solve with the robust (Huber) loss
+  // After the robust solve, the observations then judged outliers are left out and the
+  // rest solved again with the plain squared loss for this many iterations (0: no second
+  // solve), as ORB-SLAM2's local bundle adjustment (5 robust iterations, then 10). Under
+  // Huber's loss every gross outlier keeps pulling with a constant force, and inliers
+  // beyond the threshold count less than they should: the second solve is the
+  // least-squares estimate of the inliers alone.
+  int refine_iterations = 0;
   // Huber threshold on the (information-weighted) residual norm: sqrt(5.991), the
   // 95 % chi-square bound of a 2-D residual with unit variance.
   double huber_threshold = 2.447;
   double outlier_chi2 = 5.991;  // after optimizing: observations above it are outliers
+  SchurComplement schur = SchurComplement::kAuto;
   void Check() const;
 };
 
@@ -48,17 +64,19 @@ struct BundleAdjustmentProblem {
 
 struct BundleAdjustmentReport {
   bool solved = false;
-  std::string message;  // Ceres' summary line
-  int iterations = 0;
+  std::string message;              // Ceres' summary line (of the last solve)
+  int iterations = 0;               // of both solves
   double initial_rms_pixels = 0.0;  // of the residuals before and after, outliers included
   double final_rms_pixels = 0.0;
-  std::vector<bool> outlier;  // per observation, judged after the optimization
+  std::vector<bool> outlier;  // per observation, judged after the (last) optimization
   int outliers = 0;
   int behind_camera = 0;  // observations left out of the solve: point behind its camera
 };
 
 // Optimizes the free keyframes and points of problem in place. Single-threaded, so a run
-// is reproducible. A problem without free parameters returns at once.
+// is reproducible. A problem without free parameters returns at once. solved is false
+// when the robust solve gave no usable solution (problem unchanged); a failed second
+// solve keeps the robust one's.
 BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
                                     const BundleAdjustmentOptions& options);
 

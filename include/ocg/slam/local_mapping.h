@@ -32,10 +32,13 @@ struct LocalMappingOptions {
   double scale_consistency = 1.5;     // LocalMapping.scaleConsistency: x scale factor
   double min_found_ratio = 0.25;      // LocalMapping.minFoundRatio: for recent points
   double fuse_radius = 3.0;           // LocalMapping.fuseRadius: pixels at level 0
-  int local_ba_iterations = 20;       // LocalMapping.baIterations
-  double redundant_ratio = 0.9;       // LocalMapping.redundantRatio: keyframe culling
-  int redundant_observers = 3;        // LocalMapping.redundantObservers
-  std::size_t queue_capacity = 8;     // LocalMapping.queueCapacity (threaded mode)
+  int local_ba_iterations = 20;       // LocalMapping.baIterations: robust (Huber) solve
+  // LocalMapping.baRefineIterations: then without the outliers, plain squared loss
+  // (BundleAdjustmentOptions::refine_iterations; 0: none)
+  int local_ba_refine_iterations = 0;
+  double redundant_ratio = 0.9;    // LocalMapping.redundantRatio: keyframe culling
+  int redundant_observers = 3;     // LocalMapping.redundantObservers
+  std::size_t queue_capacity = 8;  // LocalMapping.queueCapacity (threaded mode)
   void Check() const;
 };
 
@@ -47,10 +50,12 @@ struct LocalMappingStats {
   int points_culled = 0;
   int points_fused = 0;
   int keyframes_culled = 0;
-  std::vector<double> ba_seconds;  // per local bundle adjustment
+  std::vector<double> ba_seconds;      // per local bundle adjustment
+  std::vector<double> ba_cpu_seconds;  // the same, CPU time of this thread (load-proof)
   // Per keyframe [s]: the whole of its local mapping, and the part of it that held the
   // map lock (what tracking may have waited for; the local BA's solve runs without it).
   std::vector<double> keyframe_seconds;
+  std::vector<double> keyframe_cpu_seconds;  // CPU time of this thread per keyframe
   std::vector<double> map_lock_held_seconds;
   // Solved while a loop correction or a global adjustment moved the map, and dropped.
   int local_adjustments_dropped = 0;

@@ -28,7 +28,8 @@ int FusePoints(Map& map, const PinholeCamera& camera, const ScalePyramid& pyrami
 // gauge). Outlier observations are removed afterwards. False when Ceres gave no usable
 // solution (the map is then unchanged).
 bool AdjustKeyFrames(Map& map, const PinholeCamera& camera, const ScalePyramid& pyramid,
-                     const std::vector<KeyFramePtr>& keyframes, int iterations);
+                     const std::vector<KeyFramePtr>& keyframes, int iterations,
+                     int refine_iterations = 0);
 
 // The same in three steps, so that a long (global) adjustment need not hold the map:
 // prepare under Map::mutex(), solve without it, apply under it again.
@@ -44,8 +45,10 @@ struct KeyFrameAdjustment {
 KeyFrameAdjustment PrepareAdjustment(const Map& map, const PinholeCamera& camera,
                                      const ScalePyramid& pyramid,
                                      const std::vector<KeyFramePtr>& keyframes);
-// Needs no lock: touches the adjustment only. False when Ceres gave no usable solution.
-bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations);
+// Needs no lock: touches the adjustment only. iterations of the robust solve, then
+// refine_iterations without the outliers (BundleAdjustmentOptions). False when Ceres gave
+// no usable solution.
+bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations, int refine_iterations = 0);
 // Writes a solved adjustment into the map: poses and positions of what is still there,
 // outlier observations removed. What was added since it was prepared follows the
 // correction of what it hangs from: a keyframe that of its spanning-tree parent, a point
