@@ -32,10 +32,10 @@ struct LocalMappingOptions {
   double scale_consistency = 1.5;     // LocalMapping.scaleConsistency: x scale factor
   double min_found_ratio = 0.25;      // LocalMapping.minFoundRatio: for recent points
   double fuse_radius = 3.0;           // LocalMapping.fuseRadius: pixels at level 0
-  int local_ba_iterations = 20;       // LocalMapping.baIterations: robust (Huber) solve
+  int local_ba_iterations = 5;        // LocalMapping.baIterations: robust (Huber) solve
   // LocalMapping.baRefineIterations: then without the outliers, plain squared loss
   // (BundleAdjustmentOptions::refine_iterations; 0: none)
-  int local_ba_refine_iterations = 0;
+  int local_ba_refine_iterations = 10;
   double redundant_ratio = 0.9;    // LocalMapping.redundantRatio: keyframe culling
   int redundant_observers = 3;     // LocalMapping.redundantObservers
   std::size_t queue_capacity = 8;  // LocalMapping.queueCapacity (threaded mode)
