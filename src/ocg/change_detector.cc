@@ -163,6 +163,11 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     }
     evidence.total_weight = graph_.WeightSum(id);
     evidence.degree = graph_.Degree(id);
+    if (modes_.dropout_discount && !evidence.observed && evidence.observed_weight > 0 &&
+        (record.state.state == ObjectState::kUnknown ||
+         record.state.state == ObjectState::kSuspicious)) {
+      evidence.in_view_weight = InViewNeighbourWeight(id, observed, observation);
+    }
     const Judgement judgement = JudgeObject(record.state, evidence, record.geometry,
                                             observation.T_cw, observation.camera, options_, modes_);
     record.rate = judgement.rate;
@@ -181,6 +186,21 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     RemoveObject(id, modes_.restore);
   }
   return result;
+}
+
+std::uint64_t ObjectChangeDetector::InViewNeighbourWeight(
+    ObjectId id, const std::vector<ObjectId>& observed,
+    const KeyframeObservation& observation) const {
+  std::uint64_t weight = 0;
+  for (const CovisibilityEdge& edge : graph_.Neighbours(id)) {
+    // A detected neighbour is in view even when its centroid projects outside the image.
+    if (std::binary_search(observed.begin(), observed.end(), edge.neighbour) ||
+        ExpectedInView(records_.at(edge.neighbour).geometry, observation.T_cw, observation.camera,
+                       options_, modes_) > 0.0) {
+      weight += edge.weight;
+    }
+  }
+  return weight;
 }
 
 RemovalEvent ObjectChangeDetector::MakeRemoval(ObjectId id, std::int64_t keyframe,

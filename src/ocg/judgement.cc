@@ -37,6 +37,14 @@ double MissWeight(const ObjectGeometry& geometry, const OcgOptions& options) {
   return std::min(1.0, std::log(1.0 - p) / std::log(1.0 - options.reliable_detection_rate));
 }
 
+double DropoutWeight(std::uint64_t observed_weight, std::uint64_t in_view_weight,
+                     const OcgOptions& options) {
+  if (in_view_weight == 0) return 1.0;
+  const double share = std::min(1.0, static_cast<double>(observed_weight) / in_view_weight);
+  if (share >= options.dropout_full_share) return 1.0;
+  return std::log(1.0 - share) / std::log(1.0 - options.dropout_full_share);
+}
+
 bool InDetectedView(const ObjectGeometry& geometry, const SE3& T_cw, const OcgOptions& options) {
   if (!geometry.centroid || geometry.view_directions.empty()) return true;
   const Eigen::Vector3d towards_camera = T_cw.Inverse().translation() - *geometry.centroid;
@@ -47,6 +55,20 @@ bool InDetectedView(const ObjectGeometry& geometry, const SE3& T_cw, const OcgOp
   const Eigen::Vector3d direction = towards_camera / distance;
   return std::any_of(geometry.view_directions.begin(), geometry.view_directions.end(),
                      [&](const Eigen::Vector3d& known) { return known.dot(direction) >= limit; });
+}
+
+double ExpectedInView(const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
+                      const OcgOptions& options, const OcgModes& modes) {
+  if (!geometry.centroid || !CentroidInImage(*geometry.centroid, T_cw, camera)) return 0.0;
+  double fraction = 1.0;
+  if (modes.box_in_image && geometry.size) {
+    fraction = BoxFractionInImage(*geometry.centroid, *geometry.size, T_cw, camera);
+    if (fraction < options.min_box_fraction) return 0.0;
+  }
+  // A detector finds an object from where it found it before: farther away it is too
+  // small, from another side it looks different or is hidden by what it stands behind.
+  if (modes.detected_view && !InDetectedView(geometry, T_cw, options)) return 0.0;
+  return fraction;
 }
 
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
@@ -88,16 +110,8 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
   double increment = 0.0;
   // Only states 3 and 4 use the increment: skip the projections for the others.
   if (current.state == ObjectState::kUnknown || current.state == ObjectState::kSuspicious) {
-    bool in_image = geometry.centroid && CentroidInImage(*geometry.centroid, T_cw, camera);
-    double fraction = 1.0;
-    if (in_image && modes.box_in_image && geometry.size) {
-      fraction = BoxFractionInImage(*geometry.centroid, *geometry.size, T_cw, camera);
-      in_image = fraction >= options.min_box_fraction;
-    }
-    // A detector finds an object from where it found it before: farther away it is too
-    // small, from another side it looks different or is hidden by what it stands behind.
-    if (in_image && modes.detected_view) in_image = InDetectedView(geometry, T_cw, options);
-    increment = DoubtIncrement(judgement.rate, in_image, options) * fraction;
+    const double fraction = ExpectedInView(geometry, T_cw, camera, options, modes);
+    increment = DoubtIncrement(judgement.rate, fraction > 0.0, options) * fraction;
     if (modes.dropout_guard && evidence.degree > 0) {
       const std::size_t required = std::min<std::size_t>(
           static_cast<std::size_t>(options.guard_min_neighbours), evidence.degree);
@@ -107,6 +121,10 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
     // how unlikely its absence is under its own detection rate.
     judgement.missed = increment > 0.0;
     if (judgement.missed && modes.detection_reliability) increment *= MissWeight(geometry, options);
+    // Missed together with most of what is in view: the detector failed across the view,
+    // which says little about this object.
+    if (judgement.missed && modes.dropout_discount)
+      increment *= DropoutWeight(evidence.observed_weight, evidence.in_view_weight, options);
   }
   judgement.next = NextState(current, false, judgement.rate, increment, options);
   return judgement;

@@ -20,9 +20,9 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {"paper", "fallback",    "in_image", "guard",
-                                               "view",  "reliability", "restore",  "improved",
-                                               "off",   "visibility"};
+  static const std::set<std::string> kKnown = {"paper",    "fallback",    "in_image",  "guard",
+                                               "view",     "reliability", "restore",   "dropout",
+                                               "improved", "off",         "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
   OcgModes modes;
@@ -35,12 +35,12 @@ OcgModes ParseOcgMode(const std::string& mode) {
     return modes;
   }
   for (const std::string& part : parts) {
-    RequireOption(
-        kKnown.count(part) > 0, "OCG.mode",
-        "unknown mode '" + part +
-            "' (use paper, or fallback, in_image, guard, view, reliability, restore joined with "
-            "'+', or improved; "
-            "baselines: off, visibility)");
+    RequireOption(kKnown.count(part) > 0, "OCG.mode",
+                  "unknown mode '" + part +
+                      "' (use paper, or fallback, in_image, guard, view, reliability, restore, "
+                      "dropout joined with "
+                      "'+', or improved; "
+                      "baselines: off, visibility)");
   }
   RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
                 "'paper' cannot be combined with improvements");
@@ -51,6 +51,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
   modes.detected_view = all || parts.count("view") > 0;
   modes.detection_reliability = parts.count("reliability") > 0;  // not in "improved"
   modes.restore = all || parts.count("restore") > 0;
+  modes.dropout_discount = all || parts.count("dropout") > 0;
   return modes;
 }
 
@@ -78,6 +79,8 @@ void OcgOptions::Check() const {
                 "must be in (0, 180]");
   RequireOption(reliable_detection_rate > 0 && reliable_detection_rate < 1,
                 "OCG.reliable_detection_rate", "must be in (0, 1)");
+  RequireOption(dropout_full_share > 0 && dropout_full_share < 1, "OCG.dropout_full_share",
+                "must be in (0, 1)");
   RequireOption(visibility_keyframes >= 1, "OCG.visibility_keyframes", "must be at least 1");
 }
 

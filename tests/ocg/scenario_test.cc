@@ -573,36 +573,46 @@ TEST_F(ViewStory, FartherThanEverDetectedGivesNoIncrement) {
   EXPECT_EQ(DoubtOf(1), 30.0);
 }
 
-// Visits to the table, each followed by a look at the shelf: at each visit the detector
-// finds 2-4 and, as `found_one` says, 1 (found_one[i] false: 1 is missed once and the
-// camera looks again); the last visit misses 1 twice. Returns the removals.
-std::vector<RemovalEvent> TableVisits(const std::string& mode, const std::vector<bool>& found_one) {
+using Looks = std::vector<std::pair<SE3, std::vector<ObjectId>>>;
+
+// A detector in `mode` fed one keyframe per look: the camera pose and the ids detected,
+// at their kPlaces. Returns the removals, in order.
+std::vector<RemovalEvent> RunLooks(const std::string& mode, const Looks& looks) {
   OcgOptions options;
   options.mode = mode;
   ObjectChangeDetector detector(options);
   std::vector<RemovalEvent> removed;
   std::int64_t keyframe = 0;
-  const auto step = [&](const SE3& T_cw, const std::vector<ObjectId>& seen) {
+  for (const auto& [T_cw, seen] : looks) {
     KeyframeObservation observation = MakeObservation(keyframe++, T_cw, seen);
     for (ObjectId id : seen) observation.updates[id].centroid = kPlaces.at(id);
     for (const RemovalEvent& event : detector.Process(observation).removed)
       removed.push_back(event);
-  };
-  const SE3 table = LookAt({-2, 0, 0.8}, {0, 0, 0});
-  const SE3 shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+  }
+  return removed;
+}
+
+const SE3 kAtTable = LookAt({-2, 0, 0.8}, {0, 0, 0});
+const SE3 kAtShelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+
+// Visits to the table, each followed by a look at the shelf: at each visit the detector
+// finds 2-4 and, as `found_one` says, 1 (found_one[i] false: 1 is missed once and the
+// camera looks again); the last visit misses 1 twice. Returns the removals.
+std::vector<RemovalEvent> TableVisits(const std::string& mode, const std::vector<bool>& found_one) {
+  Looks looks;
   for (const bool found : found_one) {
-    step(table, {1, 2, 3, 4});
-    step(shelf, {5, 6});
+    looks.push_back({kAtTable, {1, 2, 3, 4}});
+    looks.push_back({kAtShelf, {5, 6}});
     if (!found) {
-      step(table, {2, 3, 4});
-      step(table, {1, 2, 3, 4});
-      step(shelf, {5, 6});
+      looks.push_back({kAtTable, {2, 3, 4}});
+      looks.push_back({kAtTable, {1, 2, 3, 4}});
+      looks.push_back({kAtShelf, {5, 6}});
     }
   }
-  step(table, {2, 3, 4});
-  step(table, {2, 3, 4});
-  step(shelf, {5, 6});
-  return removed;
+  looks.push_back({kAtTable, {2, 3, 4}});
+  looks.push_back({kAtTable, {2, 3, 4}});
+  looks.push_back({kAtShelf, {5, 6}});
+  return RunLooks(mode, looks);
 }
 
 // Object 1 is a hard one: the detector missed it at every other visit. Two misses say
@@ -661,6 +671,75 @@ TEST(Reliability, DetectionRecordSurvivesJson) {
   const ObjectChangeDetector restored = ObjectChangeDetector::FromJson(detector.ToJson());
   EXPECT_EQ(restored.ToJson(), detector.ToJson());
   EXPECT_EQ(restored.Status(1)->geometry.missed_keyframes, 1u);
+}
+
+// The table holds 1, 2, 3, 4 and 7, always found together; the camera turns to the shelf
+// and back. Then three looks at the table in which the detector finds only `found`, and a
+// look at the shelf (leaving the table: objects with doubt above tau_doubt go). Returns
+// the ids removed.
+std::vector<ObjectId> TableAfterLooks(const std::string& mode, const std::vector<ObjectId>& found) {
+  Looks looks(3, {kAtTable, {1, 2, 3, 4, 7}});
+  looks.push_back({kAtShelf, {5, 6}});
+  for (int i = 0; i < 3; ++i) looks.push_back({kAtTable, found});
+  looks.push_back({kAtShelf, {5, 6}});
+  std::vector<ObjectId> removed;
+  for (const RemovalEvent& event : RunLooks(mode, looks)) removed.push_back(event.object_id);
+  return removed;
+}
+
+// A whole-view dropout: the detector finds 2 of the table's five objects in three looks.
+// For 1, 4 and 7 half of their in-view neighbours' weight was found (r = 0.5: 20 a
+// keyframe, 60 in all, above tau_doubt), so the paper and the other improvements remove
+// the three static objects; with "dropout" each miss weighs ln(0.5) / ln(0.3) = 0.58 (35
+// in all) and they stay.
+TEST(Dropout, MissesInAWholeViewDropoutDoNotRemoveStaticObjects) {
+  const std::vector<ObjectId> all_three = {1, 4, 7};
+  EXPECT_EQ(TableAfterLooks("paper", {2, 3}), all_three);
+  EXPECT_EQ(TableAfterLooks("fallback+in_image+guard+view+restore", {2, 3}), all_three);
+  EXPECT_TRUE(TableAfterLooks("dropout", {2, 3}).empty());
+  EXPECT_TRUE(TableAfterLooks("improved", {2, 3}).empty());
+}
+
+// 1 moved away: the detector finds every other object of the table, so the miss weighs
+// fully and 1 is removed, alone, in every mode.
+TEST(Dropout, AnObjectMissedWhileItsNeighboursAreFoundIsRemoved) {
+  const std::vector<ObjectId> one = {1};
+  EXPECT_EQ(TableAfterLooks("paper", {2, 3, 4, 7}), one);
+  EXPECT_EQ(TableAfterLooks("dropout", {2, 3, 4, 7}), one);
+  EXPECT_EQ(TableAfterLooks("improved", {2, 3, 4, 7}), one);
+}
+
+TEST(Dropout, MissWeightFollowsTheDetectedShareOfNeighboursInView) {
+  OcgOptions options;  // dropout_full_share 0.7
+  EXPECT_DOUBLE_EQ(DropoutWeight(7, 10, options), 1.0);
+  EXPECT_DOUBLE_EQ(DropoutWeight(10, 10, options), 1.0);
+  EXPECT_NEAR(DropoutWeight(5, 10, options), std::log(0.5) / std::log(0.3), 1e-12);
+  EXPECT_LT(DropoutWeight(1, 10, options), 0.1);  // nearly nothing found: nearly no evidence
+  EXPECT_DOUBLE_EQ(DropoutWeight(0, 10, options), 0.0);
+  EXPECT_DOUBLE_EQ(DropoutWeight(0, 0, options), 1.0) << "nothing in view tells a dropout";
+}
+
+// Neighbours the camera cannot see do not make a dropout: 1 was seen with 2, 3, 4 and
+// with the shelf's 5 and 6 (from far away); looking at the table, 2, 3 and 4 are found, 5
+// and 6 are behind the camera. r is 0.6 (half the weight is the shelf's), but every
+// neighbour in view was found: the miss counts fully, as in the paper.
+TEST(Dropout, NeighboursOutOfViewDoNotDiscountAMiss) {
+  OcgOptions options;
+  options.mode = "dropout";
+  ObjectChangeDetector detector(options);
+  const SE3 table = LookAt({2, 0, 0.8}, {0, 0, 0});  // the shelf (x = 10) behind the camera
+  const SE3 both = LookAt({-12, 0, 0.8}, {5, 0, 0});
+  const SE3 away = LookAt({-2, 0, 0.8}, {-10, 0, 0});
+  std::int64_t keyframe = 0;
+  for (const auto& [T_cw, seen] : std::vector<std::pair<SE3, std::vector<ObjectId>>>{
+           {both, {1, 2, 3, 4, 5, 6}}, {away, {}}, {table, {2, 3, 4}}}) {
+    KeyframeObservation observation = MakeObservation(keyframe++, T_cw, seen);
+    for (ObjectId id : seen) observation.updates[id].centroid = kPlaces.at(id);
+    detector.Process(observation);
+  }
+  // r = 3/5: 20 (ln(0.4) / ln(0.3) = 0.76 of it, 15.2, if the shelf counted as a dropout).
+  EXPECT_EQ(detector.Status(1)->state, ObjectState::kSuspicious);
+  EXPECT_DOUBLE_EQ(detector.Status(1)->doubt, 20.0);
 }
 
 TEST(ViewMode, RecordedDirectionsAreSpacedAndSurviveJson) {

@@ -82,7 +82,10 @@ TEST(Options, ModesParseAndReject) {
   EXPECT_EQ(options.mode, "improved") << "the default mode (issue 18)";
   options.mode = "paper";
   const OcgModes paper = options.modes();
-  EXPECT_FALSE(paper.isolated_fallback || paper.box_in_image || paper.dropout_guard);
+  EXPECT_FALSE(paper.isolated_fallback || paper.box_in_image || paper.dropout_guard ||
+               paper.dropout_discount);
+  options.mode = "dropout";
+  EXPECT_TRUE(options.modes().dropout_discount && !options.modes().detected_view);
   options.mode = "fallback+guard";
   EXPECT_NO_THROW(options.Check());
   EXPECT_TRUE(options.modes().isolated_fallback);
@@ -90,7 +93,8 @@ TEST(Options, ModesParseAndReject) {
   EXPECT_TRUE(options.modes().dropout_guard);
   options.mode = "improved";
   const OcgModes all = options.modes();
-  EXPECT_TRUE(all.isolated_fallback && all.box_in_image && all.dropout_guard && all.detected_view);
+  EXPECT_TRUE(all.isolated_fallback && all.box_in_image && all.dropout_guard && all.detected_view &&
+              all.restore && all.dropout_discount);
   EXPECT_FALSE(all.detection_reliability) << "measured, not adopted (docs/ocg.md)";
   options.mode = "improved+reliability";
   EXPECT_TRUE(options.modes().detection_reliability && options.modes().detected_view);

@@ -99,8 +99,14 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
   }
 
   // Everything from scratch: one pass over all edges gives every object's evidence.
+  const OcgModes modes = options_.modes();
   std::map<ObjectId, ObjectEvidence> evidence;
-  for (const auto& [id, object] : objects_) evidence[id].observed = observed.count(id) > 0;
+  std::set<ObjectId> in_view = observed;
+  for (const auto& [id, object] : objects_) {
+    evidence[id].observed = observed.count(id) > 0;
+    if (ExpectedInView(object.geometry, observation.T_cw, observation.camera, options_, modes) > 0)
+      in_view.insert(id);
+  }
   for (const auto& [pair, weight] : edges_) {
     for (const auto& [self, other] :
          {std::pair{pair.first, pair.second}, std::pair{pair.second, pair.first}}) {
@@ -111,10 +117,10 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
         entry.observed_weight += weight;
         entry.observed_neighbours += 1;
       }
+      if (in_view.count(other) > 0) entry.in_view_weight += weight;
     }
   }
   std::vector<ObjectId> removed;
-  const OcgModes modes = options_.modes();
   for (auto& [id, object] : objects_) {
     const Judgement judgement = JudgeObject(object.state, evidence.at(id), object.geometry,
                                             observation.T_cw, observation.camera, options_, modes);

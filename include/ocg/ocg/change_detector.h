@@ -114,6 +114,10 @@ class ObjectChangeDetector {
   void UpdateIsolation(ObjectId id);
   // archive: keep the record and edges for Restore() ("restore" mode removals).
   void RemoveObject(ObjectId id, bool archive = false);
+  // "dropout": sum of E(id, j) over the neighbours j detected in this keyframe or
+  // expected in view (ExpectedInView). O(degree of id).
+  std::uint64_t InViewNeighbourWeight(ObjectId id, const std::vector<ObjectId>& observed,
+                                      const KeyframeObservation& observation) const;
   RemovalEvent MakeRemoval(ObjectId id, std::int64_t keyframe, double timestamp) const;
   ObjectStatus MakeStatus(ObjectId id, const Record& record) const;
 

@@ -21,6 +21,9 @@ struct ObjectEvidence {
   std::uint64_t total_weight = 0;       // sum of E(i, j) over all neighbours
   std::size_t degree = 0;               // |N(i)|
   std::size_t observed_neighbours = 0;  // |N(i) ∩ V_k|
+  // "dropout" only: sum of E(i, j) over neighbours j detected in the keyframe or expected
+  // in view (ExpectedInView); 0 when not gathered.
+  std::uint64_t in_view_weight = 0;
 };
 
 struct ObjectGeometry {
@@ -50,6 +53,20 @@ struct Judgement {
 // (0, 1]: min(1, ln(1 - p) / ln(1 - options.reliable_detection_rate)) with
 // p = (detected + 1) / (detected + missed + 2).
 double MissWeight(const ObjectGeometry& geometry, const OcgOptions& options);
+
+// "dropout": the weight of one miss when the detector found observed_weight of the
+// in_view_weight of the object's in-view neighbours, in [0, 1]: with s their ratio,
+// min(1, ln(1 - s) / ln(1 - options.dropout_full_share)); 1 when in_view_weight is 0
+// (nothing tells a dropout).
+double DropoutWeight(std::uint64_t observed_weight, std::uint64_t in_view_weight,
+                     const OcgOptions& options);
+
+// P of the mode, for an object not detected: the share of the object expected in the
+// image, 0 when it is not expected (centroid outside the image or behind the camera; with
+// "in_image" its box less than min_box_fraction inside, else that fraction; with "view"
+// the camera not where it was detected from). 1 or 0 in "paper" (SPEC 3.3).
+double ExpectedInView(const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
+                      const OcgOptions& options, const OcgModes& modes);
 
 // modes must be ParseOcgMode(options.mode), parsed once by the caller.
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,

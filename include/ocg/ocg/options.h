@@ -24,6 +24,7 @@ struct OcgModes {
   bool detected_view = false;          // "view"
   bool detection_reliability = false;  // "reliability"
   bool restore = false;                // "restore"
+  bool dropout_discount = false;       // "dropout"
 };
 
 // Parses OCG.mode; throws OptionError naming the key when it is not a valid mode.
@@ -45,9 +46,13 @@ struct OcgOptions {
   //   "restore"   an object removed and then detected again at its own place (the object
   //               map decides: its Objects.restore_* settings) comes back with its id, its
   //               history and its edges, instead of as a new object,
-  //   "improved"  fallback+in_image+guard+view+restore, the default (on TUM fr3 long_office's real
-  //               detections it removes no object of that static scene, paper removes 9;
-  //               docs/results.md). See docs/ocg.md for the case each one fixes.
+  //   "dropout"   a miss in a keyframe where the detector also missed most of the object's
+  //               neighbours in view (a whole-view detector dropout) is weak evidence:
+  //               the increment is weighed by the detected share s of the in-view
+  //               neighbours' edge weight, min(1, ln(1 - s) / ln(1 - dropout_full_share)),
+  //   "improved"  fallback+in_image+guard+view+restore+dropout, the default (on TUM fr3
+  //               long_office's real detections it removes no object of that static scene,
+  //               paper removes 9; docs/results.md). See docs/ocg.md for the case each one fixes.
   // Baselines for comparison: "off" (nothing is ever removed) and "visibility" (an object
   // is removed after visibility_keyframes keyframes in which it should have been seen and
   // was not, no graph involved).
@@ -83,6 +88,10 @@ struct OcgOptions {
   // in (P = 1, r > tau_observable, not guarded) takes the full increment; the rate counts
   // one detection and one miss more than seen, so a young object is not trusted fully.
   double reliable_detection_rate = 0.9;
+  // "dropout": the detected share of the in-view neighbours' edge weight from which a
+  // miss counts fully; below it a miss weighs by how likely the detector was to find the
+  // object at the rate it found its neighbours (docs/ocg.md: real and generated figures).
+  double dropout_full_share = 0.7;
   // "visibility": keyframes since the last detection in which the object was geometrically
   // visible (as for "fallback") and not detected, after which it is removed.
   int visibility_keyframes = 5;
@@ -115,6 +124,7 @@ void VisitOcgOptionFields(Options& options, Visitor&& visit) {
   visit("guard_min_neighbours", options.guard_min_neighbours);
   visit("view_max_angle_deg", options.view_max_angle_deg);
   visit("reliable_detection_rate", options.reliable_detection_rate);
+  visit("dropout_full_share", options.dropout_full_share);
   visit("visibility_keyframes", options.visibility_keyframes);
 }
 
