@@ -55,7 +55,9 @@ struct ChangeLogContext {
 // holding both ids and cuboids ("centroid" and "cuboid" stay the old place's) when:
 //  - the object was last seen in an earlier session (last_seen before session_start, a
 //    later session only) and a live object of its class was first seen in this session
-//    ("first_session"), at any distance (LinkMoves without a reach, nearest first);
+//    ("first_session"), at any distance, all such pairs chosen together: one assignment
+//    of least total cost, objects that look alike (context.appearance, MatchAppearance)
+//    before nearer ones (between-session entries list their candidates as evidence);
 //  - or it was seen in this session and a live object of its class appeared near it after
 //    its last sighting (LinkMoves with context.moves).
 // Earlier sessions' removals are not paired again: their session paired them (with
