@@ -139,15 +139,23 @@ ChangeLogContext ObjectLayer::ChangeLog() const {
   ChangeLogContext context;
   context.session = session_;
   context.session_start = session_start_.value_or(0.0);
+  context.appearance = mapper_->Appearances();
+  context.earlier_changes = earlier_changes_;
   return context;
 }
 
 void ObjectLayer::SaveState(std::ostream& out) const {
-  SaveObjectMapper(*mapper_, {keyframes_, tracked_frames_}, out);
+  // "time" counts from the first frame of the session that reads the log: a later
+  // session gives earlier entries none.
+  nlohmann::json log = nlohmann::json::parse(Changes());
+  for (nlohmann::json& entry : log.at("changes")) entry.erase("time");
+  SaveObjectMapper(*mapper_, {keyframes_, tracked_frames_, log.dump(1) + "\n"}, out);
 }
 
-void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_offset) {
-  const ObjectLayerCounters counters = LoadObjectMapper(in, mapper_.get());
+void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_offset,
+                            std::uint32_t file_version) {
+  const ObjectLayerCounters counters = LoadObjectMapper(in, mapper_.get(), file_version);
+  earlier_changes_ = counters.change_log;
   StartSession(session, frame_offset);
   keyframes_ = counters.keyframes;
   tracked_frames_ = loaded_tracked_frames_ = counters.tracked_frames;
@@ -166,7 +174,7 @@ void ObjectLayer::Follow(const System& system) {
   view.frame_poses.assign(static_cast<std::size_t>(frame_offset_), std::nullopt);
   const std::vector<std::optional<SE3>> poses = system.FramePoses();
   view.frame_poses.insert(view.frame_poses.end(), poses.begin(), poses.end());
-  view.map_points = system.MapPointPositions(&view.map_point_ids);
+  view.map_points = system.MapPointPositions(&view.map_point_ids, &view.map_point_descriptors);
   view.camera_rotations = system.KeyFrameRotations();
   mapper_->FollowSlamMap(view, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
 }

@@ -66,8 +66,11 @@ class ObjectLayer {
   // no objects. session: this run's index; frame_offset: the frames the earlier sessions
   // were given (AddFrame's frame numbers continue after theirs, so their sightings keep
   // their own frames).
+  // file_version: the map file's. SaveState also keeps the revised change log, so a later
+  // session lists this one's moves, additions and reasons as this one did.
   void SaveState(std::ostream& out) const;
-  void LoadState(std::istream& in, int session, std::int64_t frame_offset);
+  void LoadState(std::istream& in, int session, std::int64_t frame_offset,
+                 std::uint32_t file_version);
   void StartSession(int session, std::int64_t frame_offset);
 
  private:
@@ -90,7 +93,8 @@ class ObjectLayer {
   std::optional<std::vector<ObjectView>> first_removal_;
   bool removal_seen_ = false;
   std::vector<double> seconds_;
-  std::optional<double> session_start_;  // timestamp of the first frame given
+  std::optional<double> session_start_;         // timestamp of the first frame given
+  std::optional<std::string> earlier_changes_;  // the loaded map file's change log
 };
 
 }  // namespace ocg::app_detail

@@ -157,9 +157,11 @@ struct MapFileAccess {
     ObjectMapState(archive, mapper.map_);
     archive(mapper.stats_, mapper.observations_jsonl_, mapper.manager_.removals_);
     SaveDetector(archive, mapper.manager_.detector_);
+    archive(counters.change_log.value_or(""));
   }
 
-  static app_detail::ObjectLayerCounters Load(std::istream& in, ObjectMapper* mapper) {
+  static app_detail::ObjectLayerCounters Load(std::istream& in, ObjectMapper* mapper,
+                                              std::uint32_t file_version) {
     std::lock_guard<std::mutex> map_lock(mapper->map_mutex_);
     std::lock_guard<std::mutex> ocg_lock(mapper->manager_.state_mutex_);
     cereal::BinaryInputArchive archive(in);
@@ -168,6 +170,11 @@ struct MapFileAccess {
     ObjectMapState(archive, mapper->map_);
     archive(mapper->stats_, mapper->observations_jsonl_, mapper->manager_.removals_);
     LoadDetector(archive, &mapper->manager_.detector_);
+    if (file_version >= 2) {
+      std::string change_log;
+      archive(change_log);
+      if (!change_log.empty()) counters.change_log = std::move(change_log);
+    }
     return counters;
   }
 };
@@ -181,8 +188,9 @@ void SaveObjectMapper(const ObjectMapper& mapper, const ObjectLayerCounters& cou
   MapFileAccess::Save(mapper, counters, out);
 }
 
-ObjectLayerCounters LoadObjectMapper(std::istream& in, ObjectMapper* mapper) {
-  return MapFileAccess::Load(in, mapper);
+ObjectLayerCounters LoadObjectMapper(std::istream& in, ObjectMapper* mapper,
+                                     std::uint32_t file_version) {
+  return MapFileAccess::Load(in, mapper, file_version);
 }
 
 }  // namespace ocg::app_detail

@@ -7,6 +7,8 @@
 
 #include <cstdint>
 #include <iosfwd>
+#include <optional>
+#include <string>
 
 #include "ocg/objects/object_mapper.h"
 
@@ -17,13 +19,18 @@ namespace ocg::app_detail {
 struct ObjectLayerCounters {
   std::int64_t keyframes = 0;       // OCG keyframes given
   std::int64_t tracked_frames = 0;  // frames with a pose given
+  // changes.json as the session that saved revised it, without "time" (version 2 on;
+  // none from a version 1 file).
+  std::optional<std::string> change_log;
 };
 
 // After ObjectMapper::Finish() (the OCG idle).
 void SaveObjectMapper(const ObjectMapper& mapper, const ObjectLayerCounters& counters,
                       std::ostream& out);
-// Into a mapper made from the settings, before its first frame. Throws std::runtime_error
-// (cereal::Exception is one) when the stream ends early.
-ObjectLayerCounters LoadObjectMapper(std::istream& in, ObjectMapper* mapper);
+// Into a mapper made from the settings, before its first frame; file_version: the map
+// file's (kMapFileVersion or older). Throws std::runtime_error (cereal::Exception is one)
+// when the stream ends early.
+ObjectLayerCounters LoadObjectMapper(std::istream& in, ObjectMapper* mapper,
+                                     std::uint32_t file_version);
 
 }  // namespace ocg::app_detail

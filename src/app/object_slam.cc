@@ -145,7 +145,7 @@ class ObjectSlam::Impl {
   // The rest of a map file's payload after its session record: the SLAM map, then the
   // object layer's state when it holds one.
   void ContinueMap(std::istream& in, const app_detail::SessionRecord& record,
-                   const std::string& path) {
+                   const std::string& path, std::uint32_t file_version) {
     ReadMapPart(path, "SLAM map", [&] {
       system_.LoadMap(in);
       return 0;
@@ -156,7 +156,7 @@ class ObjectSlam::Impl {
     loaded_keyframes_ = system_.KeyFrameCount();
     if (record.has_objects && objects_.Enabled()) {
       ReadMapPart(path, "object map", [&] {
-        objects_.LoadState(in, session_, frame_offset_);
+        objects_.LoadState(in, session_, frame_offset_, file_version);
         return 0;
       });
     } else {
@@ -346,10 +346,12 @@ ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
   // The map file before the vocabulary: a wrong file fails now, not seconds later.
   std::unique_ptr<PayloadStream> map_stream;
   std::optional<app_detail::SessionRecord> record;
+  std::uint32_t file_version = 0;
   const std::string& map_path = options.load_map;
   if (!map_path.empty()) {
     map_stream = std::make_unique<PayloadStream>(
-        ReadMapFile(map_path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
+        ReadMapFile(map_path, app_detail::kMapFileKind, app_detail::kMapFileVersion,
+                    app_detail::kOldestMapFileVersion, &file_version));
     record = ReadMapPart(map_path, "session record",
                          [&] { return app_detail::LoadSessionRecord(*map_stream); });
     app_detail::CheckSameCamera(*record, settings, map_path);
@@ -368,7 +370,7 @@ ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
                        ": its BoW vectors need the vocabulary they were made with");
   }
   impl_ = std::make_unique<Impl>(settings, std::move(loaded), options);
-  if (record) impl_->ContinueMap(*map_stream, *record, map_path);
+  if (record) impl_->ContinueMap(*map_stream, *record, map_path, file_version);
 }
 
 ObjectSlam::~ObjectSlam() {

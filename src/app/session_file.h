@@ -13,7 +13,12 @@ namespace ocg::app_detail {
 
 inline constexpr const char* kMapFileKind = "ocg_slam session map";
 // 1: the first format (SLAM map, object map with sessions, OCG).
-inline constexpr std::uint32_t kMapFileVersion = 1;
+// 2: the object layer's part ends with the change log as the last session revised it
+// (moves, additions and reasons of earlier sessions; ObjectLayerCounters::change_log).
+// Version 1 files are still read: without that log, earlier sessions' changes are the
+// object map's own (their moves show as removals).
+inline constexpr std::uint32_t kMapFileVersion = 2;
+inline constexpr std::uint32_t kOldestMapFileVersion = 1;
 
 struct SessionRecord {
   std::string settings_source;  // the settings file of the last session

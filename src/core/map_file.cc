@@ -93,7 +93,9 @@ void WriteMapFile(const std::string& path, const std::string& kind, std::uint32_
   WriteFileAtomically(path, content);
 }
 
-std::string ReadMapFile(const std::string& path, const std::string& kind, std::uint32_t version) {
+std::string ReadMapFile(const std::string& path, const std::string& kind, std::uint32_t version,
+                        std::uint32_t oldest_version, std::uint32_t* read_version) {
+  if (oldest_version == 0) oldest_version = version;
   std::string content = ReadBinaryFile(path);
   const std::string where = "map file '" + path + "': ";
   std::size_t position = 0;
@@ -114,13 +116,18 @@ std::string ReadMapFile(const std::string& path, const std::string& kind, std::u
       std::sscanf(line.c_str(), "version %llu", &file_version) != 1) {
     throw MapFileError(where + "damaged header: line 3 should be 'version <number>'");
   }
-  if (file_version != version) {
+  if (file_version < oldest_version || file_version > version) {
+    const std::string reads =
+        oldest_version == version
+            ? "version " + std::to_string(version) + " only"
+            : "versions " + std::to_string(oldest_version) + " to " + std::to_string(version);
     throw MapFileError(where + "format version " + std::to_string(file_version) +
-                       ", this build reads version " + std::to_string(version) + " only (" +
+                       ", this build reads " + reads + " (" +
                        (file_version > version ? "written by a newer build: update OCG-SLAM"
                                                : "written by an older build: remake the map") +
                        ")");
   }
+  if (read_version != nullptr) *read_version = static_cast<std::uint32_t>(file_version);
   unsigned long long size = 0;
   std::uint64_t checksum = 0;
   if (!NextLine(content, &position, &line) ||

@@ -1,15 +1,20 @@
 #include "ocg/objects/change_log.h"
 
+#include <algorithm>
 #include <iomanip>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "ocg/core/coco.h"
 #include "ocg/io/change_entries.h"
+#include "ocg/objects/assignment.h"
 #include "ocg/objects/cuboid_json.h"
 
 namespace ocg {
@@ -22,7 +27,105 @@ std::string Rounded(double value) {
   return text.str();
 }
 
+// A removal of an object last seen in an earlier session and a same-class object first
+// seen in this one, as a pairing weighs it.
+struct BetweenSessionCandidate {
+  std::size_t removed = 0, appeared = 0;
+  double relative = 0.0;                      // centre distance in larger extents
+  std::optional<AppearanceMatch> appearance;  // when both have enough descriptors
+};
+
+// Below any difference of appearance that means something (a few matched points of
+// tens): distance only decides among pairs that look alike, or have no appearance.
+constexpr double kDistanceWeight = 1e-3;
+
+double PairingCost(const BetweenSessionCandidate& candidate) {
+  const double unlike = candidate.appearance ? 1.0 - candidate.appearance->Share() : 1.0;
+  return unlike + kDistanceWeight * candidate.relative;
+}
+
+// Between visits nothing bounds how far an object was carried, and two objects of one
+// class can be carried past each other: pairs by least total cost over all removals and
+// appearances (SolveAssignment), looking alike first, nearer second; not nearest first.
+std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& removed,
+                                          const std::vector<ObjectRecord>& appeared,
+                                          const ChangeLogContext& context,
+                                          std::vector<BetweenSessionCandidate>* candidates) {
+  const auto appearance_of = [&](ObjectId id) -> const std::vector<Descriptor>* {
+    const auto found = context.appearance.find(id);
+    if (found == context.appearance.end() ||
+        static_cast<int>(found->second.size()) < context.appearance_options.min_points)
+      return nullptr;
+    return &found->second;
+  };
+  Eigen::MatrixXd cost =
+      Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(removed.size()),
+                                static_cast<Eigen::Index>(appeared.size()), kForbiddenCost);
+  for (std::size_t r = 0; r < removed.size(); ++r) {
+    for (std::size_t a = 0; a < appeared.size(); ++a) {
+      const ObjectRecord& from = removed[r];
+      const ObjectRecord& to = appeared[a];
+      if (from.class_id != to.class_id || !(to.first_seen > from.last_seen)) continue;
+      BetweenSessionCandidate candidate{
+          r, a, (from.cuboid.centre - to.cuboid.centre).norm() / LargerExtent(from, to),
+          std::nullopt};
+      if (candidate.relative <= context.moves.same_place_factor) continue;
+      const std::vector<Descriptor>* from_look = appearance_of(from.id);
+      const std::vector<Descriptor>* to_look = appearance_of(to.id);
+      if (from_look != nullptr && to_look != nullptr)
+        candidate.appearance =
+            MatchAppearance(*from_look, *to_look, context.appearance_options.max_distance);
+      cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) = PairingCost(candidate);
+      candidates->push_back(candidate);
+    }
+  }
+  std::vector<MoveLink> moves;
+  if (removed.empty() || appeared.empty()) return moves;
+  const std::vector<int> assigned = SolveAssignment(cost);
+  for (std::size_t r = 0; r < removed.size(); ++r) {
+    if (assigned[r] < 0) continue;
+    const auto a = static_cast<std::size_t>(assigned[r]);
+    if (cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) >= kForbiddenCost)
+      continue;
+    moves.push_back(
+        {removed[r], appeared[a], (removed[r].cuboid.centre - appeared[a].cuboid.centre).norm()});
+  }
+  return moves;
+}
+
+nlohmann::json AppearanceJson(const AppearanceMatch& match) {
+  return {{"matched", match.matched},
+          {"compared", match.compared},
+          {"median_distance", match.median_distance}};
+}
+
 }  // namespace
+
+AppearanceMatch MatchAppearance(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
+                                int max_distance) {
+  const std::vector<Descriptor>& fewer = a.size() <= b.size() ? a : b;
+  const std::vector<Descriptor>& more = a.size() <= b.size() ? b : a;
+  AppearanceMatch match;
+  match.compared = static_cast<int>(fewer.size());
+  std::vector<int> nearest;
+  for (const Descriptor& descriptor : fewer) {
+    int best = kDescriptorBits;
+    for (const Descriptor& other : more) best = std::min(best, HammingDistance(descriptor, other));
+    if (best <= max_distance) ++match.matched;
+    nearest.push_back(best);
+  }
+  if (!nearest.empty()) {
+    std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
+    match.median_distance = nearest[nearest.size() / 2];
+  }
+  return match;
+}
+
+void AppearanceOptions::Check() const {
+  if (max_distance < 0 || max_distance > kDescriptorBits)
+    throw std::invalid_argument("appearance.max_distance must be in [0, 256] bits");
+  if (min_points < 1) throw std::invalid_argument("appearance.min_points must be at least 1");
+}
 
 std::string ReviseChangeLog(const std::string& changes_json, const std::string& objects_json,
                             const ChangeLogContext& context) {
@@ -51,33 +154,41 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   std::map<ObjectId, MoveLink> moves_from;
   std::set<ObjectId> moved_to;
   std::set<ObjectId> between_sessions;  // moves_from's keys linked by the between-session rule
-  const auto link = [&](const std::vector<ObjectRecord>& from, const std::vector<ObjectRecord>& to,
-                        const MoveLinkOptions& options) {
-    std::vector<ObjectId> linked;
-    for (const MoveLink& move : LinkMoves(from, to, options, true)) {
-      moves_from.emplace(move.from.id, move);
-      moved_to.insert(move.to.id);
-      linked.push_back(move.from.id);
+  context.appearance_options.Check();
+  std::vector<ObjectRecord> appeared;
+  for (const ObjectRecord& object : live.objects) {
+    if (object.first_session == context.session) appeared.push_back(object);
+  }
+  std::vector<BetweenSessionCandidate> candidates;
+  for (const MoveLink& move : PairBetweenSessions(seen_before, appeared, context, &candidates)) {
+    moves_from.emplace(move.from.id, move);
+    moved_to.insert(move.to.id);
+    between_sessions.insert(move.from.id);
+  }
+  // The evidence of a between-session removal: every same-class object it could have
+  // become, how far and how alike.
+  std::map<ObjectId, nlohmann::json> alternatives;
+  std::map<std::pair<ObjectId, ObjectId>, AppearanceMatch> looks;  // (from, to)
+  for (const BetweenSessionCandidate& candidate : candidates) {
+    const ObjectRecord& from = seen_before[candidate.removed];
+    const ObjectRecord& to = appeared[candidate.appeared];
+    nlohmann::json entry = {{"object_id", to.id},
+                            {"distance", (from.cuboid.centre - to.cuboid.centre).norm()},
+                            {"observations", to.observations}};
+    if (candidate.appearance) {
+      entry["appearance"] = AppearanceJson(*candidate.appearance);
+      looks[{from.id, to.id}] = *candidate.appearance;
     }
-    return linked;
-  };
-  {
-    // Between visits nothing bounds how far an object was carried: what this session
-    // removed, last seen in an earlier one, pairs with what this session found new, at
-    // any distance (nearest first).
-    std::vector<ObjectRecord> appeared;
-    for (const ObjectRecord& object : live.objects) {
-      if (object.first_session == context.session) appeared.push_back(object);
-    }
-    MoveLinkOptions between = context.moves;
-    between.search_factor = std::numeric_limits<double>::infinity();
-    for (ObjectId id : link(seen_before, appeared, between)) between_sessions.insert(id);
+    alternatives[from.id].push_back(entry);
   }
   std::vector<ObjectRecord> rest_live;
   for (const ObjectRecord& object : live.objects) {
     if (moved_to.count(object.id) == 0) rest_live.push_back(object);
   }
-  link(seen_now, rest_live, context.moves);
+  for (const MoveLink& move : LinkMoves(seen_now, rest_live, context.moves, true)) {
+    moves_from.emplace(move.from.id, move);
+    moved_to.insert(move.to.id);
+  }
   nlohmann::json list = nlohmann::json::array();
   // Entries kept from a loaded map carry their own session; their clock was another
   // session's, so they get no time.
@@ -89,7 +200,17 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
             : nlohmann::json(nullptr);
     list.push_back(std::move(entry));
   };
+  // The earlier sessions' entries as they revised them: what this session's object map
+  // says of them would lose their moves and additions.
+  if (context.earlier_changes) {
+    const nlohmann::json earlier = nlohmann::json::parse(*context.earlier_changes);
+    for (nlohmann::json entry : earlier.at("changes")) {
+      if (entry.at("session").get<int>() < context.session) stamp(std::move(entry));
+    }
+  }
   for (nlohmann::json entry : root.at("changes")) {
+    if (context.earlier_changes && entry.value("session", context.session) < context.session)
+      continue;
     const auto move = entry.at("type") == "removed"
                           ? moves_from.find(entry.at("object_id").get<ObjectId>())
                           : moves_from.end();
@@ -106,6 +227,14 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
       entry["to"] = {
           {"object_id", to.id}, {"cuboid", CuboidJson(to.cuboid)}, {"first_seen", to.first_seen}};
       entry["distance"] = move->second.distance;
+      const auto look = looks.find({move->first, to.id});
+      if (look != looks.end()) entry["appearance"] = AppearanceJson(look->second);
+    }
+    if (entry.at("type") == "removed" || entry.at("type") == "moved") {
+      const auto evidence = alternatives.find(entry.at("object_id").get<ObjectId>());
+      if (evidence != alternatives.end() &&
+          entry.value("session", context.session) == context.session)
+        entry["candidates"] = evidence->second;
     }
     stamp(std::move(entry));
   }

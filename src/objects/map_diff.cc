@@ -190,6 +190,7 @@ SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name
       record.cuboid = CuboidFromJson(entry.at("cuboid"));
       record.first_seen = entry.value("first_seen", 0.0);
       record.first_session = entry.value("first_session", 0);
+      record.observations = entry.value("observations", 0);
       record.last_seen = entry.value("last_seen", 0.0);
       map.objects.push_back(record);
     }

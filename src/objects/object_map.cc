@@ -121,23 +121,41 @@ void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes) {
+std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes) {
   // Where the boxes' rays meet says which of the points in them are on the object: the
   // background behind it can hold most of them when the camera moves little.
   const double reach = object.has_cuboid ? object.cuboid.size.maxCoeff() : 0.0;
+  std::vector<std::uint64_t> voted_ids;
   std::vector<Eigen::Vector3d> voted;
   for (const auto& [id, point] : object.points) {
     if (point.votes < min_votes) continue;
     if (object.has_cuboid && (point.position - object.cuboid.centre).norm() > reach) continue;
+    voted_ids.push_back(id);
     voted.push_back(point.position);
   }
   const RobustBounds bounds = RobustPointBounds(voted, 3.0);
-  if (!bounds.valid) return voted;
-  std::vector<Eigen::Vector3d> kept;
-  for (const Eigen::Vector3d& position : voted) {
-    if (bounds.Contains(position)) kept.push_back(position);
+  if (!bounds.valid) return voted_ids;
+  std::vector<std::uint64_t> kept;
+  for (std::size_t i = 0; i < voted.size(); ++i) {
+    if (bounds.Contains(voted[i])) kept.push_back(voted_ids[i]);
   }
   return kept;
+}
+
+std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes) {
+  std::vector<Eigen::Vector3d> positions;
+  for (std::uint64_t id : ObjectPointIds(object, min_votes))
+    positions.push_back(object.points.at(id).position);
+  return positions;
+}
+
+std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes) {
+  std::vector<Descriptor> descriptors;
+  for (std::uint64_t id : ObjectPointIds(object, min_votes)) {
+    const ObjectPoint& point = object.points.at(id);
+    if (point.descriptor) descriptors.push_back(*point.descriptor);
+  }
+  return descriptors;
 }
 
 // An object's points as an association cue: how many are its own and the bounds of its
@@ -341,7 +359,8 @@ void ObjectMap::SetUp(const Eigen::Vector3d& up) { R_wg_ = GravityFrame(up); }
 
 void ObjectMap::FollowMap(
     const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
-    const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point) {
+    const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
+    const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point) {
   for (auto* entities : {&objects_, &candidates_}) {
     for (auto& [id, entity] : *entities) {
       for (ObjectSighting& sighting : entity.sightings) {
@@ -354,6 +373,10 @@ void ObjectMap::FollowMap(
           continue;
         }
         point->second.position = *position;
+        if (descriptor_of_point) {
+          if (const Descriptor* descriptor = descriptor_of_point(point->first))
+            point->second.descriptor = *descriptor;
+        }
         ++point;
       }
     }
@@ -587,11 +610,23 @@ void ObjectMap::Remove(const RemovalEvent& event) {
       ChangeOf("removed", event.keyframe_id, event.timestamp, it->second, session_);
   change.doubt = event.doubt;
   change.last_seen = it->second.last_timestamp;
+  change.reason = event.reason;
   changes_.push_back(change);
+  std::vector<Descriptor> appearance = ObjectAppearance(it->second, options_.min_point_votes);
+  if (!appearance.empty()) removed_appearance_[event.object_id] = std::move(appearance);
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
   if (restore_) removed_[event.object_id] = {std::move(it->second), event.timestamp};
   objects_.erase(it);
+}
+
+std::map<ObjectId, std::vector<Descriptor>> ObjectMap::Appearances() const {
+  std::map<ObjectId, std::vector<Descriptor>> appearances = removed_appearance_;
+  for (const auto& [id, object] : objects_) {
+    std::vector<Descriptor> appearance = ObjectAppearance(object, options_.min_point_votes);
+    if (!appearance.empty()) appearances[id] = std::move(appearance);
+  }
+  return appearances;
 }
 
 std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states) {
@@ -654,7 +689,7 @@ std::string ObjectChangesJson(const std::vector<ObjectChange>& changes) {
     if (change.type == "removed") {
       entry["doubt"] = change.doubt;
       entry["last_seen"] = change.last_seen;
-      entry["reason"] = "outlier";
+      entry["reason"] = change.reason.empty() ? "outlier" : change.reason;
     } else if (change.type == "merged") {
       entry["merged_into"] = change.merged_into;
       entry["reason"] = "duplicate";

@@ -50,8 +50,12 @@ void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
       FindSupportingPlane(view.map_points, prior, options.plane_max_tilt_deg,
                           options.plane_inlier_share, options.plane_iterations, seed);
   std::map<std::uint64_t, Eigen::Vector3d> positions;
-  for (std::size_t i = 0; i < view.map_point_ids.size() && i < view.map_points.size(); ++i)
+  std::map<std::uint64_t, const Descriptor*> descriptors;
+  for (std::size_t i = 0; i < view.map_point_ids.size() && i < view.map_points.size(); ++i) {
     positions.emplace(view.map_point_ids[i], view.map_points[i]);
+    if (i < view.map_point_descriptors.size())
+      descriptors.emplace(view.map_point_ids[i], &view.map_point_descriptors[i]);
+  }
   std::lock_guard<std::mutex> lock(map_mutex_);
   Eigen::Vector3d up = prior;
   if (plane.valid) {
@@ -80,7 +84,16 @@ void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
         const auto found = positions.find(point);
         if (found == positions.end()) return {};
         return found->second;
+      },
+      [&descriptors](std::uint64_t point) -> const Descriptor* {
+        const auto found = descriptors.find(point);
+        return found == descriptors.end() ? nullptr : found->second;
       });
+}
+
+std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::Appearances() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.Appearances();
 }
 
 void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw) {

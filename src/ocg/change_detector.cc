@@ -1,8 +1,10 @@
 #include "ocg/ocg/change_detector.h"
 
 #include <algorithm>
+#include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <stdexcept>
 
 #include "ocg/core/options.h"
@@ -236,7 +238,16 @@ KeyframeResult ObjectChangeDetector::EndSession() {
   }
   std::sort(outliers.begin(), outliers.end());
   for (ObjectId id : outliers) {
-    result.removed.push_back(MakeRemoval(id, last_keyframe_, last_timestamp_));
+    RemovalEvent event = MakeRemoval(id, last_keyframe_, last_timestamp_);
+    // What happened, in the detector's terms: the generic "outlier" reads as a removal on
+    // leaving a region the camera never left.
+    std::ostringstream reason;
+    reason << std::fixed << std::setprecision(1)
+           << "session ended: not observed in this session while its neighbours were "
+              "(suspicious), doubt "
+           << event.doubt << " > tau_doubt " << options_.tau_doubt;
+    event.reason = reason.str();
+    result.removed.push_back(event);
     RemoveObject(id);
   }
   return result;

@@ -159,15 +159,18 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   return poses;
 }
 
-std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* ids) const {
+std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* ids,
+                                                       std::vector<Descriptor>* descriptors) const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<Eigen::Vector3d> positions;
   positions.reserve(map_.points().size());
   if (ids != nullptr) ids->clear();
+  if (descriptors != nullptr) descriptors->clear();
   for (const auto& [id, point] : map_.points()) {
     if (point->bad) continue;
     positions.push_back(point->position);
     if (ids != nullptr) ids->push_back(id);
+    if (descriptors != nullptr) descriptors->push_back(point->descriptor);
   }
   return positions;
 }

@@ -64,6 +64,27 @@ TEST(MapFileEnvelope, AnotherVersionSaysWhichAndWhatToDo) {
   EXPECT_NE(message.find("older build"), std::string::npos) << message;
 }
 
+// A build that still reads older versions (session maps: 1 and 2) says which it read, and
+// refuses those outside the range with the range.
+TEST(MapFileEnvelope, AnOlderVersionInTheRangeIsReadAndReported) {
+  const std::string path = testing::MakeTempDir("map_file") + "/o.ocgmap";
+  WriteMapFile(path, "test-map", 2, BinaryPayload());
+  std::uint32_t read_version = 0;
+  EXPECT_EQ(ReadMapFile(path, "test-map", 3, 2, &read_version), BinaryPayload());
+  EXPECT_EQ(read_version, 2u);
+  WriteMapFile(path, "test-map", 1, BinaryPayload());
+  try {
+    ReadMapFile(path, "test-map", 3, 2, &read_version);
+    ADD_FAILURE() << "version 1 read by a build reading 2 to 3";
+  } catch (const MapFileError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("format version 1, this build reads versions 2 to 3 (written by an "
+                           "older build: remake the map)"),
+              std::string::npos)
+        << message;
+  }
+}
+
 TEST(MapFileEnvelope, TruncatedFileSaysHowMuchIsMissing) {
   const std::string path = testing::MakeTempDir("map_file") + "/t.ocgmap";
   WriteMapFile(path, "test-map", 3, BinaryPayload());

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "ocg/ocg/change_detector.h"
 #include "ocg/ocg/observability.h"
@@ -503,6 +505,15 @@ TEST_F(SessionStory, GoneSinceTheLastSessionIsRemovedWhenTheSessionEndsInItsRegi
   EXPECT_EQ(end.removed[0].object_id, 1);
   EXPECT_EQ(end.removed[0].keyframe_id, 5);  // the session's last keyframe
   EXPECT_DOUBLE_EQ(end.removed[0].timestamp, 2.5);
+  // Its reason says what happened, with the doubt and the threshold it passed (a removal on
+  // leaving the region keeps the generic "outlier").
+  std::ostringstream reason;
+  reason << std::fixed << std::setprecision(1)
+         << "session ended: not observed in this session while its neighbours were "
+            "(suspicious), doubt "
+         << end.removed[0].doubt << " > tau_doubt " << detector_.options().tau_doubt;
+  EXPECT_EQ(end.removed[0].reason, reason.str());
+  EXPECT_EQ(RemovalEvent{}.reason, "outlier");
   EXPECT_FALSE(detector_.Status(1).has_value());
   for (ObjectId id : {2, 3, 4, 5, 6}) EXPECT_TRUE(detector_.Status(id).has_value()) << id;
   EXPECT_TRUE(detector_.EndSession().removed.empty());  // nothing left to remove

@@ -56,9 +56,12 @@ class PayloadStream : public std::istream {
 void WriteMapFile(const std::string& path, const std::string& kind, std::uint32_t version,
                   const std::string& payload);
 
-// The payload of a map file of this kind and version. Throws MapFileError naming the path
-// and what is wrong: not a map file, another kind, another version, truncated (bytes
-// present and expected), damaged (checksum); FileError when it cannot be read.
-std::string ReadMapFile(const std::string& path, const std::string& kind, std::uint32_t version);
+// The payload of a map file of this kind and of a version from oldest_version (0: version
+// alone) to version; the file's version goes to *read_version when given. Throws
+// MapFileError naming the path and what is wrong: not a map file, another kind, a version
+// outside that range, truncated (bytes present and expected), damaged (checksum);
+// FileError when it cannot be read.
+std::string ReadMapFile(const std::string& path, const std::string& kind, std::uint32_t version,
+                        std::uint32_t oldest_version = 0, std::uint32_t* read_version = nullptr);
 
 }  // namespace ocg

@@ -2,11 +2,37 @@
 // changes.json of a run: the object map's change log with moves linked (docs/sessions.md)
 // and each entry's session and time. The app calls it when it writes a run's files.
 
+#include <map>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "ocg/features/descriptor.h"
 #include "ocg/objects/map_diff.h"
 
 namespace ocg {
+
+// How much two objects look alike by the ORB descriptors of their map points: of the
+// smaller set, how many have a descriptor of the other set within max_distance bits.
+struct AppearanceMatch {
+  int compared = 0;
+  int matched = 0;
+  // Median over the smaller set of the distance to its nearest descriptor in the other,
+  // bits (256 when compared is 0): how far apart the two looks are when few match.
+  int median_distance = kDescriptorBits;
+  double Share() const { return compared > 0 ? static_cast<double>(matched) / compared : 0.0; }
+};
+AppearanceMatch MatchAppearance(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
+                                int max_distance);
+
+struct AppearanceOptions {
+  // Bits: two views of one texture patch (ORB-SLAM's tight matching threshold).
+  int max_distance = 50;
+  // Descriptors each object needs for its appearance to count in a pairing.
+  int min_points = 5;
+  // Throws std::invalid_argument naming the field.
+  void Check() const;
+};
 
 struct ChangeLogContext {
   // The session the run is (0: a run from an empty map; later: continuing a loaded map).
@@ -14,6 +40,14 @@ struct ChangeLogContext {
   // Timestamp of the session's first frame, seconds: entries' "time" counts from it.
   double session_start = 0.0;
   MoveLinkOptions moves;
+  // SLAM runs: ObjectMap::Appearances() (descriptors of each object's map points), by id;
+  // empty in pose-given runs, where pairing goes by distance alone.
+  std::map<ObjectId, std::vector<Descriptor>> appearance;
+  AppearanceOptions appearance_options;
+  // Map files: changes.json as the session that saved the loaded map revised it. Earlier
+  // sessions' entries are taken from it (their moves, additions and reasons as that
+  // session found them) instead of the object map's own entries. None: the object map's.
+  std::optional<std::string> earlier_changes;
 };
 
 // changes.json as ObjectChangesJson writes it, revised against the live objects of
@@ -21,10 +55,14 @@ struct ChangeLogContext {
 // holding both ids and cuboids ("centroid" and "cuboid" stay the old place's) when:
 //  - the object was last seen in an earlier session (last_seen before session_start, a
 //    later session only) and a live object of its class was first seen in this session
-//    ("first_session"), at any distance (LinkMoves without a reach, nearest first);
+//    ("first_session"), at any distance, all such pairs chosen together: one assignment
+//    of least total cost, objects that look alike (context.appearance, MatchAppearance)
+//    before nearer ones (between-session entries list their candidates as evidence);
 //  - or it was seen in this session and a live object of its class appeared near it after
 //    its last sighting (LinkMoves with context.moves).
-// Earlier sessions' removals stay "removed": their session paired them. In a later
+// Earlier sessions' removals are not paired again: their session paired them (with
+// context.earlier_changes, their entries are that session's, moves included; without, they
+// stay "removed"). In a later
 // session, live objects first seen in it and not part of a move get an "added" entry.
 // Every entry gets "session" (kept when the entry has one: a change an earlier session
 // made) and "time" (seconds from session_start; null for earlier sessions' changes).

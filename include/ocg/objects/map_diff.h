@@ -22,6 +22,7 @@ struct ObjectRecord {
   double first_seen = 0.0;  // timestamps of its first and last sighting, seconds
   double last_seen = 0.0;
   int first_session = 0;  // the session of its first sighting (map files; 0 otherwise)
+  int observations = 0;   // sightings (objects.json "observations"; 0 when not known)
 };
 
 struct MoveLinkOptions {

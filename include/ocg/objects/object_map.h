@@ -14,6 +14,7 @@
 
 #include "ocg/core/camera.h"
 #include "ocg/core/lie.h"
+#include "ocg/features/descriptor.h"
 #include "ocg/objects/box.h"
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/objects_options.h"
@@ -37,6 +38,9 @@ struct ObjectSighting {
 struct ObjectPoint {
   int votes = 0;                                       // boxes it was inside
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, when last tracked
+  // The map point's ORB descriptor as of the last FollowMap that gave one. Not kept in map
+  // files (the SLAM map holds it; the next FollowMap gives it back).
+  std::optional<Descriptor> descriptor;
 };
 
 // A map object, or a candidate (id < 0) not yet triangulated.
@@ -68,6 +72,12 @@ struct ObjectView {
 // extent of its centre once it has a cuboid, and within 3 robust sigmas of their median
 // (the background caught in its boxes left out).
 std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes);
+// The same points' ids (SLAM map point ids), in id order.
+std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes);
+// The object's appearance: the descriptors of its point set (points without one left
+// out). An object keeps its texture when it is carried elsewhere, so the points of its new
+// place match these far better than those of another object of its class.
+std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes);
 
 struct ObjectChange {
   // "removed" (by the OCG), "merged" (a duplicate, hygiene), "dropped" (too few
@@ -87,6 +97,9 @@ struct ObjectChange {
   ObjectId recreated_as = 0;
   double removed_at = 0.0;
   int session = 0;  // the session that made the change (StartSession)
+  // "removed" only: why the OCG removed it (RemovalEvent::reason). Not kept in map files:
+  // the revised change log they keep holds it.
+  std::string reason;
 };
 
 struct FrameAssociation {
@@ -116,9 +129,12 @@ class ObjectMap {
   // sighting takes its frame's current pose (frames without one keep theirs), every
   // object point its map point's position (points gone from the map, culled or fused
   // into another, leave the object), and the objects are re-estimated.
+  // descriptor_of_point (optional; null result: none known) refreshes the points'
+  // descriptors.
   void FollowMap(
       const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
-      const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point);
+      const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
+      const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point = {});
 
   // The OCG's input for a keyframe at the last added frame: the map objects detected in
   // any frame since the previous keyframe, with the geometry of those that changed.
@@ -138,6 +154,10 @@ class ObjectMap {
   const std::map<ObjectId, MapObject>& objects() const { return objects_; }
   std::size_t CandidateCount() const { return candidates_.size(); }
   const std::vector<ObjectChange>& changes() const { return changes_; }
+  // ObjectAppearance of every live object and of every object removed in this run (as it
+  // was when removed; the appearance of removals made by the runs that wrote a loaded map
+  // file is not kept), by id. Objects without descriptors are left out.
+  std::map<ObjectId, std::vector<Descriptor>> Appearances() const;
   const ObjectsOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return camera_; }
   const Eigen::Matrix3d& gravity_frame() const { return R_wg_; }
@@ -183,6 +203,7 @@ class ObjectMap {
     double removed_at = 0.0;  // timestamp
   };
   std::map<ObjectId, RemovedObject> removed_;  // restore on: removed within the window
+  std::map<ObjectId, std::vector<Descriptor>> removed_appearance_;  // Appearances()
   ObjectId next_object_id_ = 1;
   ObjectId next_candidate_id_ = -1;
   int session_ = 0;

@@ -26,6 +26,7 @@ struct SlamMapView {
   std::vector<std::optional<SE3>> frame_poses;    // by the frame numbers given to AddFrame
   std::vector<Eigen::Vector3d> map_points;        // world
   std::vector<std::uint64_t> map_point_ids;       // of map_points, one each
+  std::vector<Descriptor> map_point_descriptors;  // of map_points, one each, or none
   std::vector<Eigen::Matrix3d> camera_rotations;  // keyframes', camera to world
 };
 
@@ -79,6 +80,8 @@ class ObjectMapper {
   // The up direction the cuboids are aligned with.
   Eigen::Vector3d Up() const;
   std::size_t LiveObjectCount() const;
+  // ObjectMap::Appearances().
+  std::map<ObjectId, std::vector<Descriptor>> Appearances() const;
 
  private:
   friend struct MapFileAccess;    // map files (src/app/object_map_file.cc)

@@ -74,8 +74,9 @@ class System {
   // call order; none for frames not tracked or whose map was reset.
   std::vector<std::optional<SE3>> FramePoses() const;
   // The positions of every map point (for the object layer's supporting plane and point
-  // sets), with their ids in the same order when ids is given.
-  std::vector<Eigen::Vector3d> MapPointPositions(std::vector<MapPointId>* ids = nullptr) const;
+  // sets), with their ids and descriptors in the same order when those are given.
+  std::vector<Eigen::Vector3d> MapPointPositions(
+      std::vector<MapPointId>* ids = nullptr, std::vector<Descriptor>* descriptors = nullptr) const;
   // The keyframes in the map (for tests and diagnostics; read them while the system is
   // idle: after Shutdown(), or between TrackImage calls in sequential mode).
   std::vector<KeyFramePtr> KeyFrames() const;
