@@ -51,6 +51,17 @@ struct BaParameters {
   std::vector<std::array<double, 3>> points;
 };
 
+// The problem's own values, as the solver's parameter blocks.
+BaParameters ProblemParameters(const BundleAdjustmentProblem& problem) {
+  BaParameters parameters;
+  for (const BaKeyframe& keyframe : problem.keyframes)
+    parameters.poses.push_back(ToParameters(keyframe.T_cw));
+  for (const BaPoint& point : problem.points) {
+    parameters.points.push_back({point.position.x(), point.position.y(), point.position.z()});
+  }
+  return parameters;
+}
+
 // One Ceres solve over the observations marked used; loss null: plain squared loss.
 // Eliminating the points first is what makes it a Schur problem: the ordering is given,
 // not searched for (Ceres' independent-set search costs as much as a small solve).
@@ -114,12 +125,7 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
                                     const BundleAdjustmentOptions& options) {
   options.Check();
   BundleAdjustmentReport report;
-  BaParameters parameters;
-  for (const BaKeyframe& keyframe : problem->keyframes)
-    parameters.poses.push_back(ToParameters(keyframe.T_cw));
-  for (const BaPoint& point : problem->points) {
-    parameters.points.push_back({point.position.x(), point.position.y(), point.position.z()});
-  }
+  BaParameters parameters = ProblemParameters(*problem);
   const auto judge = [&](const BaParameters& at, std::size_t i, double* pixels2) {
     const BaObservation& o = problem->observations[i];
     const SE3 T_cw = FromParameters(at.poses[static_cast<std::size_t>(o.keyframe)].data());
@@ -159,12 +165,7 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
     report.iterations = static_cast<int>(summary.iterations.size());
   }
   if (!report.solved) {
-    parameters = BaParameters();  // the problem's own values, for judging the outliers
-    for (const BaKeyframe& keyframe : problem->keyframes)
-      parameters.poses.push_back(ToParameters(keyframe.T_cw));
-    for (const BaPoint& point : problem->points) {
-      parameters.points.push_back({point.position.x(), point.position.y(), point.position.z()});
-    }
+    parameters = ProblemParameters(*problem);  // for judging the outliers
   } else if (options.refine_iterations > 0 && any_free) {
     BaParameters refined = parameters;
     for (std::size_t i = 0; i < problem->observations.size(); ++i) {
