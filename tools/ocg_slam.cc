@@ -4,15 +4,16 @@
 
 #include <spdlog/spdlog.h>
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <thread>
+#include <optional>
 #include <utility>
+#include <vector>
 
 #include "cli_common.h"
+#include "ocg/app/live_feed.h"
 #include "ocg/app/object_slam.h"
 #include "ocg/app/pose_given.h"
 #include "ocg/app/settings.h"
@@ -205,8 +206,10 @@ int main(int argc, char** argv) {
                   "it is due, on the tracking thread); default: 4 when the run may use two "
                   "cores or more, else 0")
       ->check(CLI::NonNegativeNumber);
-  run->add_flag("--realtime", realtime,
-                "feed images at the pace of their timestamps (never drops frames)");
+  run->add_flag(
+      "--realtime", realtime,
+      "feed images at the pace of their timestamps, as a live camera: an image replaced by "
+      "the next before tracking was ready is dropped (counted in run.json's feed)");
   std::string load_map, save_map;
   run->add_option("--load-map", load_map,
                   "map file to continue (docs/sessions.md): relocalize in it, then track and "
@@ -334,34 +337,50 @@ int main(int argc, char** argv) {
               << (slam.Sequential() ? "sequential" : "threaded") << " mode\n";
     const std::vector<ocg::Detection> no_detections;
     ocg::ProgressLine progress("frames", frames);
-    const auto wall_start = std::chrono::steady_clock::now();
     std::vector<std::string> image_paths;
     image_paths.reserve(frames);
     for (std::size_t i = 0; i < frames; ++i) image_paths.push_back(sequence.images[i].path);
     ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE,
                                read_ahead >= 0 ? static_cast<std::size_t>(read_ahead)
                                                : ocg::ImageReadAhead::AutomaticDepth());
-    for (std::size_t i = 0; i < frames; ++i) {
+    std::optional<ocg::LiveFeed> live;
+    if (realtime) {
+      std::vector<double> timestamps;
+      timestamps.reserve(frames);
+      for (std::size_t i = 0; i < frames; ++i) timestamps.push_back(sequence.images[i].timestamp);
+      live.emplace(std::move(timestamps));
+    }
+    const auto track = [&](std::size_t i) {
       const ocg::TimedImage& image = sequence.images[i];
-      if (realtime) {
-        const double due = image.timestamp - sequence.images[0].timestamp;
-        std::this_thread::sleep_until(wall_start +
-                                      std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                          std::chrono::duration<double>(due)));
-      }
-      const cv::Mat gray = images.Next();
       slam.Track(
-          gray, image.timestamp,
+          images.Next(), image.timestamp,
           detection_folder ? detection_folder->ForFrame(image.timestamp_text) : no_detections,
           {TimestampInSeconds(image.timestamp_text, format), image.path});
       progress.Update(i + 1);
+    };
+    if (live) {
+      std::size_t images_taken = 0;
+      while (const std::optional<std::size_t> due = live->Next()) {
+        // Images the live camera replaced before tracking was ready are decoded and lost.
+        for (; images_taken < *due; ++images_taken) images.Next();
+        track(*due);
+        ++images_taken;
+      }
+    } else {
+      for (std::size_t i = 0; i < frames; ++i) track(i);
     }
     progress.Finish();
+    if (live) {
+      std::cout << "real time: " << live->Dropped().size() << " of " << frames
+                << " frames dropped (a live camera had replaced them before tracking was "
+                   "ready)\n";
+    }
     slam.Shutdown();
     if (!save_map.empty()) slam.SaveMap(save_map);
     const nlohmann::json report =
         slam.Save(output, {sequence_path, settings_path, detections,
-                           detection_folder ? detection_folder->FilesMatched() : 0});
+                           detection_folder ? detection_folder->FilesMatched() : 0,
+                           live ? live->Report() : nlohmann::json()});
     if (report.contains("objects")) {
       const nlohmann::json& section = report["objects"];
       std::cout << "objects: " << section["objects_created"] << " created, "

@@ -73,6 +73,9 @@ struct RunDescription {
   std::string settings;    // settings file
   std::string detections;  // detection folder (empty: none)
   std::size_t detection_files_matched = 0;
+  // How the images were fed (LiveFeed::Report() for a real-time replay), run.json's
+  // "feed"; null: as fast as the system took them, and no "feed" is written.
+  nlohmann::json feed;
 };
 
 class ObjectSlam {

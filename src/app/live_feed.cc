@@ -1,0 +1,75 @@
+#include "ocg/app/live_feed.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace ocg {
+namespace {
+
+double SteadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void SleepUntilSteady(double seconds) {
+  const auto target = std::chrono::steady_clock::time_point(
+      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+          std::chrono::duration<double>(seconds)));
+  std::this_thread::sleep_until(target);
+}
+
+double Percentile(std::vector<double> values, double share) {
+  if (values.empty()) return 0.0;
+  const std::size_t index = std::min(
+      values.size() - 1, static_cast<std::size_t>(share * static_cast<double>(values.size())));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
+                   values.end());
+  return values[index];
+}
+
+}  // namespace
+
+LiveFeed::LiveFeed(std::vector<double> timestamps, Clock clock, SleepUntil sleep_until)
+    : timestamps_(std::move(timestamps)),
+      clock_(clock ? std::move(clock) : Clock(SteadySeconds)),
+      sleep_until_(sleep_until ? std::move(sleep_until) : SleepUntil(SleepUntilSteady)) {
+  for (std::size_t i = 1; i < timestamps_.size(); ++i) {
+    if (timestamps_[i] < timestamps_[i - 1])
+      throw std::invalid_argument("LiveFeed: timestamp of image " + std::to_string(i) +
+                                  " is earlier than the one before it");
+  }
+}
+
+double LiveFeed::Due(std::size_t i) const { return *start_ + timestamps_[i] - timestamps_[0]; }
+
+std::optional<std::size_t> LiveFeed::Next() {
+  if (next_ >= timestamps_.size()) return std::nullopt;
+  if (!start_) start_ = clock_();
+  const double now = clock_();
+  // The camera has replaced image next_ once its successor is due.
+  while (next_ + 1 < timestamps_.size() && Due(next_ + 1) <= now) dropped_.push_back(next_++);
+  if (Due(next_) > now) sleep_until_(Due(next_));
+  lag_seconds_.push_back(std::max(0.0, clock_() - Due(next_)));
+  ++delivered_;
+  return next_++;
+}
+
+nlohmann::json LiveFeed::Report() const {
+  nlohmann::json first_dropped = nlohmann::json::array();
+  for (std::size_t i = 0; i < std::min<std::size_t>(dropped_.size(), 20); ++i)
+    first_dropped.push_back(dropped_[i]);
+  return {{"realtime", true},
+          {"frames_delivered", delivered_},
+          {"frames_dropped", dropped_.size()},
+          {"first_dropped_frames", first_dropped},
+          {"lag_ms",
+           {{"median", 1e3 * Percentile(lag_seconds_, 0.5)},
+            {"p95", 1e3 * Percentile(lag_seconds_, 0.95)},
+            {"max", lag_seconds_.empty()
+                        ? 0.0
+                        : 1e3 * *std::max_element(lag_seconds_.begin(), lag_seconds_.end())}}}};
+}
+
+}  // namespace ocg
