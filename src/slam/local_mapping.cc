@@ -436,7 +436,7 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
     if (before_local_solve_) before_local_solve_();
     return SolveAdjustment(&adjustment, solve);
   });
-  if (adjustment.report.stopped) ++stats_.local_adjustments_stopped;
+  if (adjustment.report.stopped) ++stats_.local_adjustments_interrupted;
   if (!solved) return;
   if (map_->corrections() != corrections) {
     ++stats_.local_adjustments_dropped;

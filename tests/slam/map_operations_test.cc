@@ -347,7 +347,7 @@ TEST_F(GrowingMap, WhileKeyFramesWaitTheLocalAdjustmentIsSkippedButEachKeyFrameI
   EXPECT_EQ(stats.keyframes, 3);
   EXPECT_EQ(stats.local_adjustments_skipped, 2);  // 4 (5 and 6 waiting) and 5 (6 waiting)
   EXPECT_EQ(stats.ba_seconds.size(), 1u);         // 6's
-  EXPECT_EQ(stats.local_adjustments_stopped, 0);
+  EXPECT_EQ(stats.local_adjustments_interrupted, 0);
   ASSERT_EQ(mapped.size(), 3u);
   for (std::size_t i = 0; i < mapped.size(); ++i) {
     EXPECT_EQ(mapped[i].id, 4 + i);
@@ -379,7 +379,7 @@ TEST_F(GrowingMap, AKeyFrameInsertedWhileTheLocalAdjustmentSolvesStopsIt) {
   mapping.Stop();
 
   const LocalMappingStats stats = mapping.Stats();
-  EXPECT_EQ(stats.local_adjustments_stopped, 1);
+  EXPECT_EQ(stats.local_adjustments_interrupted, 1);
   EXPECT_EQ(stats.local_adjustments_skipped, 0);  // 5 came after 4's adjustment had begun
   ASSERT_EQ(stats.ba_iterations.size(), 2u);
   EXPECT_EQ(stats.ba_iterations[0], 1) << "4's adjustment went on after the request";

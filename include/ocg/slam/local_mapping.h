@@ -45,7 +45,7 @@ struct LocalMappingOptions {
   // LocalMapping.baRefineMinChi2Decrease: the refining solve also ends after an iteration
   // that lowers the chi-square by less than this
   // (BundleAdjustmentOptions::refine_min_chi2_decrease; 0: off)
-  double local_ba_refine_min_chi2_decrease = 0.0;
+  double local_ba_refine_min_chi2_decrease = 1.0;
   double redundant_ratio = 0.9;    // LocalMapping.redundantRatio: keyframe culling
   int redundant_observers = 3;     // LocalMapping.redundantObservers
   std::size_t queue_capacity = 8;  // LocalMapping.queueCapacity (threaded mode)
@@ -72,7 +72,7 @@ struct LocalMappingStats {
   // Threaded mode: not run because more keyframes waited (keyframe culling skipped too),
   // and stopped early because a keyframe arrived while solving (applied as far as done).
   int local_adjustments_skipped = 0;
-  int local_adjustments_stopped = 0;
+  int local_adjustments_interrupted = 0;
   std::vector<int> ba_iterations;  // per local adjustment applied: of both solves
 };
 
