@@ -13,6 +13,7 @@
 #include "ocg/core/file_io.h"
 #include "ocg/core/map_file.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/core/statistics.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/io/point_cloud.h"
 #include "ocg/slam/initialization_report.h"
@@ -285,6 +286,13 @@ class ObjectSlam::Impl {
     timing["local_ba_cpu_per_keyframe"] = app_detail::Timing(mapping.ba_cpu_seconds);
     timing["local_ba_cpu_per_keyframe"]["total_s"] =
         std::accumulate(mapping.ba_cpu_seconds.begin(), mapping.ba_cpu_seconds.end(), 0.0);
+    // Threaded local mapping catching up (docs/slam.md "Threads and determinism").
+    report["local_adjustments_skipped"] = mapping.local_adjustments_skipped;
+    report["local_adjustments_interrupted"] = mapping.local_adjustments_interrupted;
+    std::vector<double> ba_iterations(mapping.ba_iterations.begin(), mapping.ba_iterations.end());
+    report["local_ba_iterations"] = {
+        {"median", Median(ba_iterations)},
+        {"total", std::accumulate(ba_iterations.begin(), ba_iterations.end(), 0.0)}};
     // A run without a map writes empty trajectories: say why, there and in run.json.
     const InitializationAttempts& initialization = system_.Initialization();
     report["initialized"] = first_tracked >= 0;

@@ -29,6 +29,8 @@ void BundleAdjustmentOptions::Check() const {
   if (max_iterations < 1) throw std::invalid_argument("bundle adjustment: max_iterations < 1");
   if (refine_iterations < 0)
     throw std::invalid_argument("bundle adjustment: refine_iterations < 0");
+  if (!(refine_min_chi2_decrease >= 0.0))
+    throw std::invalid_argument("bundle adjustment: refine_min_chi2_decrease < 0");
   if (huber_threshold <= 0.0 || outlier_chi2 <= 0.0) {
     throw std::invalid_argument("bundle adjustment: thresholds must be positive");
   }
@@ -62,13 +64,39 @@ BaParameters ProblemParameters(const BundleAdjustmentProblem& problem) {
   return parameters;
 }
 
+// Ends a solve between iterations: when asked to (BundleAdjustmentOptions::stop), or once
+// an accepted step lowered Ceres' cost (half the chi-square) by less than a bound.
+class EndOfIteration : public ceres::IterationCallback {
+ public:
+  EndOfIteration(const std::function<bool(int)>* stop, double min_chi2_decrease)
+      : stop_(stop), min_cost_decrease_(0.5 * min_chi2_decrease) {}
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (*stop_ && (*stop_)(summary.iteration)) {
+      stopped_ = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    if (min_cost_decrease_ > 0.0 && summary.iteration > 0 && summary.step_is_successful &&
+        summary.cost_change < min_cost_decrease_) {
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+  bool stopped() const { return stopped_; }
+
+ private:
+  const std::function<bool(int)>* stop_;
+  double min_cost_decrease_;
+  bool stopped_ = false;
+};
+
 // One Ceres solve over the observations marked used; loss null: plain squared loss.
 // Eliminating the points first is what makes it a Schur problem: the ordering is given,
 // not searched for (Ceres' independent-set search costs as much as a small solve).
 ceres::Solver::Summary SolveOnce(const BundleAdjustmentProblem& problem,
                                  const std::vector<char>& used, ceres::LossFunction* loss,
                                  int iterations, SchurComplement schur, BaParameters* parameters,
-                                 bool* any_free) {
+                                 EndOfIteration* end, bool* any_free) {
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -115,6 +143,7 @@ ceres::Solver::Summary SolveOnce(const BundleAdjustmentProblem& problem,
       SolverOptions(iterations, dense ? LinearSolver::kDenseSchur : LinearSolver::kSparseSchur);
   // Without free points or free keyframes there is nothing to eliminate: Ceres picks.
   if (free_points && free_keyframes > 0) options.linear_solver_ordering = ordering;
+  options.callbacks.push_back(end);
   ceres::Solve(options, &ceres_problem, &summary);
   return summary;
 }
@@ -154,8 +183,10 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
   report.initial_rms_pixels = std::sqrt(initial_sum / count);
   ceres::HuberLoss huber(options.huber_threshold);
   bool any_free = false;
+  EndOfIteration robust_end(&options.stop, 0.0);
   ceres::Solver::Summary summary = SolveOnce(*problem, used, &huber, options.max_iterations,
-                                             options.schur, &parameters, &any_free);
+                                             options.schur, &parameters, &robust_end, &any_free);
+  report.stopped = robust_end.stopped();
   if (!any_free || summary.num_residual_blocks == 0) {
     report.solved = true;
     report.message = "nothing to optimize";
@@ -166,14 +197,17 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
   }
   if (!report.solved) {
     parameters = ProblemParameters(*problem);  // for judging the outliers
-  } else if (options.refine_iterations > 0 && any_free) {
+  } else if (options.refine_iterations > 0 && any_free && !report.stopped) {
     BaParameters refined = parameters;
     for (std::size_t i = 0; i < problem->observations.size(); ++i) {
       double pixels2 = 0.0;
       used[i] = judge(parameters, i, &pixels2) ? 1 : 0;
     }
-    const ceres::Solver::Summary second = SolveOnce(
-        *problem, used, nullptr, options.refine_iterations, options.schur, &refined, &any_free);
+    EndOfIteration refine_end(&options.stop, options.refine_min_chi2_decrease);
+    const ceres::Solver::Summary second =
+        SolveOnce(*problem, used, nullptr, options.refine_iterations, options.schur, &refined,
+                  &refine_end, &any_free);
+    report.stopped = refine_end.stopped();
     if (any_free && second.IsSolutionUsable()) {
       parameters = std::move(refined);
       report.message = second.BriefReport();
@@ -193,10 +227,13 @@ BundleAdjustmentReport BundleAdjust(BundleAdjustmentProblem* problem,
     }
   }
   double final_sum = 0.0;
+  // Stopped in the robust solve, the state may still be far from the optimum, where good
+  // observations look off: they are judged by a later adjustment instead.
+  const bool stopped_unconverged = robust_end.stopped();
   report.outlier.assign(problem->observations.size(), false);
   for (std::size_t i = 0; i < problem->observations.size(); ++i) {
     double pixels2 = 0.0;
-    if (!judge(parameters, i, &pixels2)) {
+    if (!judge(parameters, i, &pixels2) && !stopped_unconverged) {
       report.outlier[i] = true;
       ++report.outliers;
     }

@@ -40,6 +40,11 @@ bool KeyFrameWorker::Idle() const {
   return queue_.empty() && !busy_;
 }
 
+std::size_t KeyFrameWorker::Waiting() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return queue_.size();
+}
+
 void KeyFrameWorker::Run() {
   for (;;) {
     KeyFramePtr keyframe;

@@ -79,6 +79,8 @@ void LocalMappingOptions::Check() const {
   RequireOption(local_ba_iterations >= 1, "LocalMapping.baIterations", "must be positive");
   RequireOption(local_ba_refine_iterations >= 0, "LocalMapping.baRefineIterations",
                 "must not be negative");
+  RequireOption(local_ba_refine_min_chi2_decrease >= 0.0, "LocalMapping.baRefineMinChi2Decrease",
+                "must not be negative");
   RequireOption(redundant_ratio > 0.0 && redundant_ratio <= 1.0, "LocalMapping.redundantRatio",
                 "must be in (0, 1]");
   RequireOption(redundant_observers >= 1, "LocalMapping.redundantObservers", "must be positive");
@@ -95,6 +97,7 @@ void ReadSettings(const SettingsFile& file, LocalMappingOptions* options) {
   file.Read("LocalMapping.fuseRadius", &options->fuse_radius);
   file.Read("LocalMapping.baIterations", &options->local_ba_iterations);
   file.Read("LocalMapping.baRefineIterations", &options->local_ba_refine_iterations);
+  file.Read("LocalMapping.baRefineMinChi2Decrease", &options->local_ba_refine_min_chi2_decrease);
   file.Read("LocalMapping.redundantRatio", &options->redundant_ratio);
   file.Read("LocalMapping.redundantObservers", &options->redundant_observers);
   int capacity = static_cast<int>(options->queue_capacity);
@@ -154,8 +157,12 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   CullRecentPoints(keyframe);
   TriangulateNewPoints(keyframe, lock);
   FuseDuplicates(keyframe);
-  if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe, lock);
-  CullKeyFrames(keyframe);
+  if (CatchingUp()) {
+    ++stats_.local_adjustments_skipped;
+  } else {
+    if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe, lock);
+    CullKeyFrames(keyframe);
+  }
   ++stats_.keyframes;
   const auto end = std::chrono::steady_clock::now();
   stats_.keyframe_seconds.push_back(std::chrono::duration<double>(end - start).count());
@@ -395,6 +402,14 @@ void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
   map_->UpdateConnections(keyframe);
 }
 
+// A keyframe inserted between here and the end of the solve stops the solve: the request
+// is cleared before the queue is looked at, and Insert queues before it requests, so a
+// keyframe is either seen waiting here or stops the solve.
+bool LocalMapping::CatchingUp() {
+  stop_adjustment_.store(false);
+  return worker_.Waiting() > 0;
+}
+
 // The solve, most of local mapping's time, runs without the map lock, on the copy that
 // PrepareAdjustment made: tracking goes on meanwhile instead of waiting a whole adjustment
 // for the lock. Only this thread adds keyframes and points to the map, so nothing that the
@@ -412,17 +427,23 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
   }
   KeyFrameAdjustment adjustment = PrepareAdjustment(*map_, camera_, pyramid_, local);
   const std::uint64_t corrections = map_->corrections();
+  BundleAdjustmentOptions solve;
+  solve.max_iterations = options_.local_ba_iterations;
+  solve.refine_iterations = options_.local_ba_refine_iterations;
+  solve.refine_min_chi2_decrease = options_.local_ba_refine_min_chi2_decrease;
+  solve.stop = [this](int) { return stop_adjustment_.load(); };
   const bool solved = WithoutMapLock(map_lock, [&] {
     if (before_local_solve_) before_local_solve_();
-    return SolveAdjustment(&adjustment, options_.local_ba_iterations,
-                           options_.local_ba_refine_iterations);
+    return SolveAdjustment(&adjustment, solve);
   });
+  if (adjustment.report.stopped) ++stats_.local_adjustments_interrupted;
   if (!solved) return;
   if (map_->corrections() != corrections) {
     ++stats_.local_adjustments_dropped;
     return;
   }
   ApplyAdjustment(*map_, pyramid_, adjustment);
+  stats_.ba_iterations.push_back(adjustment.report.iterations);
   stats_.ba_seconds.push_back(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   stats_.ba_cpu_seconds.push_back(ThreadCpuSeconds() - cpu_start);
@@ -464,7 +485,10 @@ void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe) {
 
 void LocalMapping::Start() { worker_.Start(); }
 
-void LocalMapping::Insert(const KeyFramePtr& keyframe) { worker_.Insert(keyframe); }
+void LocalMapping::Insert(const KeyFramePtr& keyframe) {
+  worker_.Insert(keyframe);
+  stop_adjustment_.store(true);  // after queueing it: see CatchingUp
+}
 
 bool LocalMapping::Idle() const { return worker_.Idle(); }
 

@@ -107,10 +107,14 @@ KeyFrameAdjustment PrepareAdjustment(const Map& map, const PinholeCamera& camera
 }
 
 bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations, int refine_iterations) {
-  if (adjustment->keyframes.empty()) return false;
   BundleAdjustmentOptions options;
   options.max_iterations = iterations;
   options.refine_iterations = refine_iterations;
+  return SolveAdjustment(adjustment, options);
+}
+
+bool SolveAdjustment(KeyFrameAdjustment* adjustment, const BundleAdjustmentOptions& options) {
+  if (adjustment->keyframes.empty()) return false;
   adjustment->report = BundleAdjust(&adjustment->problem, options);
   if (!adjustment->report.solved) {
     // The map keeps its poses; say which keyframes were left unadjusted and why.

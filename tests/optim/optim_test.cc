@@ -284,6 +284,102 @@ TEST(BundleAdjustment, SecondSolveWithoutOutliersIsTheInliersLeastSquaresEstimat
   for (std::size_t i = 0; i < planted.size(); ++i) EXPECT_EQ(report.outlier[i], planted[i]) << i;
 }
 
+// A perturbed MakeScene without outliers: every free pose and point moved.
+BundleAdjustmentProblem PerturbedScene(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<SE3> true_poses;
+  std::vector<Eigen::Vector3d> true_points;
+  BundleAdjustmentProblem problem = MakeScene(rng, &true_poses, &true_points);
+  problem.keyframes[1].fixed = true;  // with keyframe 0, fixes the scale
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (std::size_t k = 2; k < problem.keyframes.size(); ++k) {
+    problem.keyframes[k].T_cw = RandomPose(rng, 0.02, 0.05) * problem.keyframes[k].T_cw;
+  }
+  for (BaPoint& point : problem.points) {
+    point.position += 0.1 * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+  }
+  return problem;
+}
+
+// Local mapping stops its adjustment when a keyframe arrives: the solve must end right
+// after the iteration during which it was asked to, skip the second solve, and write back
+// the state it had reached, which is no worse than the start.
+TEST(BundleAdjustment, AStopRequestEndsTheSolveAfterTheCurrentIterationKeepingItsProgress) {
+  const BundleAdjustmentProblem start = PerturbedScene(11);
+  BundleAdjustmentOptions options;
+  options.max_iterations = 5;
+  options.refine_iterations = 10;
+  std::vector<int> asked;
+  options.stop = [&](int iteration) {
+    asked.push_back(iteration);
+    return iteration >= 1;  // requested during the first iteration
+  };
+  BundleAdjustmentProblem stopped = start;
+  const BundleAdjustmentReport report = BundleAdjust(&stopped, options);
+  ASSERT_TRUE(report.solved) << report.message;
+  EXPECT_TRUE(report.stopped);
+  EXPECT_EQ(report.iterations, 2);  // the start and one iteration
+  EXPECT_EQ(asked, (std::vector<int>{0, 1})) << "the solve went on, or the second solve ran";
+  EXPECT_EQ(report.outliers, 0) << "judged on a state short of the optimum";
+  // The state of that one iteration was written back: lower error than the start, moved.
+  EXPECT_LT(report.final_rms_pixels, report.initial_rms_pixels);
+  EXPECT_GT(
+      (stopped.keyframes[4].T_cw.translation() - start.keyframes[4].T_cw.translation()).norm(),
+      1e-4);
+  // An unstopped solve goes further.
+  BundleAdjustmentProblem full = start;
+  options.stop = nullptr;
+  const BundleAdjustmentReport full_report = BundleAdjust(&full, options);
+  EXPECT_FALSE(full_report.stopped);
+  EXPECT_GT(full_report.iterations, 4);
+  EXPECT_LT(full_report.final_rms_pixels, report.final_rms_pixels);
+
+  // Asked before the first iteration: nothing changes.
+  BundleAdjustmentProblem at_once = start;
+  options.stop = [](int) { return true; };
+  const BundleAdjustmentReport at_once_report = BundleAdjust(&at_once, options);
+  EXPECT_TRUE(at_once_report.solved);
+  EXPECT_TRUE(at_once_report.stopped);
+  for (std::size_t k = 0; k < start.keyframes.size(); ++k) {  // to the parameters' rounding
+    EXPECT_TRUE(
+        at_once.keyframes[k].T_cw.Matrix().isApprox(start.keyframes[k].T_cw.Matrix(), 1e-12))
+        << k;
+  }
+  for (std::size_t p = 0; p < start.points.size(); ++p)
+    EXPECT_EQ(at_once.points[p].position, start.points[p].position) << p;
+}
+
+// The refining solve may end once an iteration lowers the chi-square by less than one
+// (a step smaller than one standard deviation of the estimate): fewer iterations, and the
+// poses within a small fraction of their uncertainty of the fully converged solve.
+TEST(BundleAdjustment, RefineToleranceEndsTheSecondSolveWithoutMovingTheEstimate) {
+  BundleAdjustmentProblem start = PerturbedScene(12);
+  // Gross outliers, which the robust solve only down-weights: the second one has work.
+  for (std::size_t i = 0; i < start.observations.size(); i += 23)
+    start.observations[i].pixel += Eigen::Vector2d(12.0, 9.0);
+  BundleAdjustmentOptions converged;
+  converged.max_iterations = 5;
+  converged.refine_iterations = 50;  // Ceres' relative tolerance (1e-6) ends it
+  BundleAdjustmentProblem reference = start;
+  const BundleAdjustmentReport reference_report = BundleAdjust(&reference, converged);
+  ASSERT_TRUE(reference_report.solved);
+  BundleAdjustmentOptions tolerant = converged;
+  tolerant.refine_min_chi2_decrease = 1.0;
+  BundleAdjustmentProblem ended = start;
+  const BundleAdjustmentReport report = BundleAdjust(&ended, tolerant);
+  ASSERT_TRUE(report.solved);
+  EXPECT_LT(report.iterations, reference_report.iterations);
+  // Noise 0.5 px at 4 m over 0.15-0.6 m baselines: the cameras are known to millimetres.
+  for (std::size_t k = 0; k < start.keyframes.size(); ++k) {
+    EXPECT_LT((ended.keyframes[k].T_cw.Inverse().translation() -
+               reference.keyframes[k].T_cw.Inverse().translation())
+                  .norm(),
+              1e-4)
+        << k;
+  }
+  EXPECT_NEAR(report.final_rms_pixels, reference_report.final_rms_pixels, 1e-3);
+}
+
 // The dense Schur complement (local adjustments) is a faster way to the same solution.
 TEST(BundleAdjustment, DenseAndSparseSchurComplementsAgree) {
   std::mt19937_64 rng(9);

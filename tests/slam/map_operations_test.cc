@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <future>
 #include <random>
 #include <thread>
 
@@ -88,15 +90,23 @@ class GrowingMap : public ::testing::Test {
     return (keyframe->Centre() - truth.Inverse().translation()).norm();
   }
 
+  // A keyframe as tracking hands it over, at its true place, matched to every map point.
+  KeyFramePtr TrackedKeyFrame() {
+    const KeyFramePtr keyframe = MakeKeyFrame(SE3());
+    keyframe->T_cw = TruePose(static_cast<int>(keyframe->id));
+    for (const auto& [id, point] : map_.points()) {
+      keyframe->points[static_cast<std::size_t>(point->observations.begin()->second)] = point;
+    }
+    return keyframe;
+  }
+
   // New points that keyframes 3 and 4 both see but the map has none for: keyframe 3
-  // holds features for them without points, keyframe 4 (at its true place) comes to local
-  // mapping with them. Every feature is under one vocabulary node and each new point has a
-  // descriptor of its own, so triangulation pairs them one to one. before_triangulation
-  // runs where the pairs are about to be found without the lock. Returns the points that
-  // local mapping created, with the new points' true positions.
-  std::vector<std::pair<MapPointPtr, Eigen::Vector3d>> TriangulateNewPointsOfKeyFrameFour(
-      const std::function<void()>& before_triangulation) {
-    std::vector<Eigen::Vector3d> fresh;
+  // holds features for them without points, keyframe 4 (at its true place, returned)
+  // comes to local mapping with them, after the kPoints features of the map's points.
+  // Every feature is under one vocabulary node and each new point has a descriptor of its
+  // own, so triangulation pairs them one to one.
+  KeyFramePtr KeyFrameFourSeeingNewPoints(std::vector<Eigen::Vector3d>* new_points) {
+    std::vector<Eigen::Vector3d>& fresh = *new_points;
     for (int i = 0; i < 20; ++i)
       fresh.emplace_back(-0.6 + 0.06 * i, 0.3 * std::cos(i), 3.5 + (i % 4) * 0.4);
     std::mt19937_64 rng(7);
@@ -116,23 +126,37 @@ class GrowingMap : public ::testing::Test {
       for (std::size_t f = 0; f < keyframe->points.size(); ++f) node.push_back(static_cast<int>(f));
     };
     add_fresh_features(map_.GetKeyFrame(3));
-    const KeyFramePtr keyframe = MakeKeyFrame(TruePose(4));
-    for (const auto& [id, point] : map_.points()) {
-      keyframe->points[static_cast<std::size_t>(point->observations.begin()->second)] = point;
-    }
+    const KeyFramePtr keyframe = TrackedKeyFrame();
     add_fresh_features(keyframe);
+    return keyframe;
+  }
+
+  // The new points of KeyFrameFourSeeingNewPoints that keyframe holds now, with their true
+  // positions.
+  static std::vector<std::pair<MapPointPtr, Eigen::Vector3d>> NewPointsOf(
+      const KeyFrame& keyframe, const std::vector<Eigen::Vector3d>& new_points) {
+    std::vector<std::pair<MapPointPtr, Eigen::Vector3d>> created;
+    for (std::size_t i = 0; i < new_points.size(); ++i) {
+      const MapPointPtr& point = keyframe.points[static_cast<std::size_t>(kPoints) + i];
+      if (point) created.emplace_back(point, new_points[i]);
+    }
+    return created;
+  }
+
+  // Maps keyframe 4 of KeyFrameFourSeeingNewPoints; before_triangulation runs where the
+  // pairs are about to be found without the lock. Returns the points that local mapping
+  // created, with the new points' true positions.
+  std::vector<std::pair<MapPointPtr, Eigen::Vector3d>> TriangulateNewPointsOfKeyFrameFour(
+      const std::function<void()>& before_triangulation) {
+    std::vector<Eigen::Vector3d> fresh;
+    const KeyFramePtr keyframe = KeyFrameFourSeeingNewPoints(&fresh);
     BowDatabase database(16);
     LocalMappingOptions options;
     options.triangulation_neighbours = 4;  // keyframe 3, the one holding the features, among them
     LocalMapping mapping(Camera(), pyramid_, MatcherOptions{}, options, &map_, &database);
     mapping.SetBeforeTriangulation(before_triangulation);
     mapping.ProcessKeyFrame(keyframe);
-    std::vector<std::pair<MapPointPtr, Eigen::Vector3d>> created;
-    for (std::size_t i = 0; i < fresh.size(); ++i) {
-      const MapPointPtr& point = keyframe->points[static_cast<std::size_t>(kPoints) + i];
-      if (point) created.emplace_back(point, fresh[i]);
-    }
-    return created;
+    return NewPointsOf(*keyframe, fresh);
   }
 
   const Eigen::Vector3d kOffset{0.05, 0.0, 0.0};
@@ -272,6 +296,96 @@ TEST_F(GrowingMap, TimeHoldingTheMapLockLeavesOutTheSolve) {
   EXPECT_GE(stats.keyframe_seconds[0], kSolveDelay);
   EXPECT_GE(stats.map_lock_held_seconds[0], 0.0);
   EXPECT_LE(stats.map_lock_held_seconds[0], stats.keyframe_seconds[0] - kSolveDelay + 1e-6);
+}
+
+// Threaded local mapping catches up as ORB-SLAM2's does: while more keyframes wait, a
+// keyframe is linked and its new points triangulated, but its local adjustment (and
+// keyframe culling) is skipped; the last one of the queue is adjusted.
+TEST_F(GrowingMap, WhileKeyFramesWaitTheLocalAdjustmentIsSkippedButEachKeyFrameIsMapped) {
+  std::vector<Eigen::Vector3d> fresh;
+  const KeyFramePtr four = KeyFrameFourSeeingNewPoints(&fresh);
+  const KeyFramePtr five = TrackedKeyFrame();
+  const KeyFramePtr six = TrackedKeyFrame();
+  BowDatabase database(16);
+  LocalMappingOptions options;
+  options.triangulation_neighbours = 4;
+  LocalMapping mapping(Camera(), pyramid_, MatcherOptions{}, options, &map_, &database);
+  // Keyframe 4 waits in triangulation until 5 and 6 are queued behind it.
+  std::promise<void> all_queued;
+  std::shared_future<void> queued = all_queued.get_future().share();
+  std::atomic<int> triangulations{0};
+  mapping.SetBeforeTriangulation([&] {
+    if (triangulations++ == 0) queued.wait();
+  });
+  // What each keyframe looks like once mapped (before later keyframes cull anything).
+  struct Mapped {
+    KeyFrameId id;
+    bool in_map;
+    int observed;  // map points that list it as an observer
+    std::size_t new_points;
+  };
+  std::vector<Mapped> mapped;
+  mapping.SetKeyFrameMapped([&](const KeyFramePtr& keyframe) {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    int observed = 0;
+    for (const auto& [id, point] : map_.points())
+      observed += point->observations.count(keyframe->id);
+    std::size_t new_points = 0;
+    if (keyframe == four) {
+      for (const auto& [point, truth] : NewPointsOf(*four, fresh))
+        new_points += (point->position - truth).norm() < 1e-6 ? 1 : 0;
+    }
+    mapped.push_back({keyframe->id, map_.GetKeyFrame(keyframe->id) == keyframe && !keyframe->bad,
+                      observed, new_points});
+  });
+  mapping.Start();
+  for (const KeyFramePtr& keyframe : {four, five, six}) mapping.Insert(keyframe);
+  all_queued.set_value();
+  mapping.Stop();
+
+  const LocalMappingStats stats = mapping.Stats();
+  EXPECT_EQ(stats.keyframes, 3);
+  EXPECT_EQ(stats.local_adjustments_skipped, 2);  // 4 (5 and 6 waiting) and 5 (6 waiting)
+  EXPECT_EQ(stats.ba_seconds.size(), 1u);         // 6's
+  EXPECT_EQ(stats.local_adjustments_interrupted, 0);
+  ASSERT_EQ(mapped.size(), 3u);
+  for (std::size_t i = 0; i < mapped.size(); ++i) {
+    EXPECT_EQ(mapped[i].id, 4 + i);
+    EXPECT_TRUE(mapped[i].in_map) << mapped[i].id;
+    EXPECT_GE(mapped[i].observed, kPoints) << mapped[i].id;
+  }
+  EXPECT_GE(mapped[0].new_points, 15u) << "keyframe 4's new points were not triangulated";
+}
+
+// A keyframe inserted while the local adjustment solves stops it at the end of the
+// iteration under way: the mapper takes the new keyframe instead of finishing a window
+// that the new keyframe's adjustment solves again anyway.
+TEST_F(GrowingMap, AKeyFrameInsertedWhileTheLocalAdjustmentSolvesStopsIt) {
+  const KeyFramePtr four = TrackedKeyFrame();
+  const SE3 truth = four->T_cw;
+  four->T_cw = SE3(Eigen::Matrix3d::Identity(), truth.translation() + kOffset);
+  const KeyFramePtr five = TrackedKeyFrame();
+  BowDatabase database(16);
+  LocalMapping mapping(Camera(), pyramid_, MatcherOptions{}, LocalMappingOptions{}, &map_,
+                       &database);
+  int solves = 0;
+  mapping.SetBeforeLocalSolve([&] {
+    if (solves++ > 0) return;
+    std::thread tracker([&] { mapping.Insert(five); });  // as tracking would
+    tracker.join();
+  });
+  mapping.Start();
+  mapping.Insert(four);
+  mapping.Stop();
+
+  const LocalMappingStats stats = mapping.Stats();
+  EXPECT_EQ(stats.local_adjustments_interrupted, 1);
+  EXPECT_EQ(stats.local_adjustments_skipped, 0);  // 5 came after 4's adjustment had begun
+  ASSERT_EQ(stats.ba_iterations.size(), 2u);
+  EXPECT_EQ(stats.ba_iterations[0], 1) << "4's adjustment went on after the request";
+  EXPECT_GT(stats.ba_iterations[1], 2);
+  // 5's adjustment, which has 4 in its window, brought 4 back.
+  EXPECT_LT((four->Centre() - truth.Inverse().translation()).norm(), 0.005);
 }
 
 }  // namespace

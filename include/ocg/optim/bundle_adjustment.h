@@ -5,6 +5,7 @@
 // optimized in, and the results out, under its own locks.
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,11 +31,24 @@ struct BundleAdjustmentOptions {
   // beyond the threshold count less than they should: the second solve is the
   // least-squares estimate of the inliers alone.
   int refine_iterations = 0;
+  // The second solve also ends after an iteration that lowers the chi-square (the sum of
+  // squared information-weighted residuals, twice Ceres' cost) by less than this: the
+  // step moved the estimate by less than this many standard deviations squared
+  // (Mahalanobis), so further steps change nothing the measurements can tell. 0: only
+  // Ceres' own (relative) tolerances and refine_iterations end it.
+  double refine_min_chi2_decrease = 0.0;
   // Huber threshold on the (information-weighted) residual norm: sqrt(5.991), the
   // 95 % chi-square bound of a 2-D residual with unit variance.
   double huber_threshold = 2.447;
   double outlier_chi2 = 5.991;  // after optimizing: observations above it are outliers
   SchurComplement schur = SchurComplement::kAuto;
+  // Asked after every iteration of either solve with the solve's iteration count (0: the
+  // start): true ends the adjustment there, keeping the state reached (the solver only
+  // accepts steps that lower the cost, so it is no worse than the start), and skips the
+  // second solve if the first was stopped (no observation is then judged an outlier: the
+  // state may be short of the optimum). Called on the solving thread; empty: never.
+  // Local mapping stops its adjustment this way when a new keyframe arrives.
+  std::function<bool(int iteration)> stop;
   void Check() const;
 };
 
@@ -65,7 +79,8 @@ struct BundleAdjustmentProblem {
 struct BundleAdjustmentReport {
   bool solved = false;
   std::string message;              // Ceres' summary line (of the last solve)
-  int iterations = 0;               // of both solves
+  int iterations = 0;               // of both solves, each counting its start as one
+  bool stopped = false;             // options.stop ended it
   double initial_rms_pixels = 0.0;  // of the residuals before and after, outliers included
   double final_rms_pixels = 0.0;
   std::vector<bool> outlier;  // per observation, judged after the (last) optimization

@@ -2,9 +2,9 @@
 // A thread that takes keyframes one at a time from a bounded queue and hands each to a
 // function: the local mapping and loop closing threads.
 //
-// Threading: Start, Insert and Stop from one owner thread; Idle from any thread. Insert
-// blocks while the queue is full (no keyframe is ever dropped) and rethrows a failure of
-// the worker; Stop finishes the queue, joins, and rethrows a failure once.
+// Threading: Start, Insert and Stop from one owner thread; Idle and Waiting from any
+// thread. Insert blocks while the queue is full (no keyframe is ever dropped) and rethrows
+// a failure of the worker; Stop finishes the queue, joins, and rethrows a failure once.
 
 #include <condition_variable>
 #include <deque>
@@ -31,7 +31,10 @@ class KeyFrameWorker {
   void Start();  // idempotent while running
   void Insert(const KeyFramePtr& keyframe);
   bool Idle() const;  // nothing queued, nothing being processed
-  void Stop();        // idempotent
+  // Keyframes inserted and not yet taken by the worker (any thread): the one being
+  // processed is not counted.
+  std::size_t Waiting() const;
+  void Stop();  // idempotent
 
  private:
   void Run();

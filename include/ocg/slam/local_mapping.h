@@ -9,7 +9,13 @@
 // given to Insert() (a bounded queue: Insert blocks while it is full); Stop() finishes
 // the queue and joins. Every map access holds Map::mutex(); local bundle adjustment
 // solves on a copy without it (tracking runs meanwhile) and writes back under it.
+// Catching up, as ORB-SLAM2's local mapping: while more keyframes wait in the queue, a
+// keyframe is linked, its points triangulated and fused, but its local adjustment and
+// keyframe culling are skipped (the next keyframe's adjustment covers the same window);
+// a keyframe inserted while an adjustment solves stops it after the current iteration,
+// keeping the state reached. Sequentially the queue is always empty: nothing changes.
 
+#include <atomic>
 #include <functional>
 #include <list>
 
@@ -36,6 +42,10 @@ struct LocalMappingOptions {
   // LocalMapping.baRefineIterations: then without the outliers, plain squared loss
   // (BundleAdjustmentOptions::refine_iterations; 0: none)
   int local_ba_refine_iterations = 10;
+  // LocalMapping.baRefineMinChi2Decrease: the refining solve also ends after an iteration
+  // that lowers the chi-square by less than this
+  // (BundleAdjustmentOptions::refine_min_chi2_decrease; 0: off)
+  double local_ba_refine_min_chi2_decrease = 1.0;
   double redundant_ratio = 0.9;    // LocalMapping.redundantRatio: keyframe culling
   int redundant_observers = 3;     // LocalMapping.redundantObservers
   std::size_t queue_capacity = 8;  // LocalMapping.queueCapacity (threaded mode)
@@ -59,6 +69,11 @@ struct LocalMappingStats {
   std::vector<double> map_lock_held_seconds;
   // Solved while a loop correction or a global adjustment moved the map, and dropped.
   int local_adjustments_dropped = 0;
+  // Threaded mode: not run because more keyframes waited (keyframe culling skipped too),
+  // and stopped early because a keyframe arrived while solving (applied as far as done).
+  int local_adjustments_skipped = 0;
+  int local_adjustments_interrupted = 0;
+  std::vector<int> ba_iterations;  // per local adjustment applied: of both solves
 };
 
 class LocalMapping {
@@ -76,6 +91,7 @@ class LocalMapping {
   // Threaded use: Start once; Insert from tracking; Stop (or the destructor) drains the
   // queue and joins. An exception in the worker is rethrown by the next Insert or Stop.
   void Start();
+  // Also stops a local adjustment being solved (after its current iteration).
   void Insert(const KeyFramePtr& keyframe);
   bool Idle() const;
   void Stop();
@@ -125,6 +141,9 @@ class LocalMapping {
   void FuseDuplicates(const KeyFramePtr& keyframe);
   // Takes the map lock held and gives it back held; releases it while Ceres solves.
   void LocalBundleAdjustment(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
+  // Threaded mode: whether to skip the local adjustment and keyframe culling because more
+  // keyframes wait; also clears a stop request left from before.
+  bool CatchingUp();
   void CullKeyFrames(const KeyFramePtr& keyframe);
 
   PinholeCamera camera_;
@@ -140,6 +159,8 @@ class LocalMapping {
   std::function<void(const KeyFramePtr&)> keyframe_mapped_;
   std::function<void()> before_local_solve_;
   std::function<void()> before_triangulation_;
+  // Set by Insert, cleared before each local adjustment starts: stops it when set meanwhile.
+  std::atomic<bool> stop_adjustment_{false};
   KeyFrameWorker worker_;  // last: stopped before the members it uses go
 };
 

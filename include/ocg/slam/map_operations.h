@@ -49,6 +49,8 @@ KeyFrameAdjustment PrepareAdjustment(const Map& map, const PinholeCamera& camera
 // refine_iterations without the outliers (BundleAdjustmentOptions). False when Ceres gave
 // no usable solution.
 bool SolveAdjustment(KeyFrameAdjustment* adjustment, int iterations, int refine_iterations = 0);
+// The same with every option of the solve (iterations, tolerance, stop request).
+bool SolveAdjustment(KeyFrameAdjustment* adjustment, const BundleAdjustmentOptions& options);
 // Writes a solved adjustment into the map: poses and positions of what is still there,
 // outlier observations removed. What was added since it was prepared follows the
 // correction of what it hangs from: a keyframe that of its spanning-tree parent, a point
