@@ -112,6 +112,14 @@ ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timesta
   return change;
 }
 
+bool SeenInOneSession(const MapObject& a, const MapObject& b) {
+  std::set<int> sessions;
+  for (const ObjectSighting& sighting : a.sightings) sessions.insert(sighting.session);
+  return std::any_of(b.sightings.begin(), b.sightings.end(), [&](const ObjectSighting& sighting) {
+    return sessions.count(sighting.session) > 0;
+  });
+}
+
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
   for (const PointObservation* point : box_points) {
     ObjectPoint& entry = object.points[point->id];
@@ -544,6 +552,11 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
                          WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
         bool keep_first = first.sightings.size() >= second.sightings.size();
         if (!one_space) {
+          // Two objects of different classes are one object the detector named twice
+          // only when a session saw both. Seen in different sessions, the new one near
+          // the old one's place is more likely what was put there between the visits:
+          // merged, it would count as the old object seen again and reset its doubt.
+          if (first.class_id != second.class_id && !SeenInOneSession(first, second)) continue;
           const auto along_rays = [&](const MapObject& stand_in, const MapObject& object) {
             return options_.merge_along_rays &&
                    SeenAsProjectionOf(stand_in, object, options_.min_reacquire_iou,
