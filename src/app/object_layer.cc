@@ -11,6 +11,29 @@
 #include "ocg/core/statistics.h"
 
 namespace ocg::app_detail {
+namespace {
+
+// The keyframes in the SLAM map (every session's), as the box appearance reads them.
+KeyframeFeatureMap KeyframeFeaturesOf(const System& system) {
+  KeyframeFeatureMap keyframes;
+  for (const KeyFramePtr& keyframe : system.KeyFrames()) {
+    KeyframeFeatures& features = keyframes[static_cast<std::int64_t>(keyframe->frame_id)];
+    features.frame = static_cast<std::int64_t>(keyframe->frame_id);
+    features.T_cw = keyframe->T_cw;
+    features.descriptors = keyframe->features.descriptors;
+    for (std::size_t i = 0; i < keyframe->features.size(); ++i) {
+      const cv::Point2f& pixel = keyframe->features.keypoints[i].pt;
+      features.pixels.emplace_back(pixel.x, pixel.y);
+      const MapPointPtr& point = i < keyframe->points.size() ? keyframe->points[i] : nullptr;
+      features.points.push_back(point != nullptr && !point->bad
+                                    ? std::optional<Eigen::Vector3d>(point->position)
+                                    : std::nullopt);
+    }
+  }
+  return keyframes;
+}
+
+}  // namespace
 
 nlohmann::json Timing(const std::vector<double>& seconds) {
   return {{"count", seconds.size()},
@@ -105,6 +128,12 @@ void ObjectLayer::Finish(const System& system) {
   // each other a little more at every call).
   if (!loaded_ || tracked_frames_ > loaded_tracked_frames_) Follow(system);
   mapper_->Finish();
+  if (session_ > 0) {
+    const KeyframeFeatureMap keyframes = KeyframeFeaturesOf(system);
+    const ChangeLogContext defaults;
+    const int max_distance = defaults.appearance_options.max_distance;
+    box_appearance_ = mapper_->BoxAppearances(keyframes, BoxAppearanceOptions{}, max_distance);
+  }
 }
 
 std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }
@@ -140,6 +169,7 @@ ChangeLogContext ObjectLayer::ChangeLog() const {
   context.session = session_;
   context.session_start = session_start_.value_or(0.0);
   context.appearance = mapper_->Appearances();
+  context.box_appearance = box_appearance_;
   context.earlier_changes = earlier_changes_;
   return context;
 }

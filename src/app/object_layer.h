@@ -95,6 +95,8 @@ class ObjectLayer {
   std::vector<double> seconds_;
   std::optional<double> session_start_;         // timestamp of the first frame given
   std::optional<std::string> earlier_changes_;  // the loaded map file's change log
+  // Finish(): ObjectMap::BoxAppearances() over every keyframe of the SLAM map.
+  std::map<ObjectId, std::vector<Descriptor>> box_appearance_;
 };
 
 }  // namespace ocg::app_detail

@@ -148,7 +148,7 @@ class ObjectSlam::Impl {
   void ContinueMap(std::istream& in, const app_detail::SessionRecord& record,
                    const std::string& path, std::uint32_t file_version) {
     ReadMapPart(path, "SLAM map", [&] {
-      system_.LoadMap(in);
+      system_.LoadMap(in, record.frames);
       return 0;
     });
     session_ = record.sessions;

@@ -33,6 +33,7 @@ struct BetweenSessionCandidate {
   std::size_t removed = 0, appeared = 0;
   double relative = 0.0;                      // centre distance in larger extents
   std::optional<AppearanceMatch> appearance;  // when both have enough descriptors
+  bool from_boxes = false;                    // appearance is the box appearance's
 };
 
 // Below any difference of appearance that means something (a few matched points of
@@ -51,9 +52,10 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
                                           const std::vector<ObjectRecord>& appeared,
                                           const ChangeLogContext& context,
                                           std::vector<BetweenSessionCandidate>* candidates) {
-  const auto appearance_of = [&](ObjectId id) -> const std::vector<Descriptor>* {
-    const auto found = context.appearance.find(id);
-    if (found == context.appearance.end() ||
+  const auto look_in = [&](const std::map<ObjectId, std::vector<Descriptor>>& looks,
+                           ObjectId id) -> const std::vector<Descriptor>* {
+    const auto found = looks.find(id);
+    if (found == looks.end() ||
         static_cast<int>(found->second.size()) < context.appearance_options.min_points)
       return nullptr;
     return &found->second;
@@ -70,11 +72,23 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
           r, a, (from.cuboid.centre - to.cuboid.centre).norm() / LargerExtent(from, to),
           std::nullopt};
       if (candidate.relative <= context.moves.same_place_factor) continue;
-      const std::vector<Descriptor>* from_look = appearance_of(from.id);
-      const std::vector<Descriptor>* to_look = appearance_of(to.id);
+      // The box appearance holds far more of an object's texture than its map points.
+      const std::vector<Descriptor>* from_look = look_in(context.box_appearance, from.id);
+      const std::vector<Descriptor>* to_look = look_in(context.box_appearance, to.id);
+      candidate.from_boxes = from_look != nullptr && to_look != nullptr;
+      if (!candidate.from_boxes) {
+        from_look = look_in(context.appearance, from.id);
+        to_look = look_in(context.appearance, to.id);
+      }
+      // A removal's box appearance holds hundreds of descriptors: the share of them its
+      // candidate shows weighs every candidate of a removal on one scale, where the
+      // smaller set's share lets a spurious object with a handful, a few by chance alike,
+      // look as much like it as its new place does.
       if (from_look != nullptr && to_look != nullptr)
         candidate.appearance =
-            MatchAppearance(*from_look, *to_look, context.appearance_options.max_distance);
+            candidate.from_boxes
+                ? MatchFrom(*from_look, *to_look, context.appearance_options.max_distance)
+                : MatchAppearance(*from_look, *to_look, context.appearance_options.max_distance);
       cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) = PairingCost(candidate);
       candidates->push_back(candidate);
     }
@@ -103,14 +117,17 @@ nlohmann::json AppearanceJson(const AppearanceMatch& match) {
 
 AppearanceMatch MatchAppearance(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
                                 int max_distance) {
-  const std::vector<Descriptor>& fewer = a.size() <= b.size() ? a : b;
-  const std::vector<Descriptor>& more = a.size() <= b.size() ? b : a;
+  return a.size() <= b.size() ? MatchFrom(a, b, max_distance) : MatchFrom(b, a, max_distance);
+}
+
+AppearanceMatch MatchFrom(const std::vector<Descriptor>& from, const std::vector<Descriptor>& to,
+                          int max_distance) {
   AppearanceMatch match;
-  match.compared = static_cast<int>(fewer.size());
+  match.compared = static_cast<int>(from.size());
   std::vector<int> nearest;
-  for (const Descriptor& descriptor : fewer) {
+  for (const Descriptor& descriptor : from) {
     int best = kDescriptorBits;
-    for (const Descriptor& other : more) best = std::min(best, HammingDistance(descriptor, other));
+    for (const Descriptor& other : to) best = std::min(best, HammingDistance(descriptor, other));
     if (best <= max_distance) ++match.matched;
     nearest.push_back(best);
   }
@@ -169,6 +186,7 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   // become, how far and how alike.
   std::map<ObjectId, nlohmann::json> alternatives;
   std::map<std::pair<ObjectId, ObjectId>, AppearanceMatch> looks;  // (from, to)
+  std::set<std::pair<ObjectId, ObjectId>> look_from_boxes;
   for (const BetweenSessionCandidate& candidate : candidates) {
     const ObjectRecord& from = seen_before[candidate.removed];
     const ObjectRecord& to = appeared[candidate.appeared];
@@ -177,7 +195,9 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
                             {"observations", to.observations}};
     if (candidate.appearance) {
       entry["appearance"] = AppearanceJson(*candidate.appearance);
+      entry["appearance"]["from"] = candidate.from_boxes ? "boxes" : "map points";
       looks[{from.id, to.id}] = *candidate.appearance;
+      if (candidate.from_boxes) look_from_boxes.insert({from.id, to.id});
     }
     alternatives[from.id].push_back(entry);
   }
@@ -229,6 +249,9 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
       entry["distance"] = move->second.distance;
       const auto look = looks.find({move->first, to.id});
       if (look != looks.end()) entry["appearance"] = AppearanceJson(look->second);
+      if (look != looks.end())
+        entry["appearance"]["from"] =
+            look_from_boxes.count(look->first) > 0 ? "boxes" : "map points";
     }
     if (entry.at("type") == "removed" || entry.at("type") == "moved") {
       const auto evidence = alternatives.find(entry.at("object_id").get<ObjectId>());

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 
 #include "ocg/core/coco.h"
 #include "ocg/objects/assignment.h"
@@ -109,6 +110,14 @@ ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timesta
   change.sightings = object.sightings.size();
   change.session = session;
   return change;
+}
+
+bool SeenInOneSession(const MapObject& a, const MapObject& b) {
+  std::set<int> sessions;
+  for (const ObjectSighting& sighting : a.sightings) sessions.insert(sighting.session);
+  return std::any_of(b.sightings.begin(), b.sightings.end(), [&](const ObjectSighting& sighting) {
+    return sessions.count(sighting.session) > 0;
+  });
 }
 
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
@@ -543,6 +552,11 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
                          WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
         bool keep_first = first.sightings.size() >= second.sightings.size();
         if (!one_space) {
+          // Two objects of different classes are one object the detector named twice
+          // only when a session saw both. Seen in different sessions, the new one near
+          // the old one's place is more likely what was put there between the visits:
+          // merged, it would count as the old object seen again and reset its doubt.
+          if (first.class_id != second.class_id && !SeenInOneSession(first, second)) continue;
           const auto along_rays = [&](const MapObject& stand_in, const MapObject& object) {
             return options_.merge_along_rays &&
                    SeenAsProjectionOf(stand_in, object, options_.min_reacquire_iou,
@@ -614,6 +628,12 @@ void ObjectMap::Remove(const RemovalEvent& event) {
   changes_.push_back(change);
   std::vector<Descriptor> appearance = ObjectAppearance(it->second, options_.min_point_votes);
   if (!appearance.empty()) removed_appearance_[event.object_id] = std::move(appearance);
+  MapObject& kept = removed_in_run_[event.object_id];
+  kept.id = it->second.id;
+  kept.class_id = it->second.class_id;
+  kept.cuboid = it->second.cuboid;
+  kept.has_cuboid = it->second.has_cuboid;
+  kept.sightings = it->second.sightings;
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
   if (restore_) removed_[event.object_id] = {std::move(it->second), event.timestamp};
@@ -625,6 +645,38 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMap::Appearances() const {
   for (const auto& [id, object] : objects_) {
     std::vector<Descriptor> appearance = ObjectAppearance(object, options_.min_point_votes);
     if (!appearance.empty()) appearances[id] = std::move(appearance);
+  }
+  return appearances;
+}
+
+std::map<ObjectId, std::vector<Descriptor>> ObjectMap::BoxAppearances(
+    const KeyframeFeatureMap& keyframes, const BoxAppearanceOptions& options,
+    int max_distance) const {
+  options.Check();
+  std::vector<const KeyframeFeatures*> earlier, now;
+  for (const auto& [frame, keyframe] : keyframes)
+    (frame < session_first_frame_ ? earlier : now).push_back(&keyframe);
+  std::map<ObjectId, std::vector<Descriptor>> appearances;
+  const auto add = [&](const MapObject& object,
+                       const std::vector<const KeyframeFeatures*>& absent) {
+    if (!object.has_cuboid) return;
+    std::vector<FrameBox> boxes;
+    for (const ObjectSighting& sighting : object.sightings)
+      boxes.push_back({sighting.frame, sighting.box});
+    std::vector<Descriptor> descriptors = WithoutBackground(
+        BoxDescriptors(boxes, object.cuboid, R_wg_, keyframes, options),
+        options.place_background ? PlaceDescriptors(object.cuboid, R_wg_, camera_, absent, options)
+                                 : std::vector<Descriptor>{},
+        max_distance);
+    if (!descriptors.empty()) appearances[object.id] = std::move(descriptors);
+  };
+  if (session_ == 0) return appearances;
+  for (const auto& [id, object] : removed_in_run_) {
+    if (!object.sightings.empty() && object.sightings.back().session < session_) add(object, now);
+  }
+  for (const auto& [id, object] : objects_) {
+    if (!object.sightings.empty() && object.sightings.front().session == session_)
+      add(object, earlier);
   }
   return appearances;
 }

@@ -96,6 +96,13 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::Appearances() const {
   return map_.Appearances();
 }
 
+std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::BoxAppearances(
+    const KeyframeFeatureMap& keyframes, const BoxAppearanceOptions& options,
+    int max_distance) const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.BoxAppearances(keyframes, options, max_distance);
+}
+
 void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw) {
   KeyframeObservation observation;
   {

@@ -220,12 +220,12 @@ std::size_t System::MapPointCount() const {
 
 void System::SaveMap(std::ostream& out) const { ocg::SaveMap(map_, out); }
 
-void System::LoadMap(std::istream& in) {
+void System::LoadMap(std::istream& in, std::uint64_t frames_before) {
   if (!frames_.empty()) {
     throw std::logic_error("System::LoadMap: a map can only be loaded before the first frame");
   }
   ocg::LoadMap(in, &map_);
-  std::uint64_t first_frame_id = 0;
+  std::uint64_t first_frame_id = frames_before;
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
     for (const auto& [id, keyframe] : map_.keyframes()) {

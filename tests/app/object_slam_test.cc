@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include "ocg/io/sequence.h"
 #include "ocg/sim/generator.h"
 #include "ocg/sim/presets.h"
+#include "ocg/slam/map_file.h"
 #include "session_file.h"  // src/app: the map file's session record
 #include "test_support.h"
 
@@ -260,6 +262,51 @@ TEST(ObjectSlamMapFile, LoadingAndSavingAgainKeepsTheWholeState) {
     EXPECT_EQ(second.KeyFrameTrajectory()[i].T_wc.Matrix(),
               first.KeyFrameTrajectory()[i].T_wc.Matrix());
   }
+}
+
+// A later session's keyframes number their frames after every frame of the earlier
+// sessions, as the object layer numbers its sightings: a sighting's frame finds the
+// keyframe made at it in every session (the box appearance of docs/sessions.md reads the
+// keyframe's features by it). The second session here is the same sequence again.
+TEST(ObjectSlamMapFile, ALaterSessionsKeyframesCountFramesOverAllSessions) {
+  const std::string folder = testing::MakeTempDir("object_slam_map");
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam first(SmokeSettings(), options);
+  RunSequence(first, false);
+  first.Shutdown();
+  first.SaveMap(folder + "/a.ocgmap");
+  options.load_map = folder + "/a.ocgmap";
+  ObjectSlam second(SmokeSettings(), options);
+  RunSequence(second, false);
+  second.Shutdown();
+  second.SaveMap(folder + "/b.ocgmap");
+  // Frame id and timestamp of every keyframe.
+  const auto keyframes_of = [](const std::string& path) {
+    PayloadStream in(ReadSessionMap(path).second);
+    Map map;
+    LoadMap(in, &map);
+    std::map<KeyFrameId, std::pair<std::uint64_t, double>> frames;
+    for (const auto& [id, keyframe] : map.keyframes())
+      frames[id] = {keyframe->frame_id, keyframe->timestamp};
+    return frames;
+  };
+  const ImageSequence sequence = ReadTumSequence(SmokeSequence());
+  const auto before = keyframes_of(folder + "/a.ocgmap");
+  int later = 0;
+  for (const auto& [id, frame] : keyframes_of(folder + "/b.ocgmap")) {
+    // Frame n of session 1 is frame kFrames + n of the map.
+    const std::uint64_t in_session = before.count(id) > 0 ? frame.first : frame.first - kFrames;
+    if (before.count(id) > 0) {
+      EXPECT_EQ(frame, before.at(id));
+    } else {
+      ++later;
+      EXPECT_GE(frame.first, static_cast<std::uint64_t>(kFrames)) << "keyframe " << id;
+    }
+    ASSERT_LT(in_session, sequence.images.size()) << "keyframe " << id;
+    EXPECT_EQ(frame.second, sequence.images[in_session].timestamp) << "keyframe " << id;
+  }
+  EXPECT_GT(later, 0) << "the case needs a keyframe of the second session";
 }
 
 // A foreign file fails before the vocabulary is read (here: there is none to read).

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 
+#include "ocg/objects/box_appearance.h"
 #include "ocg/objects/change_log.h"
 #include "ocg/objects/object_map.h"
 
@@ -384,6 +386,145 @@ TEST(ChangeLog, AnEarlierSessionsMoveStaysAMove) {
   EXPECT_EQ(revised[1]["type"], "removed");
   EXPECT_EQ(revised[1]["session"], 2);
   EXPECT_EQ(revised[1]["object_id"], 9);
+}
+
+// Box appearance (box_appearance.h). A camera at the origin looking along +z; objects 0.2 m
+// across at 2 or 2.5 m. Keypoints are placed on the pixels a patch of texture projects to.
+struct Patch {
+  double x = 0.0, depth = 2.0;  // world; pixels at y = 0
+  std::vector<Descriptor> descriptors;
+  std::optional<Eigen::Vector3d> point;  // the map point every keypoint of it holds
+};
+PinholeCamera LookingAlongZ() {
+  PinholeCamera camera;
+  camera.fx = camera.fy = 525.0;
+  camera.cx = 319.5;
+  camera.cy = 239.5;
+  return camera;
+}
+KeyframeFeatures Keyframe(std::int64_t frame, const std::vector<Patch>& patches) {
+  KeyframeFeatures keyframe;
+  keyframe.frame = frame;
+  const PinholeCamera camera = LookingAlongZ();
+  for (const Patch& patch : patches) {
+    for (const Descriptor& descriptor : patch.descriptors) {
+      keyframe.pixels.push_back(
+          camera.ProjectUndistorted(Eigen::Vector3d(patch.x, 0, patch.depth)));
+      keyframe.descriptors.push_back(descriptor);
+      keyframe.points.push_back(patch.point);
+    }
+  }
+  return keyframe;
+}
+Cuboid CuboidAt(double x, double depth) {
+  Cuboid cuboid;
+  cuboid.centre = Eigen::Vector3d(x, 0, depth);
+  cuboid.size = Eigen::Vector3d(0.2, 0.2, 0.2);
+  return cuboid;
+}
+FrameBox BoxOf(std::int64_t frame, const Cuboid& cuboid) {
+  return {frame, *ProjectCuboid(cuboid, Eigen::Matrix3d::Identity(), SE3(), LookingAlongZ())};
+}
+
+TEST(BoxAppearance, KeypointsInTheBoxesWithoutMapPointsOutsideTheCuboid) {
+  const Cuboid cup = CuboidAt(0.0, 2.0);
+  const std::vector<Descriptor> own = Texture(20, 10), untracked = Texture(21, 4),
+                                wall = Texture(22, 6), beside = Texture(23, 5);
+  KeyframeFeatureMap keyframes;
+  keyframes[10] = Keyframe(10, {{0.0, 2.0, own, Eigen::Vector3d(0.0, 0.0, 1.95)},
+                                {0.02, 2.0, untracked, std::nullopt},
+                                {0.0, 2.0, wall, Eigen::Vector3d(0.0, 0.0, 4.0)},  // behind
+                                {0.4, 2.0, beside, std::nullopt}});  // outside the box
+  BoxAppearanceOptions options;
+  // A box at frame 11, which is no keyframe, gives nothing.
+  const std::vector<Descriptor> descriptors = BoxDescriptors(
+      {BoxOf(10, cup), BoxOf(11, cup)}, cup, Eigen::Matrix3d::Identity(), keyframes, options);
+  EXPECT_EQ(descriptors.size(), own.size() + untracked.size());
+  EXPECT_EQ(MatchAppearance(descriptors, own, 0).matched, 10);
+  EXPECT_EQ(MatchAppearance(descriptors, wall, 0).matched, 0);
+  options.cuboid_margin = 10.0;  // the wall 2 m behind is within 10 extents
+  EXPECT_EQ(
+      BoxDescriptors({BoxOf(10, cup)}, cup, Eigen::Matrix3d::Identity(), keyframes, options).size(),
+      own.size() + untracked.size() + wall.size());
+}
+
+TEST(BoxAppearance, APlaceShowsTheKeypointsInTheCuboidsProjection) {
+  const std::vector<Descriptor> there = Texture(24, 8), elsewhere = Texture(25, 8);
+  const KeyframeFeatures keyframe =
+      Keyframe(10, {{-0.5, 2.0, there, std::nullopt}, {0.5, 2.0, elsewhere, std::nullopt}});
+  const std::vector<Descriptor> place = PlaceDescriptors(
+      CuboidAt(-0.5, 2.0), Eigen::Matrix3d::Identity(), LookingAlongZ(), {&keyframe}, {});
+  EXPECT_EQ(place.size(), there.size());
+  EXPECT_EQ(MatchAppearance(place, there, 0).matched, 8);
+  // What the place showed is left out of an object's descriptors; the rest stays.
+  std::vector<Descriptor> object = SeenAgain(there, 26);
+  const std::vector<Descriptor> own = Texture(27, 5);
+  object.insert(object.end(), own.begin(), own.end());
+  const std::vector<Descriptor> kept = WithoutBackground(object, place, 50);
+  EXPECT_EQ(kept.size(), own.size());
+  EXPECT_EQ(MatchAppearance(kept, own, 0).matched, 5);
+}
+
+// Two objects of one class carried past each other between sessions: A from x = -0.5 (2 m
+// deep) to 0.5 (2.5 m deep), B the other way. Each box holds its object's texture and, more
+// of it, the table behind it: the same table patch is in A's old box and in B's new one
+// (x = -0.51, 2.3 m deep), another in B's old box and A's new one. Whole boxes pair by the
+// table, crosswise, even against distance; without what each place shows in the other
+// session, the objects' own textures decide, even against distance.
+TEST(BoxAppearance, ATableSharedByTheBoxesDoesNotDecideThePairing) {
+  const std::vector<Descriptor> a = Texture(30, 10), b = Texture(31, 10), left = Texture(32, 30),
+                                right = Texture(33, 30);
+  const Cuboid a_before = CuboidAt(-0.5, 2.0), b_before = CuboidAt(0.5, 2.0);
+  const Cuboid a_after = CuboidAt(0.5, 2.5), b_after = CuboidAt(-0.5, 2.5);
+  KeyframeFeatureMap keyframes;
+  keyframes[10] = Keyframe(10, {{-0.5, 2.0, a, std::nullopt},
+                                {0.5, 2.0, b, std::nullopt},
+                                {-0.51, 2.3, left, std::nullopt},
+                                {0.51, 2.3, right, std::nullopt}});
+  keyframes[110] = Keyframe(110, {{0.5, 2.5, SeenAgain(a, 34), std::nullopt},
+                                  {-0.5, 2.5, SeenAgain(b, 35), std::nullopt},
+                                  {-0.51, 2.3, SeenAgain(left, 36), std::nullopt},
+                                  {0.51, 2.3, SeenAgain(right, 37), std::nullopt}});
+  const std::vector<const KeyframeFeatures*> session_0 = {&keyframes[10]},
+                                             session_1 = {&keyframes[110]};
+  const Eigen::Matrix3d R_wg = Eigen::Matrix3d::Identity();
+  const BoxAppearanceOptions options;
+  const auto look = [&](const Cuboid& cuboid, std::int64_t frame,
+                        const std::vector<const KeyframeFeatures*>& absent, bool whole_boxes) {
+    const std::vector<Descriptor> in_boxes =
+        BoxDescriptors({BoxOf(frame, cuboid)}, cuboid, R_wg, keyframes, options);
+    if (whole_boxes) return in_boxes;
+    return WithoutBackground(in_boxes,
+                             PlaceDescriptors(cuboid, R_wg, LookingAlongZ(), absent, options), 50);
+  };
+  // Removed: cups 3 (A) and 4 (B), last seen in session 0; found: 9 (A) and 10 (B), at
+  // x = new_a and -new_a in the object map.
+  std::vector<ObjectChange> gone = {Removed(3, kCup, -0.5, 2010, 1010),
+                                    Removed(4, kCup, 0.5, 2011, 1010)};
+  for (ObjectChange& change : gone) change.session = 1;
+  const auto moved_to = [&](bool whole_boxes, double new_a) {
+    ChangeLogContext context = Session(1, 2000);
+    context.box_appearance = {{3, look(a_before, 10, session_1, whole_boxes)},
+                              {4, look(b_before, 10, session_1, whole_boxes)},
+                              {9, look(a_after, 110, session_0, whole_boxes)},
+                              {10, look(b_after, 110, session_0, whole_boxes)}};
+    const std::string objects =
+        ObjectsText({Live(9, kCup, new_a, 2005, 1), Live(10, kCup, -new_a, 2006, 1)});
+    std::map<ObjectId, ObjectId> to;
+    const nlohmann::json revised =
+        nlohmann::json::parse(ReviseChangeLog(ObjectChangesJson(gone), objects, context));
+    for (const nlohmann::json& entry : revised.at("changes")) {
+      if (entry["type"] == "moved") {
+        to[entry["object_id"].get<ObjectId>()] = entry["to"]["object_id"].get<ObjectId>();
+        EXPECT_EQ(entry["appearance"]["from"], "boxes");
+      }
+    }
+    return to;
+  };
+  const std::map<ObjectId, ObjectId> right_pairs = {{3, 9}, {4, 10}}, crosswise = {{3, 10}, {4, 9}};
+  EXPECT_EQ(moved_to(true, -0.8), crosswise) << "the table decides, though distance does not";
+  EXPECT_EQ(moved_to(false, 0.8), right_pairs) << "the textures decide, though distance does not";
+  EXPECT_EQ(moved_to(false, -0.8), right_pairs);
 }
 
 }  // namespace

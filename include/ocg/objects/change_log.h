@@ -24,6 +24,10 @@ struct AppearanceMatch {
 };
 AppearanceMatch MatchAppearance(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
                                 int max_distance);
+// The same with from's descriptors compared (whatever the sizes): how much of from is
+// found in to.
+AppearanceMatch MatchFrom(const std::vector<Descriptor>& from, const std::vector<Descriptor>& to,
+                          int max_distance);
 
 struct AppearanceOptions {
   // Bits: two views of one texture patch (ORB-SLAM's tight matching threshold).
@@ -43,6 +47,9 @@ struct ChangeLogContext {
   // SLAM runs: ObjectMap::Appearances() (descriptors of each object's map points), by id;
   // empty in pose-given runs, where pairing goes by distance alone.
   std::map<ObjectId, std::vector<Descriptor>> appearance;
+  // SLAM runs of a later session: ObjectMap::BoxAppearances(), by id. A pair both of whose
+  // objects have one is weighed by it, else by appearance.
+  std::map<ObjectId, std::vector<Descriptor>> box_appearance;
   AppearanceOptions appearance_options;
   // Map files: changes.json as the session that saved the loaded map revised it. Earlier
   // sessions' entries are taken from it (their moves, additions and reasons as that
@@ -56,8 +63,9 @@ struct ChangeLogContext {
 //  - the object was last seen in an earlier session (last_seen before session_start, a
 //    later session only) and a live object of its class was first seen in this session
 //    ("first_session"), at any distance, all such pairs chosen together: one assignment
-//    of least total cost, objects that look alike (context.appearance, MatchAppearance)
-//    before nearer ones (between-session entries list their candidates as evidence);
+//    of least total cost, objects that look alike (context.box_appearance, MatchFrom, or
+//    else context.appearance, MatchAppearance) before nearer ones (between-session
+//    entries list their candidates as evidence);
 //  - or it was seen in this session and a live object of its class appeared near it after
 //    its last sighting (LinkMoves with context.moves).
 // Earlier sessions' removals are not paired again: their session paired them (with

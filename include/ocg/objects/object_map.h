@@ -16,6 +16,7 @@
 #include "ocg/core/lie.h"
 #include "ocg/features/descriptor.h"
 #include "ocg/objects/box.h"
+#include "ocg/objects/box_appearance.h"
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/ocg/change_detector.h"
@@ -158,6 +159,16 @@ class ObjectMap {
   // was when removed; the appearance of removals made by the runs that wrote a loaded map
   // file is not kept), by id. Objects without descriptors are left out.
   std::map<ObjectId, std::vector<Descriptor>> Appearances() const;
+  // The box appearance (box_appearance.h) of the objects a between-session pairing weighs,
+  // by id: those removed in this run and last seen in an earlier session, and the live
+  // ones seen in this session alone (a later session only). Each without what its place
+  // shows in the other sessions' keyframes (earlier sessions' of an object new here, this
+  // session's of a removed one): there the place held something else. keyframes: every
+  // keyframe of every session, with frames numbered as the sightings. Objects with no
+  // descriptor left are left out.
+  std::map<ObjectId, std::vector<Descriptor>> BoxAppearances(const KeyframeFeatureMap& keyframes,
+                                                             const BoxAppearanceOptions& options,
+                                                             int max_distance) const;
   const ObjectsOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return camera_; }
   const Eigen::Matrix3d& gravity_frame() const { return R_wg_; }
@@ -204,6 +215,9 @@ class ObjectMap {
   };
   std::map<ObjectId, RemovedObject> removed_;  // restore on: removed within the window
   std::map<ObjectId, std::vector<Descriptor>> removed_appearance_;  // Appearances()
+  // Objects removed in this run, with their sightings and last cuboid (no points), for
+  // BoxAppearances(). Not kept in map files: a session pairs only its own removals.
+  std::map<ObjectId, MapObject> removed_in_run_;
   ObjectId next_object_id_ = 1;
   ObjectId next_candidate_id_ = -1;
   int session_ = 0;

@@ -82,6 +82,10 @@ class ObjectMapper {
   std::size_t LiveObjectCount() const;
   // ObjectMap::Appearances().
   std::map<ObjectId, std::vector<Descriptor>> Appearances() const;
+  // ObjectMap::BoxAppearances().
+  std::map<ObjectId, std::vector<Descriptor>> BoxAppearances(const KeyframeFeatureMap& keyframes,
+                                                             const BoxAppearanceOptions& options,
+                                                             int max_distance) const;
 
  private:
   friend struct MapFileAccess;    // map files (src/app/object_map_file.cc)

@@ -100,8 +100,11 @@ class System {
   // database is rebuilt from the keyframes' BoW vectors, and tracking starts lost: it
   // relocalizes in the loaded map and never initializes one of its own. Throws what
   // ocg::LoadMap throws (the map stays empty then) and std::logic_error after a frame.
+  // frames_before: the frames the earlier sessions were given; this session's frame ids
+  // (KeyFrame::frame_id) continue after them, so a keyframe's frame id is its frame's
+  // number over all sessions, as the object layer numbers its sightings.
   void SaveMap(std::ostream& out) const;
-  void LoadMap(std::istream& in);
+  void LoadMap(std::istream& in, std::uint64_t frames_before = 0);
   bool MapLoaded() const { return map_loaded_; }
   // The frames given before a map existed and why they did not initialize one.
   const InitializationAttempts& Initialization() const;
