@@ -612,6 +612,8 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
                          WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
         bool keep_first = first.sightings.size() >= second.sightings.size();
         if (!one_space) {
+          // Most pairs were detected together at some time: the cheap test first.
+          if (SeenTogether(first, second)) continue;
           const auto along_rays = [&](const MapObject& stand_in, const MapObject& object) {
             return options_.merge_along_rays &&
                    SeenAsProjectionOf(stand_in, object, options_.min_reacquire_iou,
@@ -624,7 +626,6 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
           } else if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) {
             continue;
           }
-          if (SeenTogether(first, second)) continue;
         }
         return std::make_pair(keep_first ? first.id : second.id, keep_first ? second.id : first.id);
       }
