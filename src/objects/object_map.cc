@@ -402,15 +402,15 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
     if (!object.has_cuboid || SeenTogether(candidate, object)) continue;
     std::vector<BoxFit> fits =
         FitsOfTrack(candidate, object, options_.min_reacquire_iou, R_wg_, camera_);
+    const bool same_class = object.class_id == candidate.class_id;
     const double share =
         static_cast<double>(std::count_if(fits.begin(), fits.end(),
-                                          [&](BoxFit fit) {
+                                          [same_class](BoxFit fit) {
                                             return fit == BoxFit::kWhole ||
-                                                   (fit == BoxFit::kPartial &&
-                                                    object.class_id == candidate.class_id);
+                                                   (fit == BoxFit::kPartial && same_class);
                                           })) /
         static_cast<double>(std::max<std::ptrdiff_t>(usable, 1));
-    const std::pair<bool, double> rank{object.class_id == candidate.class_id, share};
+    const std::pair<bool, double> rank{same_class, share};
     if (share >= options_.min_inlier_share && rank >= best) {
       best = rank;
       host = &object;
