@@ -13,6 +13,16 @@ double IntersectionOverUnion(const Box2& a, const Box2& b) {
   return united > 0 ? intersection / united : 0.0;
 }
 
+BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou) {
+  if (IntersectionOverUnion(box, projected) >= min_iou) return BoxFit::kWhole;
+  const Box2 overlap{std::max(box.x0, projected.x0), std::max(box.y0, projected.y0),
+                     std::min(box.x1, projected.x1), std::min(box.y1, projected.y1)};
+  if (box.Area() <= 0 || overlap.Area() < kPartialViewInside * box.Area()) return BoxFit::kNone;
+  const bool spans = box.Width() >= kPartialViewSpan * projected.Width() ||
+                     box.Height() >= kPartialViewSpan * projected.Height();
+  return spans ? BoxFit::kPartial : BoxFit::kNone;
+}
+
 std::vector<ObjectDetection> FilterDetections(const std::vector<Detection>& detections,
                                               const ObjectsOptions& options,
                                               const PinholeCamera& camera) {

@@ -41,14 +41,11 @@ int MajorityClass(const std::vector<ObjectSighting>& sightings) {
   return best;
 }
 
-// Whether stand_in lived within object's life (first to last sighting) and its untruncated
-// boxes cover object's projected cuboid (IoU at least min_iou, for at least share of them):
-// its detections fit object, at object's depth and size, wherever their own rays met.
+// Whether stand_in's untruncated boxes fit object's projected cuboid (FitOfBox: whole, or
+// partial views when of one class; for at least share of them): its detections fit object,
+// at object's depth and size, wherever their own rays met.
 bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, double min_iou,
                         double share, const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
-  if (stand_in.first_frame <= object.first_frame || stand_in.last_frame >= object.last_frame) {
-    return false;
-  }
   const auto usable = std::count_if(stand_in.sightings.begin(), stand_in.sightings.end(),
                                     [](const ObjectSighting& s) { return !s.truncated; });
   // Most pairs fail at their first boxes: stop once too many missed.
@@ -57,10 +54,27 @@ bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, doub
   for (const ObjectSighting& sighting : stand_in.sightings) {
     if (sighting.truncated) continue;
     const std::optional<Box2> projected = ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
-    const bool covered = projected && IntersectionOverUnion(*projected, sighting.box) >= min_iou;
+    const BoxFit fit = projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone;
+    // A partial view is of an object of the class (a box inside a larger object's
+    // projection is as often a smaller object of another class in front of it).
+    const bool covered =
+        fit == BoxFit::kWhole || (fit == BoxFit::kPartial && stand_in.class_id == object.class_id);
     if (!covered && ++misses > allowed_misses) return false;
   }
   return usable > 0;
+}
+
+// How each sighting of track fits object's projected cuboid (truncated ones: kNone).
+std::vector<BoxFit> FitsOfTrack(const MapObject& track, const MapObject& object, double min_iou,
+                                const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
+  std::vector<BoxFit> fits;
+  for (const ObjectSighting& sighting : track.sightings) {
+    const std::optional<Box2> projected =
+        sighting.truncated ? std::nullopt
+                           : ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
+    fits.push_back(projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone);
+  }
+  return fits;
 }
 
 bool SeenTogether(const MapObject& a, const MapObject& b) {
@@ -126,6 +140,26 @@ void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>
     ++entry.votes;
     entry.position = point->position;
   }
+}
+
+// Another record of the same object, from: its sightings (in frame order) and point votes
+// join into's, whose class becomes its sightings' majority. Geometry is left to the caller.
+void Absorb(MapObject& into, const MapObject& from) {
+  std::vector<ObjectSighting> sightings;
+  std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
+             from.sightings.end(), std::back_inserter(sightings),
+             [](const ObjectSighting& a, const ObjectSighting& b) { return a.frame < b.frame; });
+  into.sightings = std::move(sightings);
+  for (const auto& [id, point] : from.points) {
+    ObjectPoint& entry = into.points[id];
+    if (entry.votes == 0) entry.position = point.position;
+    entry.votes += point.votes;
+  }
+  into.class_id = MajorityClass(into.sightings);
+  into.first_frame = std::min(into.first_frame, from.first_frame);
+  into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
+  into.last_frame = std::max(into.last_frame, from.last_frame);
+  into.last_timestamp = std::max(into.last_timestamp, from.last_timestamp);
 }
 
 }  // namespace
@@ -344,6 +378,11 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
       continue;
     }
     if (candidate.last_frame == frame && Reestimate(candidate, true)) {
+      if (const std::optional<ObjectId> host = JoinCandidate(candidate, frame)) {
+        result.joined.push_back(*host);
+        it = candidates_.erase(it);
+        continue;
+      }
       MapObject object = std::move(candidate);
       object.id = next_object_id_++;
       observed_since_keyframe_[object.id] = frame;
@@ -357,6 +396,48 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     ++it;
   }
   return result;
+}
+
+std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int64_t frame) {
+  if (!options_.join_candidates) return std::nullopt;
+  const auto usable = std::count_if(candidate.sightings.begin(), candidate.sightings.end(),
+                                    [](const ObjectSighting& s) { return !s.truncated; });
+  // The host: its class before any other (a class flip is the rarer story), then the
+  // largest share of fitting boxes.
+  MapObject* host = nullptr;
+  std::vector<BoxFit> host_fits;
+  std::pair<bool, double> best{false, options_.min_inlier_share};
+  for (auto& [id, object] : objects_) {
+    if (!object.has_cuboid || SeenTogether(candidate, object)) continue;
+    const bool same_class = object.class_id == candidate.class_id;
+    // As in the keyframe hygiene: another class is the same object misnamed only when
+    // one session saw both; across sessions it is what was put at the old one's place.
+    if (!same_class && !SeenInOneSession(candidate, object)) continue;
+    std::vector<BoxFit> fits =
+        FitsOfTrack(candidate, object, options_.min_reacquire_iou, R_wg_, camera_);
+    const double share =
+        static_cast<double>(std::count_if(fits.begin(), fits.end(),
+                                          [same_class](BoxFit fit) {
+                                            return fit == BoxFit::kWhole ||
+                                                   (fit == BoxFit::kPartial && same_class);
+                                          })) /
+        static_cast<double>(std::max<std::ptrdiff_t>(usable, 1));
+    const std::pair<bool, double> rank{same_class, share};
+    if (share >= options_.min_inlier_share && rank >= best) {
+      best = rank;
+      host = &object;
+      host_fits = std::move(fits);
+    }
+  }
+  if (host == nullptr) return std::nullopt;
+  for (std::size_t i = 0; i < candidate.sightings.size(); ++i) {
+    if (host_fits[i] == BoxFit::kPartial) candidate.sightings[i].truncated = true;
+  }
+  Absorb(*host, candidate);
+  Reestimate(*host, false);
+  observed_since_keyframe_[host->id] = frame;
+  geometry_changed_[host->id] = true;
+  return host->id;
 }
 
 void ObjectMap::StartSession(int session, std::int64_t first_frame) {
@@ -452,21 +533,7 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   MapObject& from = objects_.at(absorbed);
   ObjectChange change = ChangeOf("merged", keyframe_id, timestamp, from, session_);
   change.merged_into = kept;
-  std::vector<ObjectSighting> sightings;
-  std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
-             from.sightings.end(), std::back_inserter(sightings),
-             [](const ObjectSighting& a, const ObjectSighting& b) { return a.frame < b.frame; });
-  into.sightings = std::move(sightings);
-  for (const auto& [id, point] : from.points) {
-    ObjectPoint& entry = into.points[id];
-    if (entry.votes == 0) entry.position = point.position;
-    entry.votes += point.votes;
-  }
-  into.class_id = MajorityClass(into.sightings);
-  into.first_frame = std::min(into.first_frame, from.first_frame);
-  into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
-  into.last_frame = std::max(into.last_frame, from.last_frame);
-  into.last_timestamp = std::max(into.last_timestamp, from.last_timestamp);
+  Absorb(into, from);
   Reestimate(into, false);
   geometry_changed_[kept] = true;
   if (observed_since_keyframe_.count(absorbed) > 0) {
@@ -543,8 +610,13 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
         const MapObject& first = a->second;
         const MapObject& second = b->second;
         if (!first.has_cuboid || !second.has_cuboid) continue;
-        const double reach = options_.merge_distance *
-                             std::max(first.cuboid.size.maxCoeff(), second.cuboid.size.maxCoeff());
+        const double larger = std::max(first.cuboid.size.maxCoeff(), second.cuboid.size.maxCoeff());
+        const double smaller =
+            std::min(first.cuboid.size.maxCoeff(), second.cuboid.size.maxCoeff());
+        // One object seen under two classes has one size: of two classes, the smaller one's
+        // (a cup within half a television's width of its centre is a cup beside it).
+        const double reach =
+            options_.merge_distance * (first.class_id == second.class_id ? larger : smaller);
         const bool one_space =
             first.class_id == second.class_id &&
             OverlapShare(first.cuboid.centre, WorldExtent(first.cuboid, R_wg_),
@@ -552,6 +624,8 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
                          WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
         bool keep_first = first.sightings.size() >= second.sightings.size();
         if (!one_space) {
+          // Most pairs were detected together at some time: the cheap test first.
+          if (SeenTogether(first, second)) continue;
           // Two objects of different classes are one object the detector named twice
           // only when a session saw both. Seen in different sessions, the new one near
           // the old one's place is more likely what was put there between the visits:
@@ -569,7 +643,6 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
           } else if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) {
             continue;
           }
-          if (SeenTogether(first, second)) continue;
         }
         return std::make_pair(keep_first ? first.id : second.id, keep_first ? second.id : first.id);
       }

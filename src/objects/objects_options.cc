@@ -85,6 +85,7 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.merge_distance", &options->merge_distance);
   file.Read("Objects.merge_overlap", &options->merge_overlap);
   file.Read("Objects.merge_along_rays", &options->merge_along_rays);
+  file.Read("Objects.join_candidates", &options->join_candidates);
   file.Read("Objects.restore_window", &options->restore_window);
   file.Read("Objects.restore_overlap", &options->restore_overlap);
   std::vector<double> up;

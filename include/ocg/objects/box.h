@@ -25,6 +25,17 @@ struct Box2 {
 
 double IntersectionOverUnion(const Box2& a, const Box2& b);
 
+// How a detection box fits the projection of an object's cuboid (both pixels):
+// kWhole: IoU at least min_iou; kPartial: a view of the object partly hidden behind
+// something nearer, whose box covers only its visible part: the box lies inside the
+// projection (kPartialViewInside of its area, for jitter) and spans it across one image
+// axis (kPartialViewSpan of its width or height: a side or the top is hidden, not the
+// whole object shrunk, as a farther object of the class on the same ray would be).
+enum class BoxFit { kNone, kWhole, kPartial };
+constexpr double kPartialViewInside = 0.8;
+constexpr double kPartialViewSpan = 0.7;
+BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou);
+
 // A detection the object layer uses.
 struct ObjectDetection {
   int class_id = 0;

@@ -109,6 +109,9 @@ struct FrameAssociation {
   std::vector<std::pair<int, ObjectId>> matched;
   int new_candidates = 0;
   std::vector<ObjectId> promoted;  // candidates that became map objects in this frame
+  // Candidates that turned out to be a map object seen again and joined it in this frame
+  // (Objects.join_candidates): the ids of those map objects.
+  std::vector<ObjectId> joined;
 };
 
 class ObjectMap {
@@ -185,6 +188,9 @@ class ObjectMap {
   // tells one); false when they do not meet.
   bool Reestimate(MapObject& object, bool candidate) const;
   std::optional<double> PointSetYaw(const MapObject& object) const;
+  // A candidate about to be promoted that is a map object seen again (its boxes fit the
+  // object's projection: Objects.join_candidates) joins it; returns the object's id.
+  std::optional<ObjectId> JoinCandidate(MapObject& candidate, std::int64_t frame);
   void Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
              std::vector<ObjectChange>* merges);
   // Brings back the removed objects a map object now stands in for; returns their ids.

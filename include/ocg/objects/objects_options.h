@@ -58,9 +58,10 @@ struct ObjectsOptions {
   // beyond this, so an object's cost stays bounded however long it is watched).
   int max_rays = 60;
 
-  // Objects.merge_distance: two objects of the same class, never seen in the same frame,
-  // whose centres are closer than this share of the larger one's largest extent are one
-  // object seen twice: merged.
+  // Objects.merge_distance: two objects never seen in the same frame whose centres are
+  // closer than this share of the larger one's largest extent (of the smaller one's when
+  // their classes differ: one object under two classes has one size) are one object seen
+  // twice: merged.
   double merge_distance = 0.5;
   // Objects.merge_overlap: two objects of the same class whose boxes (world-axis extents
   // of their cuboids) share more than this share of the smaller one's volume are one
@@ -68,16 +69,26 @@ struct ObjectsOptions {
   // space, but a real detector puts a second, nested box on one object now and then (two
   // boxes per bottle), and each box feeds its own object. 1 turns it off.
   double merge_overlap = 0.5;
-  // Objects.merge_along_rays: an object whose whole life (first to last sighting) lies
-  // within another's, never seen in the same frame as it, and whose untruncated boxes
-  // cover the other's projected cuboid (IoU at least min_reacquire_iou, for
-  // min_inlier_share of them) is the other seen again, any class: merged. A detector that
-  // calls an object by another class for a while (a persistent class flip) makes a second
-  // object from a short stretch of views, at the depth its narrow rays happen to meet,
-  // beyond merge_distance; its boxes still fit the first object where it is. An object
-  // moved away is never seen again at its old place, so its new one does not lie within
-  // its life.
+  // Objects.merge_along_rays: an object never seen in the same frame as another, whose
+  // untruncated boxes fit the other's projected cuboid (IoU at least min_reacquire_iou, or,
+  // of one class, partial views: box.h FitOfBox; for min_inlier_share of them) is the other
+  // seen again, any class: merged. A detector that calls an object by another class for a
+  // while (a persistent class flip), or finds it again after a gap, makes a second object
+  // from a short stretch of views, at the depth its narrow rays happen to meet, beyond
+  // merge_distance; its boxes still fit the first object where it is. An object moved away
+  // (by at least its size) is seen elsewhere: its boxes there do not fit its old place.
   bool merge_along_rays = true;
+  // Objects.join_candidates: before a candidate becomes a map object, it joins the map
+  // object whose projected cuboid its untruncated boxes fit (IoU at least
+  // min_reacquire_iou, or a partial view: inside the projection and spanning it across one
+  // axis; for min_inlier_share of them), if it was never detected in the same frame as it;
+  // its class or, failing that, another (a persistent class flip). A re-detection that
+  // missed the re-acquire gate (the object coming out from behind another, its box
+  // covering only the visible part) starts a candidate, which then keeps the track through
+  // its predicted box and is triangulated from a short stretch of views at a wrong depth:
+  // a second object of the class on the first one's rays. The partial views join as
+  // truncated sightings (their centre and extent do not tell the object's).
+  bool join_candidates = true;
   // Restore (OCG.mode "restore"): an object the OCG removed is brought back, with its id
   // and history, when within Objects.restore_window seconds of the removal a map object of
   // its class first detected after its last sighting takes up its place: their boxes
