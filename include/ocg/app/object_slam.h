@@ -75,7 +75,7 @@ struct RunDescription {
   std::size_t detection_files_matched = 0;
   // How the images were fed (LiveFeed::Report() for a real-time replay), run.json's
   // "feed"; null: as fast as the system took them, and no "feed" is written.
-  nlohmann::json feed;
+  nlohmann::json feed = nullptr;
 };
 
 class ObjectSlam {
