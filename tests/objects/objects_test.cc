@@ -456,13 +456,16 @@ TEST_F(TwoObjectScene, AnObjectSeenUnderAnotherClassForAWhileIsMergedIntoIt) {
 // sessions) into the plant as a class confusion, and the plant counted as seen in session
 // 1, its doubt reset. Here: the cup is carried away, a teddy bear stands 2 cm from its old
 // place. In one session the two are one object the detector named twice, merged; across
-// sessions they are two, and the cup is not observed in session 1.
+// sessions they are two, and the cup is not observed in session 1. Both ways of making
+// one object of two are checked: the keyframe hygiene's merge (Objects.join_candidates
+// off) and the join of a candidate whose boxes fit the object's projection.
 TEST_F(TwoObjectScene, AnObjectOfAnotherClassAtTheOldPlaceOfOneSeenInAnEarlierSessionIsNotMerged) {
   Cuboid bear = cup_;
   bear.centre += Eigen::Vector3d(0.02, 0.0, 0.0);
   bear.size = Eigen::Vector3d(0.09, 0.09, 0.1);
-  const auto run = [&](bool new_session) {
+  const auto run = [&](bool new_session, bool join_candidates) {
     ObjectsOptions options;
+    options.join_candidates = join_candidates;
     ObjectMap map(options, Camera());
     Watch(map, options, 0, 40);
     map.MakeKeyframeObservation(0, 40 / 30.0, OrbitPose(0.78), nullptr);
@@ -483,15 +486,20 @@ TEST_F(TwoObjectScene, AnObjectOfAnotherClassAtTheOldPlaceOfOneSeenInAnEarlierSe
     }
     return std::make_tuple(map.objects().size(), merges, cup_observed);
   };
-  const auto [objects_one, merges_one, cup_seen_one] = run(false);
-  ASSERT_EQ(merges_one.size(), 1u) << "the case needs a merge within one session";
-  EXPECT_EQ(merges_one[0].type, "merged");
-  EXPECT_EQ(objects_one, 2u);
-  EXPECT_TRUE(cup_seen_one);
-  const auto [objects_two, merges_two, cup_seen_two] = run(true);
-  EXPECT_TRUE(merges_two.empty());
-  EXPECT_EQ(objects_two, 3u);  // the cup at its old place, the teddy bear, the laptop
-  EXPECT_FALSE(cup_seen_two);
+  for (const bool join : {false, true}) {
+    SCOPED_TRACE(join ? "join of candidates" : "hygiene merge");
+    const auto [objects_one, merges_one, cup_seen_one] = run(false, join);
+    if (!join) {
+      ASSERT_EQ(merges_one.size(), 1u) << "the case needs a merge within one session";
+      EXPECT_EQ(merges_one[0].type, "merged");
+    }
+    EXPECT_EQ(objects_one, 2u);  // the cup (named teddy bear for a while) and the laptop
+    EXPECT_TRUE(cup_seen_one);
+    const auto [objects_two, merges_two, cup_seen_two] = run(true, join);
+    EXPECT_TRUE(merges_two.empty());
+    EXPECT_EQ(objects_two, 3u);  // the cup at its old place, the teddy bear, the laptop
+    EXPECT_FALSE(cup_seen_two);
+  }
 }
 
 // A real detector's double box: with every box of the cup, a second one on its upper part
