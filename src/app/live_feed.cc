@@ -6,6 +6,8 @@
 #include <string>
 #include <thread>
 
+#include "ocg/core/statistics.h"
+
 namespace ocg {
 namespace {
 
@@ -18,15 +20,6 @@ void SleepUntilSteady(double seconds) {
       std::chrono::duration_cast<std::chrono::steady_clock::duration>(
           std::chrono::duration<double>(seconds)));
   std::this_thread::sleep_until(target);
-}
-
-double Percentile(std::vector<double> values, double share) {
-  if (values.empty()) return 0.0;
-  const std::size_t index = std::min(
-      values.size() - 1, static_cast<std::size_t>(share * static_cast<double>(values.size())));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
-                   values.end());
-  return values[index];
 }
 
 }  // namespace
@@ -65,8 +58,8 @@ nlohmann::json LiveFeed::Report() const {
           {"frames_dropped", dropped_.size()},
           {"first_dropped_frames", first_dropped},
           {"lag_ms",
-           {{"median", 1e3 * Percentile(lag_seconds_, 0.5)},
-            {"p95", 1e3 * Percentile(lag_seconds_, 0.95)},
+           {{"median", 1e3 * Quantile(lag_seconds_, 0.5)},
+            {"p95", 1e3 * Quantile(lag_seconds_, 0.95)},
             {"max", lag_seconds_.empty()
                         ? 0.0
                         : 1e3 * *std::max_element(lag_seconds_.begin(), lag_seconds_.end())}}}};

@@ -130,9 +130,9 @@ void ObjectLayer::Finish(const System& system) {
   mapper_->Finish();
   if (session_ > 0) {
     const KeyframeFeatureMap keyframes = KeyframeFeaturesOf(system);
-    const ChangeLogContext defaults;
-    const int max_distance = defaults.appearance_options.max_distance;
-    box_appearance_ = mapper_->BoxAppearances(keyframes, BoxAppearanceOptions{}, max_distance);
+    // The pairing (ChangeLog()) matches with the default AppearanceOptions too.
+    box_appearance_ = mapper_->BoxAppearances(keyframes, BoxAppearanceOptions{},
+                                              AppearanceOptions{}.max_distance);
   }
 }
 

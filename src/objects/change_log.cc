@@ -185,8 +185,8 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   // The evidence of a between-session removal: every same-class object it could have
   // become, how far and how alike.
   std::map<ObjectId, nlohmann::json> alternatives;
-  std::map<std::pair<ObjectId, ObjectId>, AppearanceMatch> looks;  // (from, to)
-  std::set<std::pair<ObjectId, ObjectId>> look_from_boxes;
+  // (from, to): the appearance evidence of the pair, as changes.json gives it.
+  std::map<std::pair<ObjectId, ObjectId>, nlohmann::json> looks;
   for (const BetweenSessionCandidate& candidate : candidates) {
     const ObjectRecord& from = seen_before[candidate.removed];
     const ObjectRecord& to = appeared[candidate.appeared];
@@ -196,8 +196,7 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     if (candidate.appearance) {
       entry["appearance"] = AppearanceJson(*candidate.appearance);
       entry["appearance"]["from"] = candidate.from_boxes ? "boxes" : "map points";
-      looks[{from.id, to.id}] = *candidate.appearance;
-      if (candidate.from_boxes) look_from_boxes.insert({from.id, to.id});
+      looks[{from.id, to.id}] = entry["appearance"];
     }
     alternatives[from.id].push_back(entry);
   }
@@ -248,10 +247,7 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
           {"object_id", to.id}, {"cuboid", CuboidJson(to.cuboid)}, {"first_seen", to.first_seen}};
       entry["distance"] = move->second.distance;
       const auto look = looks.find({move->first, to.id});
-      if (look != looks.end()) entry["appearance"] = AppearanceJson(look->second);
-      if (look != looks.end())
-        entry["appearance"]["from"] =
-            look_from_boxes.count(look->first) > 0 ? "boxes" : "map points";
+      if (look != looks.end()) entry["appearance"] = look->second;
     }
     if (entry.at("type") == "removed" || entry.at("type") == "moved") {
       const auto evidence = alternatives.find(entry.at("object_id").get<ObjectId>());

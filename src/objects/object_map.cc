@@ -41,6 +41,13 @@ int MajorityClass(const std::vector<ObjectSighting>& sightings) {
   return best;
 }
 
+// Whether a box that fits a projected cuboid so counts as a view of that object. A partial
+// view counts only for an object of the box's class: a box inside a larger object's
+// projection is as often a smaller object of another class in front of it.
+bool CountsAsFit(BoxFit fit, bool same_class) {
+  return fit == BoxFit::kWhole || (fit == BoxFit::kPartial && same_class);
+}
+
 // Whether stand_in's untruncated boxes fit object's projected cuboid (FitOfBox: whole, or
 // partial views when of one class; for at least share of them): its detections fit object,
 // at object's depth and size, wherever their own rays met.
@@ -55,10 +62,7 @@ bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, doub
     if (sighting.truncated) continue;
     const std::optional<Box2> projected = ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
     const BoxFit fit = projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone;
-    // A partial view is of an object of the class (a box inside a larger object's
-    // projection is as often a smaller object of another class in front of it).
-    const bool covered =
-        fit == BoxFit::kWhole || (fit == BoxFit::kPartial && stand_in.class_id == object.class_id);
+    const bool covered = CountsAsFit(fit, stand_in.class_id == object.class_id);
     if (!covered && ++misses > allowed_misses) return false;
   }
   return usable > 0;
@@ -415,13 +419,10 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
     if (!same_class && !SeenInOneSession(candidate, object)) continue;
     std::vector<BoxFit> fits =
         FitsOfTrack(candidate, object, options_.min_reacquire_iou, R_wg_, camera_);
-    const double share =
-        static_cast<double>(std::count_if(fits.begin(), fits.end(),
-                                          [same_class](BoxFit fit) {
-                                            return fit == BoxFit::kWhole ||
-                                                   (fit == BoxFit::kPartial && same_class);
-                                          })) /
-        static_cast<double>(std::max<std::ptrdiff_t>(usable, 1));
+    const double share = static_cast<double>(std::count_if(
+                             fits.begin(), fits.end(),
+                             [same_class](BoxFit fit) { return CountsAsFit(fit, same_class); })) /
+                         static_cast<double>(std::max<std::ptrdiff_t>(usable, 1));
     const std::pair<bool, double> rank{same_class, share};
     if (share >= options_.min_inlier_share && rank >= best) {
       best = rank;
