@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <opencv2/imgcodecs.hpp>
 #include <utility>
 
 #include "object_map_file.h"
@@ -64,7 +65,8 @@ ObjectLayer::ObjectLayer(const Settings& settings, bool enabled, bool keep_first
 }
 
 void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
-                           double timestamp, const std::vector<Detection>& detections) {
+                           double timestamp, const std::vector<Detection>& detections,
+                           const std::string& image_path) {
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
   if (!session_start_) session_start_ = timestamp;
@@ -75,6 +77,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     Start();
   }
   if (!result.T_cw) return;
+  if (!detections.empty() && !image_path.empty()) image_paths_[frame_offset_ + frame] = image_path;
   std::vector<PointObservation> points;
   points.reserve(result.points.size());
   for (const TrackedPoint& point : result.points)
@@ -128,12 +131,40 @@ void ObjectLayer::Finish(const System& system) {
   // each other a little more at every call).
   if (!loaded_ || tracked_frames_ > loaded_tracked_frames_) Follow(system);
   mapper_->Finish();
+  SetColours(system);
   if (session_ > 0) {
     const KeyframeFeatureMap keyframes = KeyframeFeaturesOf(system);
     // The pairing (ChangeLog()) matches with the default AppearanceOptions too.
     box_appearance_ = mapper_->BoxAppearances(keyframes, BoxAppearanceOptions{},
                                               AppearanceOptions{}.max_distance);
+    colour_ = mapper_->ColourAppearances(AppearanceOptions{}.min_colour_signatures);
   }
+}
+
+void ObjectLayer::SetColours(const System& system) {
+  // Keyframes only: a few hundred images read again at the end of a run, not one per
+  // frame while tracking; the box appearance reads the same keyframes' features. A later
+  // session reads its own keyframes; earlier sessions' sightings keep the colours their
+  // session gave them (map files).
+  const auto start = std::chrono::steady_clock::now();
+  int& images = colour_images_;
+  int& signatures = colour_signatures_;
+  images = signatures = 0;
+  for (const KeyFramePtr& keyframe : system.KeyFrames()) {
+    const auto path = image_paths_.find(static_cast<std::int64_t>(keyframe->frame_id));
+    if (path == image_paths_.end()) continue;
+    const cv::Mat bgr = cv::imread(path->second, cv::IMREAD_COLOR);
+    if (bgr.empty()) {
+      spdlog::warn("cannot read '{}' again for the objects' colours: its keyframe gives none",
+                   path->second);
+      continue;
+    }
+    ++images;
+    signatures += mapper_->SetSightingColours(path->first, bgr, ColourSignatureOptions{});
+  }
+  spdlog::debug("objects' colours: {} signatures from {} keyframe images in {:.2f} s", signatures,
+                images,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }
@@ -149,6 +180,8 @@ nlohmann::json ObjectLayer::Write(const std::string& output) const {
                   {"keyframes", keyframes_},
                   {"object_map_resets", resets_},
                   {"supporting_plane_inliers", stats.plane_inliers},
+                  {"colour_signatures",
+                   {{"keyframe_images", colour_images_}, {"sightings", colour_signatures_}}},
                   {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
                   {"timing", {{"objects_per_frame", Timing(seconds_)}}}});
   return section;
@@ -170,6 +203,7 @@ ChangeLogContext ObjectLayer::ChangeLog() const {
   context.session_start = session_start_.value_or(0.0);
   context.appearance = mapper_->Appearances();
   context.box_appearance = box_appearance_;
+  context.colour = colour_;
   context.earlier_changes = earlier_changes_;
   return context;
 }

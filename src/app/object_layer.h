@@ -43,8 +43,11 @@ class ObjectLayer {
   ObjectLayer(const Settings& settings, bool enabled, bool keep_first_removal);
   bool Enabled() const { return enabled_; }
 
+  // image_path: the frame's image file ("" when there is none), read again in colour at
+  // Finish() if the frame ends as a keyframe (the objects' colour signatures).
   void AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
-                double timestamp, const std::vector<Detection>& detections);
+                double timestamp, const std::vector<Detection>& detections,
+                const std::string& image_path);
   // The objects for the viewer (none without detections) and their up direction.
   std::vector<ObjectView> Views() const;
   std::optional<Eigen::Vector3d> Up() const;
@@ -76,6 +79,8 @@ class ObjectLayer {
  private:
   void Start();
   void Follow(const System& system);
+  // The colour signatures of the sightings at this session's keyframes.
+  void SetColours(const System& system);
   ChangeLogContext ChangeLog() const;
 
   const Settings& settings_;
@@ -97,6 +102,13 @@ class ObjectLayer {
   std::optional<std::string> earlier_changes_;  // the loaded map file's change log
   // Finish(): ObjectMap::BoxAppearances() over every keyframe of the SLAM map.
   std::map<ObjectId, std::vector<Descriptor>> box_appearance_;
+  // This session's image files of frames with detections, by frame (over all sessions).
+  std::map<std::int64_t, std::string> image_paths_;
+  // SetColours(): keyframe images read again, sightings given a colour signature.
+  int colour_images_ = 0;
+  int colour_signatures_ = 0;
+  // Finish(): ObjectMap::ColourAppearances().
+  std::map<ObjectId, ColourHistogram> colour_;
 };
 
 }  // namespace ocg::app_detail

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cereal/archives/binary.hpp>
+#include <cereal/types/array.hpp>
 #include <cereal/types/map.hpp>
 #include <cereal/types/optional.hpp>
 #include <cereal/types/string.hpp>
@@ -9,6 +10,8 @@
 #include <cereal/types/vector.hpp>
 #include <istream>
 #include <ostream>
+#include <stdexcept>
+#include <string>
 
 #include "ocg/core/cereal_types.h"
 
@@ -158,6 +161,33 @@ struct MapFileAccess {
     archive(mapper.stats_, mapper.observations_jsonl_, mapper.manager_.removals_);
     SaveDetector(archive, mapper.manager_.detector_);
     archive(counters.change_log.value_or(""));
+    archive(SightingColours(mapper.map_));
+  }
+
+  // Version 3: the colour signature of each map object's sightings, objects in id order.
+  // Apart from the sightings (whose layout is version 1's) so older files still read.
+  using ColourList = std::vector<std::optional<ColourHistogram>>;
+  static std::vector<ColourList> SightingColours(const ObjectMap& map) {
+    std::vector<ColourList> colours;
+    for (const auto& [id, object] : map.objects_) {
+      ColourList& list = colours.emplace_back();
+      for (const ObjectSighting& sighting : object.sightings) list.push_back(sighting.colour);
+    }
+    return colours;
+  }
+  static void SetSightingColours(const std::vector<ColourList>& colours, ObjectMap* map) {
+    if (colours.size() != map->objects_.size())
+      throw std::runtime_error("the sighting colours are for " + std::to_string(colours.size()) +
+                               " objects, the map holds " + std::to_string(map->objects_.size()));
+    auto list = colours.begin();
+    for (auto& [id, object] : map->objects_) {
+      if (list->size() != object.sightings.size())
+        throw std::runtime_error("object " + std::to_string(id) + " has " +
+                                 std::to_string(object.sightings.size()) + " sightings but " +
+                                 std::to_string(list->size()) + " sighting colours");
+      for (std::size_t i = 0; i < list->size(); ++i) object.sightings[i].colour = (*list)[i];
+      ++list;
+    }
   }
 
   static app_detail::ObjectLayerCounters Load(std::istream& in, ObjectMapper* mapper,
@@ -174,6 +204,11 @@ struct MapFileAccess {
       std::string change_log;
       archive(change_log);
       if (!change_log.empty()) counters.change_log = std::move(change_log);
+    }
+    if (file_version >= 3) {
+      std::vector<ColourList> colours;
+      archive(colours);
+      SetSightingColours(colours, &mapper->map_);
     }
     return counters;
   }

@@ -95,10 +95,10 @@ class ObjectSlam::Impl {
     cv::Mat gray = image;
     if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     const TrackingResult result = system_.TrackImage(gray, timestamp, source.timestamp_text);
-    objects_.AddFrame(system_, result, frames_, timestamp, detections);
+    objects_.AddFrame(system_, result, frames_, timestamp, detections, source.image_path);
     if (result.T_cw && !first_tracked_) first_tracked_ = frames_;
     for (AlsoMode& also : also_)
-      also.objects->AddFrame(system_, result, frames_, timestamp, detections);
+      also.objects->AddFrame(system_, result, frames_, timestamp, detections, source.image_path);
     snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
     ++frames_;
     pose_ = result.T_cw;

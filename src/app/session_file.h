@@ -15,9 +15,11 @@ inline constexpr const char* kMapFileKind = "ocg_slam session map";
 // 1: the first format (SLAM map, object map with sessions, OCG).
 // 2: the object layer's part ends with the change log as the last session revised it
 // (moves, additions and reasons of earlier sessions; ObjectLayerCounters::change_log).
+// 3: then the colour signature of each map object's sightings (ObjectSighting::colour).
 // Version 1 files are still read: without that log, earlier sessions' changes are the
-// object map's own (their moves show as removals).
-inline constexpr std::uint32_t kMapFileVersion = 2;
+// object map's own (their moves show as removals). Version 1 and 2 files have no colours:
+// a later session pairs their objects without them.
+inline constexpr std::uint32_t kMapFileVersion = 3;
 inline constexpr std::uint32_t kOldestMapFileVersion = 1;
 
 struct SessionRecord {

@@ -34,15 +34,17 @@ struct BetweenSessionCandidate {
   double relative = 0.0;                      // centre distance in larger extents
   std::optional<AppearanceMatch> appearance;  // when both have enough descriptors
   bool from_boxes = false;                    // appearance is the box appearance's
+  std::optional<double> colour;               // ColourSimilarity, when both have a colour
 };
 
 // Below any difference of appearance that means something (a few matched points of
 // tens): distance only decides among pairs that look alike, or have no appearance.
 constexpr double kDistanceWeight = 1e-3;
 
-double PairingCost(const BetweenSessionCandidate& candidate) {
+double PairingCost(const BetweenSessionCandidate& candidate, const AppearanceOptions& options) {
   const double unlike = candidate.appearance ? 1.0 - candidate.appearance->Share() : 1.0;
-  return unlike + kDistanceWeight * candidate.relative;
+  const double unlike_colour = candidate.colour ? 1.0 - *candidate.colour : 1.0;
+  return unlike + options.colour_weight * unlike_colour + kDistanceWeight * candidate.relative;
 }
 
 // Between visits nothing bounds how far an object was carried, and two objects of one
@@ -69,7 +71,11 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
       const ObjectRecord& to = appeared[a];
       if (from.class_id != to.class_id || !(to.first_seen > from.last_seen)) continue;
       BetweenSessionCandidate candidate{
-          r, a, (from.cuboid.centre - to.cuboid.centre).norm() / LargerExtent(from, to),
+          r,
+          a,
+          (from.cuboid.centre - to.cuboid.centre).norm() / LargerExtent(from, to),
+          std::nullopt,
+          false,
           std::nullopt};
       if (candidate.relative <= context.moves.same_place_factor) continue;
       // The box appearance holds far more of an object's texture than its map points.
@@ -89,7 +95,12 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
             candidate.from_boxes
                 ? MatchFrom(*from_look, *to_look, context.appearance_options.max_distance)
                 : MatchAppearance(*from_look, *to_look, context.appearance_options.max_distance);
-      cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) = PairingCost(candidate);
+      const auto from_colour = context.colour.find(from.id);
+      const auto to_colour = context.colour.find(to.id);
+      if (from_colour != context.colour.end() && to_colour != context.colour.end())
+        candidate.colour = ColourSimilarity(from_colour->second, to_colour->second);
+      cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) =
+          PairingCost(candidate, context.appearance_options);
       candidates->push_back(candidate);
     }
   }
@@ -142,6 +153,10 @@ void AppearanceOptions::Check() const {
   if (max_distance < 0 || max_distance > kDescriptorBits)
     throw std::invalid_argument("appearance.max_distance must be in [0, 256] bits");
   if (min_points < 1) throw std::invalid_argument("appearance.min_points must be at least 1");
+  if (!(colour_weight >= 0.0))
+    throw std::invalid_argument("appearance.colour_weight must be at least 0");
+  if (min_colour_signatures < 1)
+    throw std::invalid_argument("appearance.min_colour_signatures must be at least 1");
 }
 
 std::string ReviseChangeLog(const std::string& changes_json, const std::string& objects_json,
@@ -196,8 +211,12 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     if (candidate.appearance) {
       entry["appearance"] = AppearanceJson(*candidate.appearance);
       entry["appearance"]["from"] = candidate.from_boxes ? "boxes" : "map points";
-      looks[{from.id, to.id}] = entry["appearance"];
     }
+    if (candidate.colour) {
+      if (!entry.contains("appearance")) entry["appearance"] = nlohmann::json::object();
+      entry["appearance"]["colour_similarity"] = *candidate.colour;
+    }
+    if (entry.contains("appearance")) looks[{from.id, to.id}] = entry["appearance"];
     alternatives[from.id].push_back(entry);
   }
   std::vector<ObjectRecord> rest_live;

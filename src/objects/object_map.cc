@@ -350,7 +350,8 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
   for (std::size_t d = 0; d < detections.size(); ++d) {
     const ObjectDetection& detection = detections[d];
     const ObjectSighting sighting{
-        frame, T_cw, detection.box, detection.truncated, detection.class_id, session_};
+        frame,    T_cw,        detection.box, detection.truncated, detection.class_id,
+        session_, std::nullopt};
     if (assignment[d] < 0) {
       MapObject candidate;
       candidate.id = next_candidate_id_--;
@@ -753,6 +754,43 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMap::BoxAppearances(
       add(object, earlier);
   }
   return appearances;
+}
+
+int ObjectMap::SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
+                                  const ColourSignatureOptions& options) {
+  options.Check();
+  int set = 0;
+  const auto set_in = [&](MapObject& object) {
+    for (ObjectSighting& sighting : object.sightings) {
+      if (sighting.frame != frame) continue;
+      sighting.colour = BoxColourSignature(bgr, sighting.box, options);
+      if (sighting.colour) ++set;
+    }
+  };
+  for (auto& [id, object] : objects_) set_in(object);
+  for (auto& [id, object] : removed_in_run_) set_in(object);
+  return set;
+}
+
+std::map<ObjectId, ColourHistogram> ObjectMap::ColourAppearances(int min_signatures) const {
+  std::map<ObjectId, ColourHistogram> colours;
+  if (session_ == 0) return colours;
+  const auto add = [&](const MapObject& object) {
+    std::vector<ColourHistogram> signatures;
+    for (const ObjectSighting& sighting : object.sightings) {
+      if (sighting.colour) signatures.push_back(*sighting.colour);
+    }
+    if (static_cast<int>(signatures.size()) < min_signatures) return;
+    if (std::optional<ColourHistogram> mean = MeanColour(signatures)) colours[object.id] = *mean;
+  };
+  // The same objects as BoxAppearances(): those a between-session pairing weighs.
+  for (const auto& [id, object] : removed_in_run_) {
+    if (!object.sightings.empty() && object.sightings.back().session < session_) add(object);
+  }
+  for (const auto& [id, object] : objects_) {
+    if (!object.sightings.empty() && object.sightings.front().session == session_) add(object);
+  }
+  return colours;
 }
 
 std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states) {

@@ -103,6 +103,17 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::BoxAppearances(
   return map_.BoxAppearances(keyframes, options, max_distance);
 }
 
+int ObjectMapper::SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
+                                     const ColourSignatureOptions& options) {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.SetSightingColours(frame, bgr, options);
+}
+
+std::map<ObjectId, ColourHistogram> ObjectMapper::ColourAppearances(int min_signatures) const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.ColourAppearances(min_signatures);
+}
+
 void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw) {
   KeyframeObservation observation;
   {

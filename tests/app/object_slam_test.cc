@@ -91,6 +91,9 @@ TEST(ObjectSlam, WritesWhatTheToolWrites) {
   EXPECT_GT(report["frames_tracked"].get<int>(), kFrames / 2);
   ASSERT_TRUE(report.contains("objects"));
   EXPECT_GT(report["objects"]["objects_created"].get<int>(), 0);
+  // The objects' colours from the keyframes' images (the sightings at keyframes).
+  EXPECT_GT(report["objects"]["colour_signatures"]["keyframe_images"].get<int>(), 0);
+  EXPECT_GT(report["objects"]["colour_signatures"]["sightings"].get<int>(), 0);
   for (const char* file : {"KeyFrameTrajectory.txt", "CameraTrajectory.txt", "map_points.ply",
                            "objects.json", "changes.json", "ocg.json", "ocg_observations.jsonl"}) {
     EXPECT_EQ(ReadFile(library_out + "/" + file), ReadFile(tool_out + "/" + file))

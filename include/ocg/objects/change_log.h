@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ocg/features/descriptor.h"
+#include "ocg/objects/colour_signature.h"
 #include "ocg/objects/map_diff.h"
 
 namespace ocg {
@@ -34,6 +35,13 @@ struct AppearanceOptions {
   int max_distance = 50;
   // Descriptors each object needs for its appearance to count in a pairing.
   int min_points = 5;
+  // Weight of the colour's unlikeness (1 - ColourSimilarity, 0-1) beside the
+  // descriptors' (1 - share matched, 0-1): colour decides between candidates whose
+  // descriptors tell them apart by less than this share (flat objects, whose boxes carry
+  // no texture ORB finds again), and yields where they differ more.
+  double colour_weight = 0.1;
+  // Sightings with a colour each object needs for its colour to count in a pairing.
+  int min_colour_signatures = 3;
   // Throws std::invalid_argument naming the field.
   void Check() const;
 };
@@ -50,6 +58,9 @@ struct ChangeLogContext {
   // SLAM runs of a later session: ObjectMap::BoxAppearances(), by id. A pair both of whose
   // objects have one is weighed by it, else by appearance.
   std::map<ObjectId, std::vector<Descriptor>> box_appearance;
+  // SLAM runs of a later session: ObjectMap::ColourAppearances(), by id. A pair both of
+  // whose objects have one is weighed by it too (appearance_options.colour_weight).
+  std::map<ObjectId, ColourHistogram> colour;
   AppearanceOptions appearance_options;
   // Map files: changes.json as the session that saved the loaded map revised it. Earlier
   // sessions' entries are taken from it (their moves, additions and reasons as that
@@ -65,7 +76,8 @@ struct ChangeLogContext {
 //    ("first_session"), at any distance, all such pairs chosen together: one assignment
 //    of least total cost, objects that look alike (context.box_appearance, MatchFrom, or
 //    else context.appearance, MatchAppearance) before nearer ones (between-session
-//    entries list their candidates as evidence);
+//    entries list their candidates as evidence), and, where both have one, whose colours
+//    (context.colour) are alike;
 //  - or it was seen in this session and a live object of its class appeared near it after
 //    its last sighting (LinkMoves with context.moves).
 // Earlier sessions' removals are not paired again: their session paired them (with

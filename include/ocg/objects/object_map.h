@@ -17,6 +17,7 @@
 #include "ocg/features/descriptor.h"
 #include "ocg/objects/box.h"
 #include "ocg/objects/box_appearance.h"
+#include "ocg/objects/colour_signature.h"
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/ocg/change_detector.h"
@@ -33,6 +34,9 @@ struct ObjectSighting {
   bool truncated = false;
   int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
   int session = 0;   // the session (map files: 0 for the first run) that saw it
+  // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
+  // the sightings at that session's keyframes (ObjectMap::SetSightingColours).
+  std::optional<ColourHistogram> colour;
 };
 
 // A SLAM map point seen inside an object's boxes (SLAM runs only).
@@ -172,6 +176,15 @@ class ObjectMap {
   std::map<ObjectId, std::vector<Descriptor>> BoxAppearances(const KeyframeFeatureMap& keyframes,
                                                              const BoxAppearanceOptions& options,
                                                              int max_distance) const;
+  // Sets the colour signature (BoxColourSignature of bgr, the image of frame) of every
+  // sighting made at frame, of the live objects and of those removed in this run.
+  // Returns how many were given one.
+  int SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
+                         const ColourSignatureOptions& options);
+  // The mean colour (MeanColour) of the objects BoxAppearances() weighs, by id, each from
+  // its sightings that have a colour; objects with fewer than min_signatures of them are
+  // left out.
+  std::map<ObjectId, ColourHistogram> ColourAppearances(int min_signatures) const;
   const ObjectsOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return camera_; }
   const Eigen::Matrix3d& gravity_frame() const { return R_wg_; }

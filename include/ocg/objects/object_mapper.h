@@ -86,6 +86,10 @@ class ObjectMapper {
   std::map<ObjectId, std::vector<Descriptor>> BoxAppearances(const KeyframeFeatureMap& keyframes,
                                                              const BoxAppearanceOptions& options,
                                                              int max_distance) const;
+  // ObjectMap::SetSightingColours() and ColourAppearances().
+  int SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
+                         const ColourSignatureOptions& options);
+  std::map<ObjectId, ColourHistogram> ColourAppearances(int min_signatures) const;
 
  private:
   friend struct MapFileAccess;    // map files (src/app/object_map_file.cc)
