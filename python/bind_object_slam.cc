@@ -90,7 +90,8 @@ class PyObjectSlam {
   }
 
   std::optional<Matrix4> Track(const py::array& image, double timestamp,
-                               const py::object& detections) {
+                               const py::object& detections,
+                               const std::optional<std::string>& image_path) {
     if (!image.dtype().is(py::dtype::of<std::uint8_t>())) {
       throw py::value_error("image: expected a uint8 array (HxW grey or HxWx3 BGR), got dtype " +
                             std::string(py::str(image.dtype())));
@@ -112,7 +113,9 @@ class PyObjectSlam {
     {
       py::gil_scoped_release release;
       const std::lock_guard<std::mutex> lock(mutex_);
-      T_cw = slam_->Track(mat, timestamp, boxes);
+      FrameSource source;
+      if (image_path) source.image_path = *image_path;
+      T_cw = slam_->Track(mat, timestamp, boxes, source);
     }
     if (!T_cw) return std::nullopt;
     return ToMatrix(*T_cw);
@@ -203,11 +206,14 @@ void BindObjectSlam(py::module_& module) {
            "one, of another version, truncated, damaged or made with another camera; "
            "ValueError for an unknown mode.")
       .def("track", &PyObjectSlam::Track, py::arg("image"), py::arg("timestamp"),
-           py::arg("detections") = py::none(),
+           py::arg("detections") = py::none(), py::arg("image_path") = py::none(),
            "One frame. image: (H, W) grey or (H, W, 3) BGR uint8 array of the camera in the "
            "settings. timestamp: seconds, increasing. detections: (N, 6) array, one row per "
            "box [class, x, y, w, h, score]: COCO-80 class index, top-left corner and size in "
-           "pixels, score in [0, 1]; None or (0, 6) when there is none.\n"
+           "pixels, score in [0, 1]; None or (0, 6) when there is none. image_path: the frame's "
+           "image file, read again in colour at shutdown() if the frame became a keyframe, "
+           "for the objects' colour signatures that pair moved objects between sessions; "
+           "None: this frame's sightings get none.\n"
            "Returns the (4, 4) float64 pose T_cw (world to camera; camera x right, y down, z "
            "forward; map units, monocular: arbitrary scale) when the frame was tracked, else "
            "None (before initialization, or lost).\n"

@@ -47,7 +47,7 @@ def test_smoke_sequence_gives_the_tools_trajectory(smoke, tmp_path):
     slam = ocg.ObjectSlam(sequence + "/camera.yaml")
     poses = []
     for timestamp, image, detections in frames(sequence):
-        T_cw = slam.track(ocg.read_image(image), timestamp, detections)
+        T_cw = slam.track(ocg.read_image(image), timestamp, detections, image_path=image)
         if T_cw is not None:
             assert T_cw.shape == (4, 4) and T_cw.dtype == np.float64
             np.testing.assert_allclose(T_cw[:3, :3] @ T_cw[:3, :3].T, np.eye(3), atol=1e-9)
@@ -68,6 +68,10 @@ def test_smoke_sequence_gives_the_tools_trajectory(smoke, tmp_path):
                  "changes.json", "ocg.json", "ocg_observations.jsonl"]:
         assert filecmp.cmp(tmp_path / name, os.path.join(tool_out, name), shallow=False), name
     assert report["frames"] == FRAMES
+    # The objects' colours come from the same keyframe images as the tool's.
+    tool_report = json.load(open(os.path.join(tool_out, "run.json")))
+    assert report["objects"]["colour_signatures"]["sightings"] > 0
+    assert report["objects"]["colour_signatures"] == tool_report["objects"]["colour_signatures"]
     # The readers as dicts: what objects.json and changes.json hold.
     objects = slam.objects()
     assert isinstance(objects, dict) and objects == json.load(open(tmp_path / "objects.json"))

@@ -63,7 +63,9 @@ struct ObjectSlamOptions {
 struct FrameSource {
   // The frame's timestamp as written in the trajectories (default: the number, %.6f).
   std::string timestamp_text;
-  // The image file, read in colour for the frame snapshots; empty: the pixels given.
+  // The image file, read in colour for the frame snapshots (empty: the pixels given) and,
+  // at Shutdown(), for the objects' colour signatures at keyframes (docs/sessions.md,
+  // "Moves in changes.json"; empty: the frame's sightings get none).
   std::string image_path;
 };
 
