@@ -157,6 +157,20 @@ void RunObjects(const ObjectsCommand& command) {
             << "/objects.json, changes.json, ocg.json, ocg_observations.jsonl, run.json\n";
 }
 
+// --save-map is written at the end of a run: a target that cannot take a file fails now,
+// before any frame, not after the whole run.
+void CheckMapFileTarget(const std::string& path) {
+  if (std::filesystem::is_directory(path))
+    throw ocg::FileError("--save-map '" + path + "' is a folder: give the map file's name, e.g. '" +
+                         (std::filesystem::path(path) / "map.ocgmap").string() + "'");
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  try {
+    ocg::CheckWritableFolder(folder.empty() ? "." : folder.string());
+  } catch (const ocg::FileError& error) {
+    throw ocg::FileError("--save-map '" + path + "': " + error.what());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -304,10 +318,7 @@ int main(int argc, char** argv) {
       detection_folder.emplace(detections, frame_names, read_options);
     }
     ocg::CheckWritableFolder(output);
-    if (!save_map.empty()) {
-      const std::filesystem::path folder = std::filesystem::path(save_map).parent_path();
-      ocg::CheckWritableFolder(folder.empty() ? "." : folder.string());
-    }
+    if (!save_map.empty()) CheckMapFileTarget(save_map);
     ocg::ObjectSlamOptions options;
     for (std::size_t i = 1; i < modes.size(); ++i) {
       options.also_modes.emplace_back(modes[i], base_output + "/" + modes[i]);
@@ -376,11 +387,23 @@ int main(int argc, char** argv) {
                    "ready)\n";
     }
     slam.Shutdown();
-    if (!save_map.empty()) slam.SaveMap(save_map);
+    // A map file that cannot be written (the disk filled during the run) loses none of the
+    // run's files: they are written all the same, then the error is reported.
+    std::optional<std::string> save_error;
+    if (!save_map.empty()) {
+      try {
+        slam.SaveMap(save_map);
+      } catch (const std::exception& error) {
+        save_error = error.what();
+      }
+    }
     const nlohmann::json report =
         slam.Save(output, {sequence_path, settings_path, detections,
                            detection_folder ? detection_folder->FilesMatched() : 0,
                            live ? live->Report() : nlohmann::json()});
+    if (save_error)
+      throw ocg::FileError("--save-map: " + *save_error + " (the run's files are in " + output +
+                           ")");
     if (report.contains("objects")) {
       const nlohmann::json& section = report["objects"];
       std::cout << "objects: " << section["objects_created"] << " created, "

@@ -90,3 +90,10 @@ if "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/s1
   --load-map "$WORK/maps/cut.ocgmap" >"$WORK/r4.log" 2>&1; then fail "a truncated map file was accepted"; fi
 grep -q "cut.ocgmap': truncated" "$WORK/r4.log" || { cat "$WORK/r4.log"; fail "no clear error for a truncated file"; }
 echo "passed: foreign and truncated map files refused at startup"
+
+# A --save-map that names a folder fails before any frame, naming the option.
+if "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/s1" --out "$WORK/r5" \
+  --save-map "$WORK/maps" >"$WORK/r5.log" 2>&1; then fail "a folder was accepted as --save-map"; fi
+grep -q -- "--save-map '$WORK/maps' is a folder" "$WORK/r5.log" || { cat "$WORK/r5.log"; fail "no clear error for a --save-map folder"; }
+[ ! -e "$WORK/r5/run.json" ] || fail "a run went ahead with a folder as --save-map"
+echo "passed: a folder as --save-map refused at startup"
