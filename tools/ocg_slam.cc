@@ -213,7 +213,8 @@ int main(int argc, char** argv) {
   std::string run_modes;
   run->add_option("--modes", run_modes,
                   "several OCG modes, comma-separated, from one SLAM run: each mode's run "
-                  "folder is OUT/<mode>/ (sequential mode, needs --detections)")
+                  "folder is OUT/<mode>/ (sequential mode, needs --detections, cannot continue a "
+                  "--load-map)")
       ->excludes(mode_option);
   run->add_option("--read-ahead", read_ahead,
                   "decode up to N images ahead on a thread of their own (0: decode each when "

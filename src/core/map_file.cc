@@ -100,6 +100,11 @@ std::string ReadMapFile(const std::string& path, const std::string& kind, std::u
   const std::string where = "map file '" + path + "': ";
   std::size_t position = 0;
   std::string line;
+  if (content.empty()) {
+    throw MapFileError("'" + path +
+                       "' is empty, not an OCG-SLAM map file (an interrupted copy?); give a file "
+                       "written by ocg_slam run --save-map");
+  }
   if (!NextLine(content, &position, &line) || line != kMapFileMagic) {
     throw MapFileError("'" + path + "' is not an OCG-SLAM map file (it does not start with '" +
                        kMapFileMagic + "' but with '" + Printable(content) +
@@ -147,7 +152,9 @@ std::string ReadMapFile(const std::string& path, const std::string& kind, std::u
   }
   content.erase(0, position);  // the payload, in place: maps run to tens of megabytes
   if (PayloadChecksum(content) != checksum) {
-    throw MapFileError(where + "damaged: the payload's checksum does not match its header");
+    throw MapFileError(where +
+                       "damaged: the payload's checksum does not match its header (a copy of the "
+                       "file made before the damage, or a new map, is needed)");
   }
   return content;
 }

@@ -286,7 +286,7 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
              {"class", CocoClassName(object.class_id)},
              {"centroid", VectorJson(object.cuboid.centre)},
              {"cuboid", CuboidJson(object.cuboid)},
-             {"reason", "first seen in this session"}});
+             {"reason", "first seen in session " + std::to_string(context.session)}});
     }
   }
   root["changes"] = list;

@@ -45,6 +45,13 @@ TEST(MapFileEnvelope, ForeignFileIsNamedAndRefused) {
   EXPECT_NE(message.find("is not an OCG-SLAM map file"), std::string::npos) << message;
 }
 
+TEST(MapFileEnvelope, AnEmptyFileSaysItIsEmpty) {
+  const std::string path = testing::MakeTempDir("map_file") + "/empty.ocgmap";
+  WriteRaw(path, "");
+  const std::string message = ReadError(path);
+  EXPECT_NE(message.find("'" + path + "' is empty"), std::string::npos) << message;
+}
+
 TEST(MapFileEnvelope, AnotherKindIsRefused) {
   const std::string path = testing::MakeTempDir("map_file") + "/other.ocgmap";
   WriteMapFile(path, "other-map", 3, BinaryPayload());
