@@ -353,10 +353,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     const ObjectSighting sighting{
         frame, T_cw, detection.box, detection.truncated, detection.class_id, session_};
     MapObject* across_gap = nullptr;
-    if (assignment[d] < 0) {
-      across_gap = CandidateAcrossGap(detection, frame, timestamp, T_cw);
-      result.gap_sightings += across_gap != nullptr ? 1 : 0;
-    }
+    if (assignment[d] < 0) across_gap = CandidateAcrossGap(detection, frame, timestamp, T_cw);
     if (assignment[d] < 0 && across_gap == nullptr) {
       MapObject candidate;
       candidate.id = next_candidate_id_--;

@@ -109,8 +109,6 @@ struct FrameAssociation {
   // (detection index, object id) for map objects; candidates are not listed.
   std::vector<std::pair<int, ObjectId>> matched;
   int new_candidates = 0;
-  // Boxes taken by a candidate across a detector gap (Objects.candidate_gap_seconds).
-  int gap_sightings = 0;
   std::vector<ObjectId> promoted;  // candidates that became map objects in this frame
   // Candidates that turned out to be a map object seen again and joined it in this frame
   // (Objects.join_candidates): the ids of those map objects.
