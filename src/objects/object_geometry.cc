@@ -95,6 +95,51 @@ RayIntersection IntersectRays(const std::vector<Ray>& rays, double min_sigma,
   return result;
 }
 
+TrackFit FitOfBoxToTrack(const std::vector<BoxView>& track, const BoxView& view,
+                         const PinholeCamera& camera, double min_iou, double min_share) {
+  TrackFit best;
+  if (track.empty()) return best;
+  const BoxView& last = track.back();
+  const Ray ray = PixelRay(last.box.Centre(), last.T_cw, camera);
+  // Distance along the ray per unit of depth (z) in the last view.
+  const double range_per_depth = camera.Unproject(last.box.Centre()).norm();
+  // The box an object of width x height (metres) centred at point shows in a view.
+  const auto box_of = [&](const Eigen::Vector3d& point, double width, double height,
+                          const SE3& T_cw) -> std::optional<Box2> {
+    const Eigen::Vector3d in_camera = T_cw * point;
+    if (in_camera.z() <= 1e-9) return std::nullopt;
+    const Eigen::Vector2d centre = camera.ProjectUndistorted(in_camera);
+    const double half_width = 0.5 * width * camera.fx / in_camera.z();
+    const double half_height = 0.5 * height * camera.fy / in_camera.z();
+    return Box2{centre.x() - half_width, centre.y() - half_height, centre.x() + half_width,
+                centre.y() + half_height};
+  };
+  const double needed = min_share * static_cast<double>(track.size());
+  for (double depth = 1e-3; depth <= 1e3; depth *= 1.02) {
+    const Eigen::Vector3d point = ray.origin + depth * range_per_depth * ray.direction;
+    const double width = last.box.Width() * depth / camera.fx;
+    const double height = last.box.Height() * depth / camera.fy;
+    // The new view first: it fits over a narrow range of depths only.
+    const std::optional<Box2> predicted = box_of(point, width, height, view.T_cw);
+    const double overlap = predicted ? IntersectionOverUnion(*predicted, view.box) : 0.0;
+    if (overlap < min_iou || overlap <= best.iou) continue;
+    int fitting = 0;
+    for (const BoxView& seen : track) {
+      const std::optional<Box2> expected = box_of(point, width, height, seen.T_cw);
+      fitting += expected && IntersectionOverUnion(*expected, seen.box) >= min_iou ? 1 : 0;
+    }
+    if (fitting >= needed) best = {overlap, point};
+  }
+  return best;
+}
+
+double ParallaxDeg(const Eigen::Vector3d& point, const SE3& T_cw_a, const SE3& T_cw_b) {
+  const Eigen::Vector3d to_a = T_cw_a.Inverse().translation() - point;
+  const Eigen::Vector3d to_b = T_cw_b.Inverse().translation() - point;
+  const double cosine = to_a.normalized().dot(to_b.normalized());
+  return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / kPi;
+}
+
 Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>& views,
                       const PinholeCamera& camera, const Eigen::Matrix3d& R_wg,
                       std::optional<double> known_yaw) {

@@ -305,6 +305,7 @@ double ObjectMap::AssociationScore(const MapObject& object, const ObjectDetectio
 FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
                                      const std::vector<ObjectDetection>& detections,
                                      const std::vector<PointObservation>* points) {
+  current_frame_ = frame;
   FrameAssociation result;
   result.detections = detections;
   std::vector<MapObject*> entities;
@@ -352,7 +353,9 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     const ObjectSighting sighting{
         frame,    T_cw,        detection.box, detection.truncated, detection.class_id,
         session_, std::nullopt};
-    if (assignment[d] < 0) {
+    MapObject* across_gap = nullptr;
+    if (assignment[d] < 0) across_gap = CandidateAcrossGap(detection, frame, timestamp, T_cw);
+    if (assignment[d] < 0 && across_gap == nullptr) {
       MapObject candidate;
       candidate.id = next_candidate_id_--;
       candidate.class_id = detection.class_id;
@@ -364,7 +367,8 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
       ++result.new_candidates;
       continue;
     }
-    MapObject& entity = *entities[static_cast<std::size_t>(assignment[d])];
+    MapObject& entity =
+        across_gap != nullptr ? *across_gap : *entities[static_cast<std::size_t>(assignment[d])];
     entity.sightings.push_back(sighting);
     AddPointVotes(entity, box_points[d]);
     entity.last_frame = frame;
@@ -378,7 +382,10 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
 
   for (auto it = candidates_.begin(); it != candidates_.end();) {
     MapObject& candidate = it->second;
-    if (frame - candidate.last_frame > options_.candidate_max_missed_frames) {
+    // A candidate waits for a box across a detector gap for candidate_gap_seconds (with 0,
+    // the first frame after candidate_max_missed_frames ends it, as before).
+    if (frame - candidate.last_frame > options_.candidate_max_missed_frames &&
+        timestamp - candidate.last_timestamp > options_.candidate_gap_seconds) {
       it = candidates_.erase(it);
       continue;
     }
@@ -403,10 +410,52 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
   return result;
 }
 
-std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int64_t frame) {
-  if (!options_.join_candidates) return std::nullopt;
+bool ObjectMap::PredictsSharply(const std::vector<BoxView>& track, const Eigen::Vector3d& point,
+                                const SE3& T_cw) const {
+  double spread = 0.0, nearest = 180.0;
+  for (const BoxView& view : track) {
+    spread = std::max(spread, ParallaxDeg(point, view.T_cw, track.back().T_cw));
+    nearest = std::min(nearest, ParallaxDeg(point, view.T_cw, T_cw));
+  }
+  return nearest <= std::max(options_.candidate_min_parallax_deg, spread);
+}
+
+MapObject* ObjectMap::CandidateAcrossGap(const ObjectDetection& detection, std::int64_t frame,
+                                         double timestamp, const SE3& T_cw) {
+  if (options_.candidate_gap_seconds <= 0 || detection.truncated) return nullptr;
+  MapObject* best = nullptr;
+  double best_fit = 0.0;
+  for (auto& [id, candidate] : candidates_) {
+    // Candidates with a predicted box had their chance in the assignment.
+    if (candidate.class_id != detection.class_id || candidate.last_frame >= frame ||
+        frame - candidate.last_frame <= options_.predicted_box_frames ||
+        timestamp - candidate.last_timestamp > options_.candidate_gap_seconds) {
+      continue;
+    }
+    // Its untruncated boxes of this session (an earlier session's place may hold another
+    // object now), thinned as for a triangulation; the last one is kept.
+    std::vector<BoxView> usable;
+    for (const ObjectSighting& sighting : candidate.sightings) {
+      if (!sighting.truncated && sighting.session == session_)
+        usable.push_back({sighting.T_cw, sighting.box});
+    }
+    if (usable.empty()) continue;
+    std::vector<BoxView> track;
+    for (std::size_t index : Thinned(usable.size(), static_cast<std::size_t>(options_.max_rays)))
+      track.push_back(usable[index]);
+    const TrackFit fit = FitOfBoxToTrack(track, {T_cw, detection.box}, camera_,
+                                         options_.min_reacquire_iou, options_.min_inlier_share);
+    if (fit.iou <= best_fit || !PredictsSharply(track, fit.point, T_cw)) continue;
+    best_fit = fit.iou;
+    best = &candidate;
+  }
+  return best;
+}
+
+MapObject* ObjectMap::HostOf(MapObject& candidate) {
   const auto usable = std::count_if(candidate.sightings.begin(), candidate.sightings.end(),
                                     [](const ObjectSighting& s) { return !s.truncated; });
+  if (usable == 0) return nullptr;
   // The host: its class before any other (a class flip is the rarer story), then the
   // largest share of fitting boxes.
   MapObject* host = nullptr;
@@ -423,7 +472,7 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
     const double share = static_cast<double>(std::count_if(
                              fits.begin(), fits.end(),
                              [same_class](BoxFit fit) { return CountsAsFit(fit, same_class); })) /
-                         static_cast<double>(std::max<std::ptrdiff_t>(usable, 1));
+                         static_cast<double>(usable);
     const std::pair<bool, double> rank{same_class, share};
     if (share >= options_.min_inlier_share && rank >= best) {
       best = rank;
@@ -431,15 +480,41 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
       host_fits = std::move(fits);
     }
   }
-  if (host == nullptr) return std::nullopt;
+  if (host == nullptr) return nullptr;
   for (std::size_t i = 0; i < candidate.sightings.size(); ++i) {
     if (host_fits[i] == BoxFit::kPartial) candidate.sightings[i].truncated = true;
   }
+  return host;
+}
+
+std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int64_t frame) {
+  if (!options_.join_candidates) return std::nullopt;
+  MapObject* host = HostOf(candidate);
+  if (host == nullptr) return std::nullopt;
   Absorb(*host, candidate);
   Reestimate(*host, false);
   observed_since_keyframe_[host->id] = frame;
   geometry_changed_[host->id] = true;
   return host->id;
+}
+
+void ObjectMap::JoinWaitingCandidates() {
+  if (!options_.join_candidates) return;
+  for (auto it = candidates_.begin(); it != candidates_.end();) {
+    MapObject& candidate = it->second;
+    MapObject* host = current_frame_ - candidate.last_frame > options_.candidate_max_missed_frames
+                          ? HostOf(candidate)
+                          : nullptr;
+    if (host == nullptr) {
+      ++it;
+      continue;
+    }
+    // Its boxes are old: the host was not observed now (the OCG's evidence is the present).
+    Absorb(*host, candidate);
+    Reestimate(*host, false);
+    geometry_changed_[host->id] = true;
+    it = candidates_.erase(it);
+  }
 }
 
 void ObjectMap::StartSession(int session, std::int64_t first_frame) {
@@ -601,6 +676,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
   std::vector<ObjectChange> hygiene;
   if (merges == nullptr) merges = &hygiene;
   const std::vector<ObjectId> restored = RestoreRemoved(keyframe_id, timestamp, merges);
+  JoinWaitingCandidates();
   // Hygiene: the same object mapped twice (a lost association, a box that jumped, a class
   // the detector confused) shows as two objects at one place that were never detected in
   // the same frame. The merged object takes the class most of its sightings have.

@@ -34,6 +34,8 @@ void ObjectsOptions::Check() const {
                 "Objects.candidate_min_parallax_deg", "must be in [0, 90)");
   RequireOption(candidate_max_missed_frames >= 1, "Objects.candidate_max_missed_frames",
                 "must be at least 1");
+  RequireOption(candidate_gap_seconds >= 0 && std::isfinite(candidate_gap_seconds),
+                "Objects.candidate_gap_seconds", "must be a non-negative number of seconds");
   RequireOption(min_inlier_share > 0 && min_inlier_share <= 1, "Objects.min_inlier_share",
                 "must be in (0, 1]");
   RequireOption(min_sightings >= 0, "Objects.min_sightings", "must be non-negative");
@@ -78,6 +80,7 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.candidate_min_observations", &options->candidate_min_observations);
   file.Read("Objects.candidate_min_parallax_deg", &options->candidate_min_parallax_deg);
   file.Read("Objects.candidate_max_missed_frames", &options->candidate_max_missed_frames);
+  file.Read("Objects.candidate_gap_seconds", &options->candidate_gap_seconds);
   file.Read("Objects.min_inlier_share", &options->min_inlier_share);
   file.Read("Objects.min_sightings", &options->min_sightings);
   file.Read("Objects.probation_keyframes", &options->probation_keyframes);

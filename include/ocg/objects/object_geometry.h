@@ -43,6 +43,26 @@ struct BoxView {
   Box2 box;
 };
 
+// How well a box seen from a camera of known pose continues a track of boxes whose depth
+// is not known yet (a candidate's, bridging a detector gap): at some depth along the ray
+// through the centre of the track's last box, the object that box shows there (its width
+// and height at that depth) projects into the new view, and into min_share of the track's
+// views, as boxes that overlap the boxes seen there by at least min_iou. The depths swept
+// run from 1e-3 to 1e3 (scale-free: SLAM maps have none), 2 % apart. iou: the new box's
+// IoU at the best such depth, 0 when there is none; point: the object's centre there.
+// With views from one place this asks a box of about the same size where the last one
+// was; as the track's views spread, they fix the depth, and the new box must lie where
+// the track's object projects.
+struct TrackFit {
+  double iou = 0.0;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+};
+TrackFit FitOfBoxToTrack(const std::vector<BoxView>& track, const BoxView& view,
+                         const PinholeCamera& camera, double min_iou, double min_share);
+
+// The angle (degrees) under which a point sees the centres of two cameras.
+double ParallaxDeg(const Eigen::Vector3d& point, const SE3& T_cw_a, const SE3& T_cw_b);
+
 // Extents and yaw of a gravity-aligned cuboid centred at centre from untruncated boxes:
 // each box gives the width and height it spans at the centre's depth; the footprint
 // (a, b, yaw) is fitted to the widths seen from every azimuth, the height to the heights

@@ -19,6 +19,7 @@
 #include "ocg/objects/box_appearance.h"
 #include "ocg/objects/colour_signature.h"
 #include "ocg/objects/map_cues.h"
+#include "ocg/objects/object_geometry.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/ocg/change_detector.h"
 #include "ocg/ocg/observation.h"
@@ -201,6 +202,28 @@ class ObjectMap {
   // tells one); false when they do not meet.
   bool Reestimate(MapObject& object, bool candidate) const;
   std::optional<double> PointSetYaw(const MapObject& object) const;
+  // The candidate an unassociated, untruncated box continues after a detector gap (longer
+  // than Objects.predicted_box_frames, within Objects.candidate_gap_seconds; the box fits
+  // its track: FitOfBoxToTrack), the best fitting one; null when none.
+  MapObject* CandidateAcrossGap(const ObjectDetection& detection, std::int64_t frame,
+                                double timestamp, const SE3& T_cw);
+  // Whether a box at point, seen from T_cw, is predicted sharply by the track's views
+  // (Objects.candidate_gap_seconds): the view is within candidate_min_parallax_deg of one
+  // of them (from nearly one place the depth does not matter: the box is where the last
+  // one was), or within the track's own spread of views (which fixes the depth). From
+  // farther round, the object of a track whose depth is free could be anywhere along a
+  // line across the image, and a box of its class there is as likely another object.
+  bool PredictsSharply(const std::vector<BoxView>& track, const Eigen::Vector3d& point,
+                       const SE3& T_cw) const;
+  // The map object whose projected cuboid a candidate's untruncated boxes fit (see
+  // Objects.join_candidates), or null; the boxes that fit as partial views are marked
+  // truncated.
+  MapObject* HostOf(MapObject& candidate);
+  // Candidates waiting for a box across a gap (not detected for more than
+  // candidate_max_missed_frames) whose boxes fit a map object's projection join it: the
+  // boxes a hard object got before it was mapped (issue 18: a vase found in runs seconds
+  // apart, mapped from a later run, then dropped for too few sightings).
+  void JoinWaitingCandidates();
   // A candidate about to be promoted that is a map object seen again (its boxes fit the
   // object's projection: Objects.join_candidates) joins it; returns the object's id.
   std::optional<ObjectId> JoinCandidate(MapObject& candidate, std::int64_t frame);
@@ -241,6 +264,7 @@ class ObjectMap {
   ObjectId next_candidate_id_ = -1;
   int session_ = 0;
   std::int64_t session_first_frame_ = 0;
+  std::int64_t current_frame_ = 0;  // of the last AddFrame()
 };
 
 // objects.json (SPEC 5): the live objects with their cuboid and OCG state.

@@ -44,6 +44,16 @@ struct ObjectsOptions {
   int candidate_min_observations = 8;       // Objects.candidate_min_observations
   double candidate_min_parallax_deg = 4.0;  // Objects.candidate_min_parallax_deg
   int candidate_max_missed_frames = 15;     // Objects.candidate_max_missed_frames
+  // Objects.candidate_gap_seconds: a candidate not detected for longer than
+  // predicted_box_frames (no predicted box any more) still takes a box that continues its
+  // track (object_geometry.h FitOfBoxToTrack: the box fits, at some depth along its rays,
+  // where its boxes put the object and how big) for this many seconds after its last
+  // sighting, and is kept that long (or candidate_max_missed_frames, the longer). A real
+  // detector finds a hard object in one frame of ten, in runs seconds apart: each box
+  // started a candidate of its own and none reached candidate_min_observations, so the
+  // object was never mapped (issue 18). 0: candidates take boxes through the predicted
+  // box only.
+  double candidate_gap_seconds = 30.0;
 
   // Objects.min_inlier_share: of a candidate's rays, the share that must meet at its centre
   // for promotion (a candidate fed by two objects of one class meets nowhere).
