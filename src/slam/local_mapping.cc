@@ -5,9 +5,9 @@
 #include <chrono>
 #include <climits>
 #include <cmath>
-#include <ctime>
 #include <set>
 
+#include "ocg/core/cpu_time.h"
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/core/statistics.h"
@@ -45,14 +45,6 @@ double MedianDepth(const KeyFrame& keyframe) {
     if (point && !point->bad) depths.push_back((keyframe.T_cw * point->position).z());
   }
   return Median(std::move(depths));
-}
-
-// CPU seconds this thread has used: unlike wall time, what another process on the same
-// cores takes does not count.
-double ThreadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 Eigen::Matrix<double, 3, 4> Projection(const Eigen::Matrix3d& K, const SE3& T_cw) {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "ocg/core/cpu_time.h"
 #include "ocg/slam/map_file.h"
 
 namespace ocg {
@@ -32,9 +33,11 @@ System::System(const SystemConfig& config, const Vocabulary& vocabulary)
       return false;
     }
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = ThreadCpuSeconds();
     local_mapping_->ProcessKeyFrame(keyframe);
     const bool loop_closed = loop_closing_->ProcessKeyFrame(keyframe);
     pending_mapping_seconds_ += Seconds(start);
+    pending_mapping_cpu_seconds_ += ThreadCpuSeconds() - cpu_start;
     return loop_closed;
   };
   auto idle = [this] { return config_.sequential || local_mapping_->Idle(); };
@@ -66,7 +69,9 @@ System::~System() {
 TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
                                   const std::string& timestamp_text) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   pending_mapping_seconds_ = 0.0;
+  pending_mapping_cpu_seconds_ = 0.0;
   const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text);
   if (result.reset) {
     ++resets_;
@@ -91,6 +96,7 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   record.new_keyframe = result.new_keyframe;
   record.local_mapping_seconds = pending_mapping_seconds_;
   record.tracking_seconds = Seconds(start) - pending_mapping_seconds_;
+  record.tracking_cpu_seconds = ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_;
   record.map_lock_wait_seconds = result.map_lock_wait_seconds;
   if (result.T_cw) {
     std::lock_guard<std::mutex> lock(map_.mutex());

@@ -43,6 +43,7 @@ struct FrameRecord {
   bool relocalized = false;
   bool new_keyframe = false;
   double tracking_seconds = 0.0;       // feature extraction and tracking
+  double tracking_cpu_seconds = 0.0;   // the same, CPU time of the tracking thread
   double local_mapping_seconds = 0.0;  // sequential mode: the keyframe's local mapping
   double map_lock_wait_seconds = 0.0;  // tracking waiting for the map lock (threaded mode)
   // Pose relative to the reference keyframe when tracked (ORB-SLAM2's way of writing
@@ -119,6 +120,7 @@ class System {
   std::unique_ptr<Tracking> tracking_;
   std::vector<FrameRecord> frames_;
   double pending_mapping_seconds_ = 0.0;
+  double pending_mapping_cpu_seconds_ = 0.0;
   int resets_ = 0;
   bool shut_down_ = false;
   bool map_loaded_ = false;
