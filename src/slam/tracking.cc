@@ -452,23 +452,20 @@ int Tracking::TrackLocalMap(Frame& frame) {
     reference_ = best;
     frame.reference = best;
   }
-  // Local points not matched yet, projected with the current pose.
-  std::set<MapPointId> already;
+  // Local points not matched yet, projected with the current pose; each once, however
+  // many local keyframes see it (marked with the frame id instead of a set of ids).
   for (const MapPointPtr& point : frame.points) {
-    if (point) already.insert(point->id);
+    if (point) point->searched_by_frame = frame.id;
   }
   std::vector<ProjectedPoint> projected;
   std::vector<MapPointPtr> sources;
-  std::set<MapPointId> considered;
   const double threshold =
       (last_relocalization_frame_id_ > 0 && frame.id < last_relocalization_frame_id_ + 2) ? 5.0
                                                                                           : 1.0;
   for (const KeyFramePtr& keyframe : local) {
     for (const MapPointPtr& point : keyframe->points) {
-      if (!point || point->bad || already.count(point->id) ||
-          !considered.insert(point->id).second) {
-        continue;
-      }
+      if (!point || point->bad || point->searched_by_frame == frame.id) continue;
+      point->searched_by_frame = frame.id;
       const auto projection =
           ProjectPoint(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, true);
       if (!projection) continue;

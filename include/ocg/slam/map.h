@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -46,6 +47,12 @@ struct MapPoint {
   int visible = 1;  // frames in whose frustum it was
   int found = 1;    // frames that matched it
   bool bad = false;
+  // Tracking's scratch mark (ORB-SLAM2's mnTrackReferenceForFrame): the last frame whose
+  // local map search already had this point, so that a point seen by several local
+  // keyframes is projected once without a set of ids per frame. Not saved with the map.
+  std::uint64_t searched_by_frame = kNoFrame;
+
+  static constexpr std::uint64_t kNoFrame = std::numeric_limits<std::uint64_t>::max();
 
   double FoundRatio() const { return static_cast<double>(found) / visible; }
 };
