@@ -95,7 +95,8 @@ class ObjectSlam::Impl {
     }
     cv::Mat gray = image;
     if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-    const TrackingResult result = system_.TrackImage(gray, timestamp, source.timestamp_text);
+    const TrackingResult result =
+        system_.TrackImage(gray, timestamp, source.timestamp_text, source.features.get());
     objects_.AddFrame(system_, result, frames_, timestamp, detections);
     if (result.T_cw && !first_tracked_) first_tracked_ = frames_;
     for (AlsoMode& also : also_)
@@ -416,6 +417,10 @@ std::optional<SE3> ObjectSlam::Track(const cv::Mat& image, double timestamp,
         std::to_string(image.depth()));
   }
   return impl_->Track(image, timestamp, detections, source);
+}
+
+std::function<ExtractedFeatures(const cv::Mat&)> ObjectSlam::FeatureExtractor() const {
+  return impl_->system_.MakeFeatureExtractor();
 }
 
 void ObjectSlam::Shutdown() {

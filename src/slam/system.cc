@@ -67,12 +67,13 @@ System::~System() {
 }
 
 TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
-                                  const std::string& timestamp_text) {
+                                  const std::string& timestamp_text,
+                                  const ExtractedFeatures* features) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = ThreadCpuSeconds();
   pending_mapping_seconds_ = 0.0;
   pending_mapping_cpu_seconds_ = 0.0;
-  const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text);
+  const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text, features);
   if (result.reset) {
     ++resets_;
     if (!config_.sequential) {  // drain the queues and join, in the order keyframes flow
@@ -116,6 +117,12 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   }
   frames_.push_back(record);
   return result;
+}
+
+std::function<ExtractedFeatures(const cv::Mat&)> System::MakeFeatureExtractor() const {
+  auto extractor = std::make_shared<OrbExtractor>(config_.orb);
+  const PinholeCamera camera = config_.camera;
+  return [extractor, camera](const cv::Mat& image) { return extractor->Extract(image, camera); };
 }
 
 void System::Shutdown() {

@@ -125,7 +125,8 @@ void Tracking::ComputeBow(Frame& frame) const {
 }
 
 TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
-                               const std::string& timestamp_text) {
+                               const std::string& timestamp_text,
+                               const ExtractedFeatures* features) {
   map_lock_wait_seconds_ = 0.0;
   Frame frame;
   frame.id = next_frame_id_++;
@@ -133,7 +134,13 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
   frame.timestamp_text = timestamp_text;
   const bool initializing =
       state_ == TrackingState::kNoImages || state_ == TrackingState::kNotInitialized;
-  frame.features = (initializing ? initialization_extractor_ : extractor_).Extract(image, camera_);
+  if (initializing) {
+    frame.features = initialization_extractor_.Extract(image, camera_);
+  } else if (features != nullptr) {
+    frame.features = *features;
+  } else {
+    frame.features = extractor_.Extract(image, camera_);
+  }
   frame.points.assign(frame.features.size(), nullptr);
   frame.outlier.assign(frame.features.size(), false);
   TrackingResult result;

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/mat.hpp>
@@ -31,6 +32,7 @@
 
 #include "ocg/app/settings.h"
 #include "ocg/core/lie.h"
+#include "ocg/features/orb_extractor.h"
 #include "ocg/io/detections.h"
 #include "ocg/io/trajectory.h"
 #include "ocg/viewer/snapshots.h"
@@ -65,6 +67,9 @@ struct FrameSource {
   std::string timestamp_text;
   // The image file, read in colour for the frame snapshots; empty: the pixels given.
   std::string image_path;
+  // The image's ORB features from ObjectSlam::FeatureExtractor(), made ahead on another
+  // thread; null: tracking extracts them (it always does while initializing).
+  std::shared_ptr<const ExtractedFeatures> features = nullptr;
 };
 
 // Where the run came from, for run.json.
@@ -98,6 +103,10 @@ class ObjectSlam {
   std::optional<SE3> Track(const cv::Mat& image, double timestamp,
                            const std::vector<Detection>& detections,
                            const FrameSource& source = {});
+  // A function that extracts an image's ORB features as tracking does (System::
+  // MakeFeatureExtractor), for a thread that prepares frames ahead: give its result to
+  // Track() in FrameSource::features. One per thread; safe to call before Track().
+  std::function<ExtractedFeatures(const cv::Mat&)> FeatureExtractor() const;
   // Finishes local mapping, loop closing and the OCG; the objects take the final poses.
   // Idempotent; rethrows a failure of a worker thread.
   void Shutdown();

@@ -8,6 +8,7 @@
 // on its own thread, fed through a bounded queue, and loop closing on another, fed by
 // local mapping.
 
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -61,8 +62,15 @@ class System {
   System(const System&) = delete;
   System& operator=(const System&) = delete;
 
+  // features: see Tracking::Track (made by MakeFeatureExtractor; null: extracted here).
   TrackingResult TrackImage(const cv::Mat& image, double timestamp,
-                            const std::string& timestamp_text);
+                            const std::string& timestamp_text,
+                            const ExtractedFeatures* features = nullptr);
+  // A function that extracts an image's ORB features as tracking does once initialized
+  // (same options, camera and undistortion), with an extractor of its own: for another
+  // thread, so that extraction, half of tracking's CPU, runs while the previous frame is
+  // tracked. Give its result to TrackImage. Not thread-safe itself: one per thread.
+  std::function<ExtractedFeatures(const cv::Mat&)> MakeFeatureExtractor() const;
   // Finishes local mapping (threaded mode) and stops its thread. Idempotent; rethrows a
   // failure of the local mapping thread.
   void Shutdown();
