@@ -299,6 +299,7 @@ class ObjectSlam::Impl {
     // Threaded local mapping catching up (docs/slam.md "Threads and determinism").
     report["local_adjustments_skipped"] = mapping.local_adjustments_skipped;
     report["local_adjustments_interrupted"] = mapping.local_adjustments_interrupted;
+    report["local_mapping_yields_to_tracking"] = mapping.map_lock_yields;
     std::vector<double> ba_iterations(mapping.ba_iterations.begin(), mapping.ba_iterations.end());
     report["local_ba_iterations"] = {
         {"median", Median(ba_iterations)},

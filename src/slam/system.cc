@@ -100,7 +100,7 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   record.tracking_cpu_seconds = ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_;
   record.map_lock_wait_seconds = result.map_lock_wait_seconds;
   if (result.T_cw) {
-    std::lock_guard<std::mutex> lock(map_.mutex());
+    const std::unique_lock<std::mutex> lock = map_.LockForTracking();
     // The reference is the newest keyframe (or the one tracking last chose).
     KeyFramePtr reference;
     for (auto it = map_.keyframes().rbegin(); it != map_.keyframes().rend(); ++it) {

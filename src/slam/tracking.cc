@@ -505,7 +505,7 @@ int Tracking::TrackLocalMap(Frame& frame) {
 
 std::unique_lock<std::mutex> Tracking::LockMap() const {
   const auto start = std::chrono::steady_clock::now();
-  std::unique_lock<std::mutex> lock(dependencies_.map->mutex());
+  std::unique_lock<std::mutex> lock = dependencies_.map->LockForTracking();
   map_lock_wait_seconds_ +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return lock;

@@ -8,6 +8,8 @@
 // results, do not depend on addresses.
 
 #include <Eigen/Core>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -112,6 +114,17 @@ class Map {
   static constexpr int kCovisibilityThreshold = 15;
 
   std::mutex& mutex() const { return mutex_; }
+  // Tracking must keep up with the camera; local mapping's steps on a keyframe take
+  // several times a frame's tracking, and the mutex is not fair (the thread releasing it
+  // can take it back before a waiter wakes). So tracking takes the lock saying that it
+  // waits, and local mapping, between its steps, lets a waiting tracker in first.
+  std::unique_lock<std::mutex> LockForTracking() const;
+  bool TrackerWaiting() const { return trackers_waiting_.load() > 0; }
+  // Called holding lock (on mutex()): while a tracker waits, releases the lock until the
+  // tracker has it (at most max_wait: it may wait behind another thread), then takes it
+  // again, after the tracker's step. Returns whether a tracker was let in.
+  bool LetWaitingTrackerIn(std::unique_lock<std::mutex>& lock,
+                           std::chrono::microseconds max_wait = std::chrono::milliseconds(5)) const;
 
   KeyFrameId NextKeyFrameId() { return next_keyframe_id_++; }
   MapPointId NextMapPointId() { return next_point_id_++; }
@@ -153,6 +166,7 @@ class Map {
 
  private:
   mutable std::mutex mutex_;
+  mutable std::atomic<int> trackers_waiting_{0};
   KeyFrameId next_keyframe_id_ = 0;
   MapPointId next_point_id_ = 0;
   std::uint64_t corrections_ = 0;
