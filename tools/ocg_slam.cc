@@ -4,6 +4,7 @@
 
 #include <spdlog/spdlog.h>
 #include <algorithm>
+#include <any>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -217,7 +218,8 @@ int main(int argc, char** argv) {
                   "--load-map)")
       ->excludes(mode_option);
   run->add_option("--read-ahead", read_ahead,
-                  "decode up to N images ahead on a thread of their own (0: decode each when "
+                  "decode up to N images ahead, and extract their ORB features, on a thread of "
+                  "their own (0: decode each when "
                   "it is due, on the tracking thread); default: 4 when the run may use two "
                   "cores or more, else 0")
       ->check(CLI::NonNegativeNumber);
@@ -352,9 +354,18 @@ int main(int argc, char** argv) {
     std::vector<std::string> image_paths;
     image_paths.reserve(frames);
     for (std::size_t i = 0; i < frames; ++i) image_paths.push_back(sequence.images[i].path);
-    ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE,
-                               read_ahead >= 0 ? static_cast<std::size_t>(read_ahead)
-                                               : ocg::ImageReadAhead::AutomaticDepth());
+    const std::size_t depth = read_ahead >= 0 ? static_cast<std::size_t>(read_ahead)
+                                              : ocg::ImageReadAhead::AutomaticDepth();
+    // Read ahead, the reader thread extracts the ORB features too: half of tracking's
+    // CPU then runs while the previous frame is tracked. Without a reader thread tracking
+    // extracts them itself (the same features).
+    ocg::ImageReadAhead::Prepare extract;
+    if (depth > 0) {
+      extract = [extractor = slam.FeatureExtractor()](const cv::Mat& image) -> std::any {
+        return std::make_shared<const ocg::ExtractedFeatures>(extractor(image));
+      };
+    }
+    ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE, depth, extract);
     std::optional<ocg::LiveFeed> live;
     if (realtime) {
       std::vector<double> timestamps;
@@ -364,10 +375,16 @@ int main(int argc, char** argv) {
     }
     const auto track = [&](std::size_t i) {
       const ocg::TimedImage& image = sequence.images[i];
+      ocg::ImageReadAhead::Frame frame = images.NextFrame();
+      ocg::FrameSource source{TimestampInSeconds(image.timestamp_text, format), image.path, {}};
+      if (frame.prepared.has_value()) {
+        source.features =
+            std::any_cast<std::shared_ptr<const ocg::ExtractedFeatures>>(frame.prepared);
+      }
       slam.Track(
-          images.Next(), image.timestamp,
+          frame.image, image.timestamp,
           detection_folder ? detection_folder->ForFrame(image.timestamp_text) : no_detections,
-          {TimestampInSeconds(image.timestamp_text, format), image.path});
+          source);
       progress.Update(i + 1);
     };
     if (live) {

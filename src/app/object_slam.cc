@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "object_layer.h"
+#include "ocg/core/cpu_time.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/map_file.h"
 #include "ocg/core/settings_file.h"
@@ -94,7 +95,8 @@ class ObjectSlam::Impl {
     }
     cv::Mat gray = image;
     if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-    const TrackingResult result = system_.TrackImage(gray, timestamp, source.timestamp_text);
+    const TrackingResult result =
+        system_.TrackImage(gray, timestamp, source.timestamp_text, source.features.get());
     objects_.AddFrame(system_, result, frames_, timestamp, detections, source.image_path);
     if (result.T_cw && !first_tracked_) first_tracked_ = frames_;
     for (AlsoMode& also : also_)
@@ -221,7 +223,7 @@ class ObjectSlam::Impl {
  private:
   nlohmann::json Report(const RunDescription& description, const std::string& vocabulary_file) {
     int tracked = 0, lost = 0, relocalized = 0, uninitialized = 0;
-    std::vector<double> tracking_seconds, mapping_seconds, lock_wait_seconds;
+    std::vector<double> tracking_seconds, tracking_cpu_seconds, mapping_seconds, lock_wait_seconds;
     int first_tracked = -1;
     for (std::size_t i = 0; i < system_.Frames().size(); ++i) {
       const FrameRecord& record = system_.Frames()[i];
@@ -233,6 +235,7 @@ class ObjectSlam::Impl {
       if (record.state == TrackingState::kNotInitialized) ++uninitialized;
       if (record.relocalized) ++relocalized;
       tracking_seconds.push_back(record.tracking_seconds);
+      tracking_cpu_seconds.push_back(record.tracking_cpu_seconds);
       lock_wait_seconds.push_back(record.map_lock_wait_seconds);
       if (record.local_mapping_seconds > 0.0)
         mapping_seconds.push_back(record.local_mapping_seconds);
@@ -276,6 +279,13 @@ class ObjectSlam::Impl {
     // What the map lock costs (threaded mode; docs/slam.md "Threads and determinism").
     nlohmann::json& timing = report["timing"];
     timing["tracking_map_lock_wait_per_frame"] = app_detail::Timing(lock_wait_seconds);
+    // CPU times: what the run costs, comparable between runs on a loaded machine. The
+    // process total covers every thread (image reader, loop closing, global adjustment
+    // included) from the start of the process to the report.
+    timing["tracking_cpu_per_frame"] = app_detail::Timing(tracking_cpu_seconds);
+    timing["tracking_cpu_per_frame"]["total_s"] =
+        std::accumulate(tracking_cpu_seconds.begin(), tracking_cpu_seconds.end(), 0.0);
+    timing["process_cpu_s"] = ProcessCpuSeconds();
     timing["local_mapping_thread_per_keyframe"] = app_detail::Timing(mapping.keyframe_seconds);
     timing["local_mapping_map_lock_held_per_keyframe"] =
         app_detail::Timing(mapping.map_lock_held_seconds);
@@ -289,6 +299,7 @@ class ObjectSlam::Impl {
     // Threaded local mapping catching up (docs/slam.md "Threads and determinism").
     report["local_adjustments_skipped"] = mapping.local_adjustments_skipped;
     report["local_adjustments_interrupted"] = mapping.local_adjustments_interrupted;
+    report["local_mapping_yields_to_tracking"] = mapping.map_lock_yields;
     std::vector<double> ba_iterations(mapping.ba_iterations.begin(), mapping.ba_iterations.end());
     report["local_ba_iterations"] = {
         {"median", Median(ba_iterations)},
@@ -407,6 +418,10 @@ std::optional<SE3> ObjectSlam::Track(const cv::Mat& image, double timestamp,
         std::to_string(image.depth()));
   }
   return impl_->Track(image, timestamp, detections, source);
+}
+
+std::function<ExtractedFeatures(const cv::Mat&)> ObjectSlam::FeatureExtractor() const {
+  return impl_->system_.MakeFeatureExtractor();
 }
 
 void ObjectSlam::Shutdown() {

@@ -13,8 +13,12 @@
 
 namespace ocg {
 
-ImageReadAhead::ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth)
-    : paths_(std::move(paths)), imread_flags_(imread_flags), depth_(depth) {
+ImageReadAhead::ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth,
+                               Prepare prepare)
+    : paths_(std::move(paths)),
+      imread_flags_(imread_flags),
+      depth_(depth),
+      prepare_(std::move(prepare)) {
   if (depth_ == 0) return;  // read in Next(), on the caller's thread
   reader_ = std::thread([this] {
     NameThisThread("image_reader");
@@ -39,6 +43,13 @@ ImageReadAhead::Decoded ImageReadAhead::Decode(const std::string& path) const {
     decoded.image = cv::imread(path, imread_flags_);
   } catch (const cv::Exception&) {
     decoded.image.release();
+  }
+  if (prepare_ && !decoded.image.empty()) {
+    try {
+      decoded.prepared = prepare_(decoded.image);
+    } catch (...) {
+      decoded.failure = std::current_exception();
+    }
   }
   return decoded;
 }
@@ -69,7 +80,9 @@ std::size_t ImageReadAhead::AutomaticDepth() {
   return std::thread::hardware_concurrency() >= 2 ? kDepth : 0;
 }
 
-cv::Mat ImageReadAhead::Next() {
+cv::Mat ImageReadAhead::Next() { return NextFrame().image; }
+
+ImageReadAhead::Frame ImageReadAhead::NextFrame() {
   if (!HasNext()) throw std::logic_error("ImageReadAhead::Next: every image was taken");
   Decoded decoded;
   if (depth_ == 0) {
@@ -84,7 +97,8 @@ cv::Mat ImageReadAhead::Next() {
   }
   const std::string& path = paths_[taken_++];
   if (decoded.image.empty()) throw FileError("cannot read image '" + path + "'");
-  return decoded.image;
+  if (decoded.failure) std::rethrow_exception(decoded.failure);
+  return {std::move(decoded.image), std::move(decoded.prepared)};
 }
 
 }  // namespace ocg

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <deque>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -255,18 +256,25 @@ PoseOptimizationResult OptimizePose(const PinholeCamera& camera, const SE3& T_cw
     result.inlier[i] = (T_cw_initial * observations[i].point_world).z() > kMinDepth;
   }
   PoseManifold manifold;
+  // Tracking runs this twice per frame: the costs and the loss are made once for all
+  // rounds (not one heap allocation each per observation and round), and the problem
+  // skips Ceres' checks for repeated parameter blocks, which the one pose cannot have.
+  std::deque<PoseOnlyReprojectionCost> costs;
+  for (const PoseObservation& o : observations)
+    costs.emplace_back(camera, o.point_world, o.pixel, std::sqrt(o.inverse_sigma2));
+  ceres::HuberLoss huber(options.huber_threshold);
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.disable_all_safety_checks = true;
   for (int round = 0; round < options.rounds; ++round) {
     PoseParameters pose = ToParameters(result.T_cw);
-    ceres::Problem::Options problem_options;
-    problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     int used = 0;
     for (std::size_t i = 0; i < observations.size(); ++i) {
       if (!result.inlier[i]) continue;
-      const PoseObservation& o = observations[i];
-      problem.AddResidualBlock(
-          new PoseOnlyReprojectionCost(camera, o.point_world, o.pixel, std::sqrt(o.inverse_sigma2)),
-          new ceres::HuberLoss(options.huber_threshold), pose.data());
+      problem.AddResidualBlock(&costs[i], &huber, pose.data());
       ++used;
     }
     if (used < 3) break;  // too few to constrain a pose: keep the last estimate

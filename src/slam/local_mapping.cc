@@ -5,9 +5,9 @@
 #include <chrono>
 #include <climits>
 #include <cmath>
-#include <ctime>
 #include <set>
 
+#include "ocg/core/cpu_time.h"
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/core/statistics.h"
@@ -45,14 +45,6 @@ double MedianDepth(const KeyFrame& keyframe) {
     if (point && !point->bad) depths.push_back((keyframe.T_cw * point->position).z());
   }
   return Median(std::move(depths));
-}
-
-// CPU seconds this thread has used: unlike wall time, what another process on the same
-// cores takes does not count.
-double ThreadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 Eigen::Matrix<double, 3, 4> Projection(const Eigen::Matrix3d& K, const SE3& T_cw) {
@@ -147,6 +139,17 @@ auto LocalMapping::WithoutMapLock(std::unique_lock<std::mutex>& map_lock, Work&&
   return result;
 }
 
+// Tracking only reads the map (and counts its points' sightings), so what it does between
+// two steps changes nothing they rely on; a loop correction that takes the lock meanwhile
+// moves the map as it could before a keyframe's steps. Sequentially no tracker ever waits.
+void LocalMapping::LetTrackingIn(std::unique_lock<std::mutex>& map_lock) {
+  if (!map_->TrackerWaiting()) return;
+  const auto unlocked = std::chrono::steady_clock::now();
+  if (map_->LetWaitingTrackerIn(map_lock)) ++stats_.map_lock_yields;
+  unlocked_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - unlocked).count();
+}
+
 void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = ThreadCpuSeconds();
@@ -155,13 +158,17 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   const auto locked = std::chrono::steady_clock::now();
   LinkKeyFrame(keyframe);
   CullRecentPoints(keyframe);
+  LetTrackingIn(lock);
   TriangulateNewPoints(keyframe, lock);
-  FuseDuplicates(keyframe);
+  LetTrackingIn(lock);
+  FuseDuplicates(keyframe, lock);
+  LetTrackingIn(lock);
   if (CatchingUp()) {
     ++stats_.local_adjustments_skipped;
   } else {
     if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe, lock);
-    CullKeyFrames(keyframe);
+    LetTrackingIn(lock);
+    CullKeyFrames(keyframe, lock);
   }
   ++stats_.keyframes;
   const auto end = std::chrono::steady_clock::now();
@@ -370,7 +377,8 @@ std::vector<LocalMapping::NewPoint> LocalMapping::FindNewPoints(
   return found;
 }
 
-void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
+void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe,
+                                  std::unique_lock<std::mutex>& map_lock) {
   std::vector<KeyFramePtr> targets =
       map_->BestCovisible(keyframe, static_cast<std::size_t>(options_.triangulation_neighbours));
   std::set<KeyFrameId> seen;
@@ -381,9 +389,11 @@ void LocalMapping::FuseDuplicates(const KeyFramePtr& keyframe) {
       if (second->id != keyframe->id && seen.insert(second->id).second) targets.push_back(second);
     }
   }
-  for (const KeyFramePtr& target : targets)
+  for (const KeyFramePtr& target : targets) {
     stats_.points_fused += FusePoints(*map_, camera_, pyramid_, matcher_, options_.fuse_radius,
                                       target, keyframe->points);
+    LetTrackingIn(map_lock);
+  }
   std::vector<MapPointPtr> candidates;
   std::set<MapPointId> added;
   for (const KeyFramePtr& target : targets) {
@@ -449,10 +459,12 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
   stats_.ba_cpu_seconds.push_back(ThreadCpuSeconds() - cpu_start);
 }
 
-void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe) {
+void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe,
+                                 std::unique_lock<std::mutex>& map_lock) {
   const KeyFrameId first_id = map_->keyframes().begin()->first;
   for (const KeyFramePtr& candidate :
        map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
+    LetTrackingIn(map_lock);
     if (candidate->id == first_id || candidate->bad || !candidate->loop_edges.empty()) continue;
     int valid = 0;
     int redundant = 0;

@@ -1,6 +1,7 @@
 #include "ocg/slam/map.h"
 
 #include <algorithm>
+#include <thread>
 
 namespace ocg {
 
@@ -38,6 +39,23 @@ std::vector<bool> KeyFrame::GoodPointMask() const {
   std::vector<bool> mask(points.size());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = points[i] && !points[i]->bad;
   return mask;
+}
+
+std::unique_lock<std::mutex> Map::LockForTracking() const {
+  trackers_waiting_.fetch_add(1);
+  std::unique_lock<std::mutex> lock(mutex_);
+  trackers_waiting_.fetch_sub(1);
+  return lock;
+}
+
+bool Map::LetWaitingTrackerIn(std::unique_lock<std::mutex>& lock,
+                              std::chrono::microseconds max_wait) const {
+  if (!TrackerWaiting()) return false;
+  lock.unlock();
+  const auto until = std::chrono::steady_clock::now() + max_wait;
+  while (TrackerWaiting() && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+  lock.lock();
+  return true;
 }
 
 KeyFramePtr Map::GetKeyFrame(KeyFrameId id) const {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "ocg/core/cpu_time.h"
 #include "ocg/slam/map_file.h"
 
 namespace ocg {
@@ -32,9 +33,11 @@ System::System(const SystemConfig& config, const Vocabulary& vocabulary)
       return false;
     }
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = ThreadCpuSeconds();
     local_mapping_->ProcessKeyFrame(keyframe);
     const bool loop_closed = loop_closing_->ProcessKeyFrame(keyframe);
     pending_mapping_seconds_ += Seconds(start);
+    pending_mapping_cpu_seconds_ += ThreadCpuSeconds() - cpu_start;
     return loop_closed;
   };
   auto idle = [this] { return config_.sequential || local_mapping_->Idle(); };
@@ -64,10 +67,13 @@ System::~System() {
 }
 
 TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
-                                  const std::string& timestamp_text) {
+                                  const std::string& timestamp_text,
+                                  const ExtractedFeatures* features) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   pending_mapping_seconds_ = 0.0;
-  const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text);
+  pending_mapping_cpu_seconds_ = 0.0;
+  const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text, features);
   if (result.reset) {
     ++resets_;
     if (!config_.sequential) {  // drain the queues and join, in the order keyframes flow
@@ -91,9 +97,10 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   record.new_keyframe = result.new_keyframe;
   record.local_mapping_seconds = pending_mapping_seconds_;
   record.tracking_seconds = Seconds(start) - pending_mapping_seconds_;
+  record.tracking_cpu_seconds = ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_;
   record.map_lock_wait_seconds = result.map_lock_wait_seconds;
   if (result.T_cw) {
-    std::lock_guard<std::mutex> lock(map_.mutex());
+    const std::unique_lock<std::mutex> lock = map_.LockForTracking();
     // The reference is the newest keyframe (or the one tracking last chose).
     KeyFramePtr reference;
     for (auto it = map_.keyframes().rbegin(); it != map_.keyframes().rend(); ++it) {
@@ -110,6 +117,12 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   }
   frames_.push_back(record);
   return result;
+}
+
+std::function<ExtractedFeatures(const cv::Mat&)> System::MakeFeatureExtractor() const {
+  auto extractor = std::make_shared<OrbExtractor>(config_.orb);
+  const PinholeCamera camera = config_.camera;
+  return [extractor, camera](const cv::Mat& image) { return extractor->Extract(image, camera); };
 }
 
 void System::Shutdown() {

@@ -125,7 +125,8 @@ void Tracking::ComputeBow(Frame& frame) const {
 }
 
 TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
-                               const std::string& timestamp_text) {
+                               const std::string& timestamp_text,
+                               const ExtractedFeatures* features) {
   map_lock_wait_seconds_ = 0.0;
   Frame frame;
   frame.id = next_frame_id_++;
@@ -133,7 +134,13 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
   frame.timestamp_text = timestamp_text;
   const bool initializing =
       state_ == TrackingState::kNoImages || state_ == TrackingState::kNotInitialized;
-  frame.features = (initializing ? initialization_extractor_ : extractor_).Extract(image, camera_);
+  if (initializing) {
+    frame.features = initialization_extractor_.Extract(image, camera_);
+  } else if (features != nullptr) {
+    frame.features = *features;
+  } else {
+    frame.features = extractor_.Extract(image, camera_);
+  }
   frame.points.assign(frame.features.size(), nullptr);
   frame.outlier.assign(frame.features.size(), false);
   TrackingResult result;
@@ -452,23 +459,20 @@ int Tracking::TrackLocalMap(Frame& frame) {
     reference_ = best;
     frame.reference = best;
   }
-  // Local points not matched yet, projected with the current pose.
-  std::set<MapPointId> already;
+  // Local points not matched yet, projected with the current pose; each once, however
+  // many local keyframes see it (marked with the frame id instead of a set of ids).
   for (const MapPointPtr& point : frame.points) {
-    if (point) already.insert(point->id);
+    if (point) point->searched_by_frame = frame.id;
   }
   std::vector<ProjectedPoint> projected;
   std::vector<MapPointPtr> sources;
-  std::set<MapPointId> considered;
   const double threshold =
       (last_relocalization_frame_id_ > 0 && frame.id < last_relocalization_frame_id_ + 2) ? 5.0
                                                                                           : 1.0;
   for (const KeyFramePtr& keyframe : local) {
     for (const MapPointPtr& point : keyframe->points) {
-      if (!point || point->bad || already.count(point->id) ||
-          !considered.insert(point->id).second) {
-        continue;
-      }
+      if (!point || point->bad || point->searched_by_frame == frame.id) continue;
+      point->searched_by_frame = frame.id;
       const auto projection =
           ProjectPoint(camera_, frame.features.grid.bounds(), *frame.T_cw, *point, true);
       if (!projection) continue;
@@ -501,7 +505,7 @@ int Tracking::TrackLocalMap(Frame& frame) {
 
 std::unique_lock<std::mutex> Tracking::LockMap() const {
   const auto start = std::chrono::steady_clock::now();
-  std::unique_lock<std::mutex> lock(dependencies_.map->mutex());
+  std::unique_lock<std::mutex> lock = dependencies_.map->LockForTracking();
   map_lock_wait_seconds_ +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return lock;

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <any>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -73,6 +75,33 @@ TEST_F(ImageReadAheadTest, AnUnreadableImageFailsInItsTurnNamingTheFile) {
     // The images after it are still given.
     EXPECT_EQ(reader.Next().at<unsigned char>(0, 0), 40);
   }
+}
+
+// The prepare function's result comes with its own image, in order, at every depth, and
+// its exception is rethrown when that image is taken, the later images still given.
+TEST_F(ImageReadAheadTest, GivesWhatPrepareMadeOfEachImageWithIt) {
+  std::vector<std::string> paths;
+  for (int i = 0; i < 8; ++i) paths.push_back(WriteImage(i));
+  const ImageReadAhead::Prepare first_pixel = [](const cv::Mat& image) -> std::any {
+    const int value = image.at<unsigned char>(0, 0);
+    if (value == 30) throw std::runtime_error("prepare failed on image 3");
+    return value;
+  };
+  for (const std::size_t depth : {std::size_t{0}, std::size_t{3}}) {
+    ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, depth, first_pixel);
+    for (int i = 0; i < 8; ++i) {
+      if (i == 3) {
+        EXPECT_THROW(reader.NextFrame(), std::runtime_error) << "depth " << depth;
+        continue;
+      }
+      const ImageReadAhead::Frame frame = reader.NextFrame();
+      EXPECT_EQ(frame.image.at<unsigned char>(0, 0), i * 10);
+      ASSERT_TRUE(frame.prepared.has_value());
+      EXPECT_EQ(std::any_cast<int>(frame.prepared), i * 10) << "image " << i << ", depth " << depth;
+    }
+  }
+  ImageReadAhead plain(paths, cv::IMREAD_GRAYSCALE, 2);
+  EXPECT_FALSE(plain.NextFrame().prepared.has_value());
 }
 
 TEST_F(ImageReadAheadTest, StopsWithoutWaitingForImagesNobodyTakes) {

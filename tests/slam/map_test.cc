@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
 namespace ocg {
 namespace {
 
@@ -26,6 +31,29 @@ MapPointPtr AddPoint(Map& map, const std::vector<std::pair<KeyFramePtr, int>>& s
   map.Add(point);
   for (const auto& [keyframe, feature] : seen_by) map.AddObservation(keyframe, feature, point);
   return point;
+}
+
+// Local mapping, holding the lock between two steps, lets a tracker that waits for it go
+// first; the mutex alone would let local mapping go on (it still holds the lock) and the
+// tracker would wait for every later step too.
+TEST(MapLock, AWaitingTrackerGoesBeforeTheNextStepOfLocalMapping) {
+  Map map;
+  std::vector<std::string> order;  // written under the map lock only
+  std::unique_lock<std::mutex> mapping(map.mutex());
+  EXPECT_FALSE(map.LetWaitingTrackerIn(mapping));  // nobody waits: keeps the lock
+  EXPECT_TRUE(mapping.owns_lock());
+  std::thread tracker([&] {
+    const std::unique_lock<std::mutex> lock = map.LockForTracking();
+    order.push_back("tracker");
+  });
+  while (!map.TrackerWaiting()) std::this_thread::yield();
+  EXPECT_TRUE(map.LetWaitingTrackerIn(mapping, std::chrono::seconds(10)));
+  EXPECT_TRUE(mapping.owns_lock());
+  order.push_back("mapping");
+  mapping.unlock();
+  tracker.join();
+  EXPECT_EQ(order, (std::vector<std::string>{"tracker", "mapping"}));
+  EXPECT_FALSE(map.TrackerWaiting());
 }
 
 TEST(Map, CovisibilityNeedsFifteenSharedPointsOrTakesTheBest) {

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/mat.hpp>
@@ -31,6 +32,7 @@
 
 #include "ocg/app/settings.h"
 #include "ocg/core/lie.h"
+#include "ocg/features/orb_extractor.h"
 #include "ocg/io/detections.h"
 #include "ocg/io/trajectory.h"
 #include "ocg/viewer/snapshots.h"
@@ -67,6 +69,9 @@ struct FrameSource {
   // at Shutdown(), for the objects' colour signatures at keyframes (docs/sessions.md,
   // "Moves in changes.json"; empty: the frame's sightings get none).
   std::string image_path;
+  // The image's ORB features from ObjectSlam::FeatureExtractor(), made ahead on another
+  // thread; null: tracking extracts them (it always does while initializing).
+  std::shared_ptr<const ExtractedFeatures> features = nullptr;
 };
 
 // Where the run came from, for run.json.
@@ -100,6 +105,10 @@ class ObjectSlam {
   std::optional<SE3> Track(const cv::Mat& image, double timestamp,
                            const std::vector<Detection>& detections,
                            const FrameSource& source = {});
+  // A function that extracts an image's ORB features as tracking does (System::
+  // MakeFeatureExtractor), for a thread that prepares frames ahead: give its result to
+  // Track() in FrameSource::features. One per thread; safe to call before Track().
+  std::function<ExtractedFeatures(const cv::Mat&)> FeatureExtractor() const;
   // Finishes local mapping, loop closing and the OCG; the objects take the final poses.
   // Idempotent; rethrows a failure of a worker thread.
   void Shutdown();

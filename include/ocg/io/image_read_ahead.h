@@ -4,15 +4,20 @@
 // of the CPU samples of a run on a generated sequence, bench/slam_speed.py --profile);
 // read ahead, it runs while the consumer tracks the previous frame instead of between
 // frames. The images and their order are exactly those of reading one after the other.
+// An optional prepare function runs on each decoded image on the same thread (ocg_slam:
+// the ORB extraction, so that it too runs while the previous frame is tracked).
 //
 // Threading: the constructor starts the reader thread ("image_reader") unless depth is 0;
 // HasNext and Next
 // are called from one consumer thread; the destructor stops and joins the reader (images
 // read ahead and never taken are dropped).
 
+#include <any>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
+#include <exception>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -24,11 +29,22 @@ namespace ocg {
 
 class ImageReadAhead {
  public:
+  // Work on a decoded image, done where it is decoded (the reader thread, or Next() when
+  // depth is 0); its result comes with the image.
+  using Prepare = std::function<std::any(const cv::Mat&)>;
+  struct Frame {
+    cv::Mat image;
+    std::any prepared;  // prepare's result; empty without a prepare function
+  };
+
   // paths: image files, read in this order. imread_flags: cv::IMREAD_* (e.g. GRAYSCALE).
   // depth: at most this many decoded images wait for the consumer; 0 starts no thread and
   // decodes each image in Next() (on one core a reader thread only competes with the
   // consumer: bench/slam_speed.py --cores 1 measured it).
-  ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth = 4);
+  // prepare: optional; an exception from it is rethrown by the Next/NextFrame call that
+  // takes that image.
+  ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth = 4,
+                 Prepare prepare = nullptr);
   ~ImageReadAhead();
   ImageReadAhead(const ImageReadAhead&) = delete;
   ImageReadAhead& operator=(const ImageReadAhead&) = delete;
@@ -43,10 +59,14 @@ class ImageReadAhead {
   // FileError naming the file when it cannot be read or decoded, and std::logic_error when
   // every image was taken.
   cv::Mat Next();
+  // The same, with what prepare made of it.
+  Frame NextFrame();
 
  private:
   struct Decoded {
     cv::Mat image;  // empty when the file could not be read
+    std::any prepared;
+    std::exception_ptr failure;  // from prepare
   };
   void Run();
   Decoded Decode(const std::string& path) const;
@@ -54,6 +74,7 @@ class ImageReadAhead {
   const std::vector<std::string> paths_;
   const int imread_flags_;
   const std::size_t depth_;
+  const Prepare prepare_;
   std::size_t taken_ = 0;  // consumer thread only
 
   std::mutex mutex_;

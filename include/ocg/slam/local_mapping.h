@@ -74,6 +74,9 @@ struct LocalMappingStats {
   int local_adjustments_skipped = 0;
   int local_adjustments_interrupted = 0;
   std::vector<int> ba_iterations;  // per local adjustment applied: of both solves
+  // Threaded mode: times local mapping released the map lock between steps because
+  // tracking waited for it.
+  int map_lock_yields = 0;
 };
 
 class LocalMapping {
@@ -138,13 +141,17 @@ class LocalMapping {
   // views: the new keyframe first, then its neighbours. Marks the new keyframe's features
   // that it gives points to. Needs no lock.
   std::vector<NewPoint> FindNewPoints(std::vector<TriangulationView>* views) const;
-  void FuseDuplicates(const KeyFramePtr& keyframe);
+  // Takes the map lock held and gives it back held; lets tracking in between targets.
+  void FuseDuplicates(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
   // Takes the map lock held and gives it back held; releases it while Ceres solves.
   void LocalBundleAdjustment(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
   // Threaded mode: whether to skip the local adjustment and keyframe culling because more
   // keyframes wait; also clears a stop request left from before.
   bool CatchingUp();
-  void CullKeyFrames(const KeyFramePtr& keyframe);
+  void CullKeyFrames(const KeyFramePtr& keyframe, std::unique_lock<std::mutex>& map_lock);
+  // Between two steps on a keyframe: a tracker waiting for the map lock goes first
+  // (Map::LetWaitingTrackerIn), so that it waits for one step, not for all of them.
+  void LetTrackingIn(std::unique_lock<std::mutex>& map_lock);
 
   PinholeCamera camera_;
   ScalePyramid pyramid_;

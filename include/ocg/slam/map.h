@@ -8,7 +8,10 @@
 // results, do not depend on addresses.
 
 #include <Eigen/Core>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -46,6 +49,12 @@ struct MapPoint {
   int visible = 1;  // frames in whose frustum it was
   int found = 1;    // frames that matched it
   bool bad = false;
+  // Tracking's scratch mark (ORB-SLAM2's mnTrackReferenceForFrame): the last frame whose
+  // local map search already had this point, so that a point seen by several local
+  // keyframes is projected once without a set of ids per frame. Not saved with the map.
+  std::uint64_t searched_by_frame = kNoFrame;
+
+  static constexpr std::uint64_t kNoFrame = std::numeric_limits<std::uint64_t>::max();
 
   double FoundRatio() const { return static_cast<double>(found) / visible; }
 };
@@ -105,6 +114,17 @@ class Map {
   static constexpr int kCovisibilityThreshold = 15;
 
   std::mutex& mutex() const { return mutex_; }
+  // Tracking must keep up with the camera; local mapping's steps on a keyframe take
+  // several times a frame's tracking, and the mutex is not fair (the thread releasing it
+  // can take it back before a waiter wakes). So tracking takes the lock saying that it
+  // waits, and local mapping, between its steps, lets a waiting tracker in first.
+  std::unique_lock<std::mutex> LockForTracking() const;
+  bool TrackerWaiting() const { return trackers_waiting_.load() > 0; }
+  // Called holding lock (on mutex()): while a tracker waits, releases the lock until the
+  // tracker has it (at most max_wait: it may wait behind another thread), then takes it
+  // again, after the tracker's step. Returns whether a tracker was let in.
+  bool LetWaitingTrackerIn(std::unique_lock<std::mutex>& lock,
+                           std::chrono::microseconds max_wait = std::chrono::milliseconds(5)) const;
 
   KeyFrameId NextKeyFrameId() { return next_keyframe_id_++; }
   MapPointId NextMapPointId() { return next_point_id_++; }
@@ -146,6 +166,7 @@ class Map {
 
  private:
   mutable std::mutex mutex_;
+  mutable std::atomic<int> trackers_waiting_{0};
   KeyFrameId next_keyframe_id_ = 0;
   MapPointId next_point_id_ = 0;
   std::uint64_t corrections_ = 0;

@@ -8,6 +8,7 @@
 // on its own thread, fed through a bounded queue, and loop closing on another, fed by
 // local mapping.
 
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -43,6 +44,7 @@ struct FrameRecord {
   bool relocalized = false;
   bool new_keyframe = false;
   double tracking_seconds = 0.0;       // feature extraction and tracking
+  double tracking_cpu_seconds = 0.0;   // the same, CPU time of the tracking thread
   double local_mapping_seconds = 0.0;  // sequential mode: the keyframe's local mapping
   double map_lock_wait_seconds = 0.0;  // tracking waiting for the map lock (threaded mode)
   // Pose relative to the reference keyframe when tracked (ORB-SLAM2's way of writing
@@ -60,8 +62,15 @@ class System {
   System(const System&) = delete;
   System& operator=(const System&) = delete;
 
+  // features: see Tracking::Track (made by MakeFeatureExtractor; null: extracted here).
   TrackingResult TrackImage(const cv::Mat& image, double timestamp,
-                            const std::string& timestamp_text);
+                            const std::string& timestamp_text,
+                            const ExtractedFeatures* features = nullptr);
+  // A function that extracts an image's ORB features as tracking does once initialized
+  // (same options, camera and undistortion), with an extractor of its own: for another
+  // thread, so that extraction, half of tracking's CPU, runs while the previous frame is
+  // tracked. Give its result to TrackImage. Not thread-safe itself: one per thread.
+  std::function<ExtractedFeatures(const cv::Mat&)> MakeFeatureExtractor() const;
   // Finishes local mapping (threaded mode) and stops its thread. Idempotent; rethrows a
   // failure of the local mapping thread.
   void Shutdown();
@@ -119,6 +128,7 @@ class System {
   std::unique_ptr<Tracking> tracking_;
   std::vector<FrameRecord> frames_;
   double pending_mapping_seconds_ = 0.0;
+  double pending_mapping_cpu_seconds_ = 0.0;
   int resets_ = 0;
   bool shut_down_ = false;
   bool map_loaded_ = false;

@@ -108,7 +108,12 @@ class Tracking {
            std::function<bool(const KeyFramePtr&)> keyframe_sink,
            std::function<bool()> local_mapping_idle);
 
-  TrackingResult Track(const cv::Mat& image, double timestamp, const std::string& timestamp_text);
+  // features: the image's ORB features made by an extractor with this tracking's options
+  // (System::MakeFeatureExtractor), e.g. on a reader thread while the previous frame was
+  // tracked; null: extracted here. While not initialized tracking extracts its own even
+  // when given some, with Tracking.initFeaturesFactor times more features.
+  TrackingResult Track(const cv::Mat& image, double timestamp, const std::string& timestamp_text,
+                       const ExtractedFeatures* features = nullptr);
   TrackingState state() const { return state_; }
   // Every frame given while not initialized, and why it did not initialize.
   const InitializationAttempts& initialization_attempts() const { return initialization_; }
