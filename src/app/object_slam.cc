@@ -43,7 +43,9 @@ nlohmann::json LoopClosingSection(const Settings& settings, const LoopClosingSta
                      {"scale", loop.scale},
                      {"correction", loop.correction},
                      {"points_fused", loop.points_fused},
-                     {"seconds", loop.seconds}});
+                     {"seconds", loop.seconds},
+                     {"map_lock_held_seconds", loop.map_lock_held_seconds},
+                     {"map_lock_longest_hold_seconds", loop.map_lock_longest_hold_seconds}});
   }
   return {{"enabled", settings.loop_closing.enabled},
           {"candidates_checked", stats.candidates_checked},
