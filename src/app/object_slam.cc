@@ -111,8 +111,9 @@ class ObjectSlam::Impl {
 
   void Shutdown() {
     system_.Shutdown();
-    objects_.Finish(system_);
-    for (AlsoMode& also : also_) also.objects->Finish(system_);
+    std::vector<app_detail::ObjectLayer*> layers = {&objects_};
+    for (AlsoMode& also : also_) layers.push_back(also.objects.get());
+    app_detail::ObjectLayer::Finish(system_, layers);
     wall_seconds_ = started_ ? SecondsSince(start_) : 0.0;
   }
 
