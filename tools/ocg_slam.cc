@@ -365,17 +365,22 @@ int main(int argc, char** argv) {
         return std::make_shared<const ocg::ExtractedFeatures>(extractor(image));
       };
     }
-    ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE, depth, extract);
     std::optional<ocg::LiveFeed> live;
+    ocg::ImageReadAhead::Skip replaced;
     if (realtime) {
       std::vector<double> timestamps;
       timestamps.reserve(frames);
       for (std::size_t i = 0; i < frames; ++i) timestamps.push_back(sequence.images[i].timestamp);
       live.emplace(std::move(timestamps));
+      replaced = [&live](std::size_t index) { return live->Replaced(index); };
     }
+    ocg::ImageReadAhead images(std::move(image_paths), cv::IMREAD_GRAYSCALE, depth, extract,
+                               replaced);
     const auto track = [&](std::size_t i) {
       const ocg::TimedImage& image = sequence.images[i];
       ocg::ImageReadAhead::Frame frame = images.NextFrame();
+      if (frame.image.empty())  // LiveFeed::Replaced said it would never be delivered
+        throw std::logic_error("image " + std::to_string(i) + " was skipped but is due");
       ocg::FrameSource source{TimestampInSeconds(image.timestamp_text, format), image.path, {}};
       if (frame.prepared.has_value()) {
         source.features =
@@ -390,7 +395,8 @@ int main(int argc, char** argv) {
     if (live) {
       std::size_t images_taken = 0;
       while (const std::optional<std::size_t> due = live->Next()) {
-        // Images the live camera replaced before tracking was ready are decoded and lost.
+        // Images the live camera replaced before tracking was ready are lost (and were
+        // not decoded, unless read ahead before the camera replaced them).
         for (; images_taken < *due; ++images_taken) images.Next();
         track(*due);
         ++images_taken;

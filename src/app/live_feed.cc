@@ -38,15 +38,28 @@ LiveFeed::LiveFeed(std::vector<double> timestamps, Clock clock, SleepUntil sleep
 double LiveFeed::Due(std::size_t i) const { return *start_ + timestamps_[i] - timestamps_[0]; }
 
 std::optional<std::size_t> LiveFeed::Next() {
-  if (next_ >= timestamps_.size()) return std::nullopt;
-  if (!start_) start_ = clock_();
-  const double now = clock_();
-  // The camera has replaced image next_ once its successor is due.
-  while (next_ + 1 < timestamps_.size() && Due(next_ + 1) <= now) dropped_.push_back(next_++);
-  if (Due(next_) > now) sleep_until_(Due(next_));
-  lag_seconds_.push_back(std::max(0.0, clock_() - Due(next_)));
+  std::size_t index = 0;
+  double now = 0.0;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (next_ >= timestamps_.size()) return std::nullopt;
+    if (!start_) start_ = clock_();
+    now = clock_();
+    // The camera has replaced image next_ once its successor is due.
+    while (next_ + 1 < timestamps_.size() && Due(next_ + 1) <= now) dropped_.push_back(next_++);
+    index = next_++;
+  }
+  if (Due(index) > now) sleep_until_(Due(index));
+  lag_seconds_.push_back(std::max(0.0, clock_() - Due(index)));
   ++delivered_;
-  return next_++;
+  return index;
+}
+
+bool LiveFeed::Replaced(std::size_t index) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (index < next_) return std::binary_search(dropped_.begin(), dropped_.end(), index);
+  // The clock read here is no later than the one of any later Next(), which then drops it.
+  return start_ && index + 1 < timestamps_.size() && Due(index + 1) <= clock_();
 }
 
 nlohmann::json LiveFeed::Report() const {

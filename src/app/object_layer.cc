@@ -124,47 +124,60 @@ std::optional<std::vector<ObjectView>> ObjectLayer::TakeFirstRemoval() {
   return std::exchange(first_removal_, std::nullopt);
 }
 
-void ObjectLayer::Finish(const System& system) {
-  if (!enabled_) return;
+void ObjectLayer::FinishObjects(const System& system) {
   // A loaded object map already follows the loaded SLAM map, which only a tracked frame
   // changes; following it again would move the objects anyway (up and cuboids refine
   // each other a little more at every call).
   if (!loaded_ || tracked_frames_ > loaded_tracked_frames_) Follow(system);
   mapper_->Finish();
-  SetColours(system);
-  if (session_ > 0) {
-    const KeyframeFeatureMap keyframes = KeyframeFeaturesOf(system);
-    // The pairing (ChangeLog()) matches with the default AppearanceOptions too.
-    box_appearance_ = mapper_->BoxAppearances(keyframes, BoxAppearanceOptions{},
-                                              AppearanceOptions{}.max_distance);
-    colour_ = mapper_->ColourAppearances(AppearanceOptions{}.min_colour_signatures);
-  }
+  colour_images_ = colour_signatures_ = 0;
 }
 
-void ObjectLayer::SetColours(const System& system) {
-  // Keyframes only: a few hundred images read again at the end of a run, not one per
-  // frame while tracking; the box appearance reads the same keyframes' features. A later
-  // session reads its own keyframes; earlier sessions' sightings keep the colours their
-  // session gave them (map files).
+void ObjectLayer::FinishAppearances(const System& system) {
+  if (session_ == 0) return;
+  const KeyframeFeatureMap keyframes = KeyframeFeaturesOf(system);
+  // The pairing (ChangeLog()) matches with the default AppearanceOptions too.
+  box_appearance_ =
+      mapper_->BoxAppearances(keyframes, BoxAppearanceOptions{}, AppearanceOptions{}.max_distance);
+  colour_ = mapper_->ColourAppearances(AppearanceOptions{}.min_colour_signatures);
+}
+
+void ObjectLayer::Finish(const System& system, const std::vector<ObjectLayer*>& layers) {
+  std::vector<ObjectLayer*> enabled;
+  for (ObjectLayer* layer : layers) {
+    if (layer->enabled_) enabled.push_back(layer);
+  }
+  for (ObjectLayer* layer : enabled) layer->FinishObjects(system);
+  // The colours: keyframes only, a few hundred images read again at the end of a run, not
+  // one per frame while tracking (the box appearance reads the same keyframes' features).
+  // A later session reads its own keyframes; earlier sessions' sightings keep the colours
+  // their session gave them (map files).
   const auto start = std::chrono::steady_clock::now();
-  int& images = colour_images_;
-  int& signatures = colour_signatures_;
-  images = signatures = 0;
   for (const KeyFramePtr& keyframe : system.KeyFrames()) {
-    const auto path = image_paths_.find(static_cast<std::int64_t>(keyframe->frame_id));
-    if (path == image_paths_.end()) continue;
-    const cv::Mat bgr = cv::imread(path->second, cv::IMREAD_COLOR);
+    const auto frame = static_cast<std::int64_t>(keyframe->frame_id);
+    std::string path;
+    for (const ObjectLayer* layer : enabled) {
+      const auto found = layer->image_paths_.find(frame);
+      if (found != layer->image_paths_.end()) path = found->second;
+    }
+    if (path.empty()) continue;
+    const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
     if (bgr.empty()) {
       spdlog::warn("cannot read '{}' again for the objects' colours: its keyframe gives none",
-                   path->second);
+                   path);
       continue;
     }
-    ++images;
-    signatures += mapper_->SetSightingColours(path->first, bgr, ColourSignatureOptions{});
+    for (ObjectLayer* layer : enabled) {
+      if (layer->image_paths_.count(frame) == 0) continue;
+      ++layer->colour_images_;
+      layer->colour_signatures_ +=
+          layer->mapper_->SetSightingColours(frame, bgr, ColourSignatureOptions{});
+    }
   }
-  spdlog::debug("objects' colours: {} signatures from {} keyframe images in {:.2f} s", signatures,
-                images,
+  spdlog::debug("objects' colours of {} layer(s) from the keyframe images in {:.2f} s",
+                enabled.size(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  for (ObjectLayer* layer : enabled) layer->FinishAppearances(system);
 }
 
 std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }

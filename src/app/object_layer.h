@@ -55,8 +55,11 @@ class ObjectLayer {
   std::vector<FrameDetection> LastFrameDetections() const;
   // Once: the objects just before the OCG's first removal, if there was one.
   std::optional<std::vector<ObjectView>> TakeFirstRemoval();
-  // After SLAM has finished: the objects take the final poses, the OCG its last keyframe.
-  void Finish(const System& system);
+  // After SLAM has finished: the objects take the final poses, the OCG its last keyframe,
+  // and the sightings at this session's keyframes their colour signatures, each keyframe
+  // image read once for every layer given (ocg_slam run --modes: one layer per mode, all
+  // fed the same frames). Layers that are not enabled are passed over.
+  static void Finish(const System& system, const std::vector<ObjectLayer*>& layers);
   // objects.json, changes.json ("" without an object layer).
   std::string Objects() const;
   std::string Changes() const;
@@ -79,8 +82,9 @@ class ObjectLayer {
  private:
   void Start();
   void Follow(const System& system);
-  // The colour signatures of the sightings at this session's keyframes.
-  void SetColours(const System& system);
+  // Finish()'s steps: before the colours, and after them.
+  void FinishObjects(const System& system);
+  void FinishAppearances(const System& system);
   ChangeLogContext ChangeLog() const;
 
   const Settings& settings_;
@@ -104,7 +108,7 @@ class ObjectLayer {
   std::map<ObjectId, std::vector<Descriptor>> box_appearance_;
   // This session's image files of frames with detections, by frame (over all sessions).
   std::map<std::int64_t, std::string> image_paths_;
-  // SetColours(): keyframe images read again, sightings given a colour signature.
+  // Finish(): keyframe images read again, sightings given a colour signature.
   int colour_images_ = 0;
   int colour_signatures_ = 0;
   // Finish(): ObjectMap::ColourAppearances().

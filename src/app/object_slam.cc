@@ -43,7 +43,9 @@ nlohmann::json LoopClosingSection(const Settings& settings, const LoopClosingSta
                      {"scale", loop.scale},
                      {"correction", loop.correction},
                      {"points_fused", loop.points_fused},
-                     {"seconds", loop.seconds}});
+                     {"seconds", loop.seconds},
+                     {"map_lock_held_seconds", loop.map_lock_held_seconds},
+                     {"map_lock_longest_hold_seconds", loop.map_lock_longest_hold_seconds}});
   }
   return {{"enabled", settings.loop_closing.enabled},
           {"candidates_checked", stats.candidates_checked},
@@ -109,8 +111,9 @@ class ObjectSlam::Impl {
 
   void Shutdown() {
     system_.Shutdown();
-    objects_.Finish(system_);
-    for (AlsoMode& also : also_) also.objects->Finish(system_);
+    std::vector<app_detail::ObjectLayer*> layers = {&objects_};
+    for (AlsoMode& also : also_) layers.push_back(also.objects.get());
+    app_detail::ObjectLayer::Finish(system_, layers);
     wall_seconds_ = started_ ? SecondsSince(start_) : 0.0;
   }
 

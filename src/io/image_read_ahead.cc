@@ -14,11 +14,12 @@
 namespace ocg {
 
 ImageReadAhead::ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth,
-                               Prepare prepare)
+                               Prepare prepare, Skip skip)
     : paths_(std::move(paths)),
       imread_flags_(imread_flags),
       depth_(depth),
-      prepare_(std::move(prepare)) {
+      prepare_(std::move(prepare)),
+      skip_(std::move(skip)) {
   if (depth_ == 0) return;  // read in Next(), on the caller's thread
   reader_ = std::thread([this] {
     NameThisThread("image_reader");
@@ -35,12 +36,16 @@ ImageReadAhead::~ImageReadAhead() {
   if (reader_.joinable()) reader_.join();
 }
 
-ImageReadAhead::Decoded ImageReadAhead::Decode(const std::string& path) const {
+ImageReadAhead::Decoded ImageReadAhead::Decode(std::size_t index) const {
+  Decoded decoded;
+  if (skip_ && skip_(index)) {
+    decoded.skipped = true;
+    return decoded;
+  }
   // cv::imread reports a missing or undecodable file by an empty image; an exception
   // from a broken codec must not end the reader thread, so it is turned into the same.
-  Decoded decoded;
   try {
-    decoded.image = cv::imread(path, imread_flags_);
+    decoded.image = cv::imread(paths_[index], imread_flags_);
   } catch (const cv::Exception&) {
     decoded.image.release();
   }
@@ -55,13 +60,13 @@ ImageReadAhead::Decoded ImageReadAhead::Decode(const std::string& path) const {
 }
 
 void ImageReadAhead::Run() {
-  for (const std::string& path : paths_) {
+  for (std::size_t index = 0; index < paths_.size(); ++index) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait(lock, [this] { return stopping_ || ready_.size() < depth_; });
       if (stopping_) return;
     }
-    Decoded decoded = Decode(path);
+    Decoded decoded = Decode(index);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       ready_.push_back(std::move(decoded));
@@ -86,7 +91,7 @@ ImageReadAhead::Frame ImageReadAhead::NextFrame() {
   if (!HasNext()) throw std::logic_error("ImageReadAhead::Next: every image was taken");
   Decoded decoded;
   if (depth_ == 0) {
-    decoded = Decode(paths_[taken_]);
+    decoded = Decode(taken_);
   } else {
     std::unique_lock<std::mutex> lock(mutex_);
     changed_.wait(lock, [this] { return !ready_.empty(); });
@@ -96,6 +101,7 @@ ImageReadAhead::Frame ImageReadAhead::NextFrame() {
     changed_.notify_all();
   }
   const std::string& path = paths_[taken_++];
+  if (decoded.skipped) return {};
   if (decoded.image.empty()) throw FileError("cannot read image '" + path + "'");
   if (decoded.failure) std::rethrow_exception(decoded.failure);
   return {std::move(decoded.image), std::move(decoded.prepared)};

@@ -800,6 +800,19 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMap::Appearances() const {
   return appearances;
 }
 
+template <typename Visit>
+void ObjectMap::ForEachBetweenSessionCandidate(Visit&& visit) const {
+  if (session_ == 0) return;
+  for (const auto& [id, object] : removed_in_run_) {
+    if (!object.sightings.empty() && object.sightings.back().session < session_)
+      visit(object, true);
+  }
+  for (const auto& [id, object] : objects_) {
+    if (!object.sightings.empty() && object.sightings.front().session == session_)
+      visit(object, false);
+  }
+}
+
 std::map<ObjectId, std::vector<Descriptor>> ObjectMap::BoxAppearances(
     const KeyframeFeatureMap& keyframes, const BoxAppearanceOptions& options,
     int max_distance) const {
@@ -821,14 +834,8 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMap::BoxAppearances(
         max_distance);
     if (!descriptors.empty()) appearances[object.id] = std::move(descriptors);
   };
-  if (session_ == 0) return appearances;
-  for (const auto& [id, object] : removed_in_run_) {
-    if (!object.sightings.empty() && object.sightings.back().session < session_) add(object, now);
-  }
-  for (const auto& [id, object] : objects_) {
-    if (!object.sightings.empty() && object.sightings.front().session == session_)
-      add(object, earlier);
-  }
+  ForEachBetweenSessionCandidate(
+      [&](const MapObject& object, bool removed) { add(object, removed ? now : earlier); });
   return appearances;
 }
 
@@ -850,22 +857,14 @@ int ObjectMap::SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
 
 std::map<ObjectId, ColourHistogram> ObjectMap::ColourAppearances(int min_signatures) const {
   std::map<ObjectId, ColourHistogram> colours;
-  if (session_ == 0) return colours;
-  const auto add = [&](const MapObject& object) {
+  ForEachBetweenSessionCandidate([&](const MapObject& object, bool /*removed*/) {
     std::vector<ColourHistogram> signatures;
     for (const ObjectSighting& sighting : object.sightings) {
       if (sighting.colour) signatures.push_back(*sighting.colour);
     }
     if (static_cast<int>(signatures.size()) < min_signatures) return;
     if (std::optional<ColourHistogram> mean = MeanColour(signatures)) colours[object.id] = *mean;
-  };
-  // The same objects as BoxAppearances(): those a between-session pairing weighs.
-  for (const auto& [id, object] : removed_in_run_) {
-    if (!object.sightings.empty() && object.sightings.back().session < session_) add(object);
-  }
-  for (const auto& [id, object] : objects_) {
-    if (!object.sightings.empty() && object.sightings.front().session == session_) add(object);
-  }
+  });
   return colours;
 }
 

@@ -153,6 +153,7 @@ void LocalMapping::LetTrackingIn(std::unique_lock<std::mutex>& map_lock) {
 void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = ThreadCpuSeconds();
+  const std::lock_guard<std::mutex> mapping(map_->mapping_mutex());
   std::unique_lock<std::mutex> lock(map_->mutex());
   unlocked_seconds_ = 0.0;
   const auto locked = std::chrono::steady_clock::now();

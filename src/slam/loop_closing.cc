@@ -57,6 +57,40 @@ void ReadSettings(const SettingsFile& file, LoopClosingOptions* options) {
   file.Read("LoopClosing.sim3RefineIterations", &options->sim3.refine_iterations);
 }
 
+// The map lock of a loop correction, taken and given back between its steps, with how
+// long it was held: what tracking may have waited for.
+class LoopClosing::MapLock {
+ public:
+  explicit MapLock(std::mutex& mutex) : lock_(mutex, std::defer_lock) {}
+  void Lock() {
+    lock_.lock();
+    locked_at_ = std::chrono::steady_clock::now();
+  }
+  void Unlock() {
+    CountHold();
+    lock_.unlock();
+  }
+  // Between two steps of the correction, each of which leaves the map whole.
+  void LetWaitingTrackerIn(const Map& map) {
+    if (!map.TrackerWaiting()) return;
+    CountHold();
+    map.LetWaitingTrackerIn(lock_);
+    locked_at_ = std::chrono::steady_clock::now();
+  }
+  double held_seconds = 0.0;
+  double longest_hold_seconds = 0.0;
+
+ private:
+  void CountHold() {
+    const double held =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - locked_at_).count();
+    held_seconds += held;
+    longest_hold_seconds = std::max(longest_hold_seconds, held);
+  }
+  std::unique_lock<std::mutex> lock_;
+  std::chrono::steady_clock::time_point locked_at_;
+};
+
 // A recognized place: the matched keyframe, the current keyframe's pose in the matched
 // place's frame, and the loop points it sees.
 struct LoopClosing::Loop {
@@ -116,20 +150,27 @@ bool LoopClosing::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   if (!options_.enabled || global_adjustment_running_) return false;
   JoinGlobalAdjustment();  // a finished one
   const auto start = std::chrono::steady_clock::now();
-  std::lock_guard<std::mutex> lock(map_->mutex());
+  // Recognition only reads the map: with local mapping kept out, tracking (a reader too)
+  // goes on meanwhile.
+  const std::lock_guard<std::mutex> mapping(map_->mapping_mutex());
   if (keyframe->bad) return false;
   const std::vector<KeyFramePtr> candidates = DetectCandidates(keyframe);
   if (candidates.empty()) return false;
   Loop loop;
   if (!ComputeSim3(keyframe, candidates, &loop)) return false;
   LoopEvent event = Describe(keyframe, loop);
-  event.points_fused = Correct(keyframe, loop);
+  MapLock map_lock(map_->mutex());
+  event.points_fused = Correct(keyframe, loop, map_lock);
   event.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  event.map_lock_held_seconds = map_lock.held_seconds;
+  event.map_lock_longest_hold_seconds = map_lock.longest_hold_seconds;
   spdlog::info(
       "loop closed: keyframe {} sees keyframe {} again ({} Sim(3) inliers, {} matches, "
-      "scale {:.3f}, moved {:.3f}) in {:.2f} s",
+      "scale {:.3f}, moved {:.3f}) in {:.2f} s, the map locked {:.1f} ms of it (at most {:.1f} "
+      "ms at once)",
       event.keyframe, event.matched, event.sim3_inliers, event.loop_matches, event.scale,
-      event.correction, event.seconds);
+      event.correction, event.seconds, 1e3 * event.map_lock_held_seconds,
+      1e3 * event.map_lock_longest_hold_seconds);
   stats_.loops.push_back(event);
   return true;
 }
@@ -309,8 +350,10 @@ bool LoopClosing::ComputeSim3(const KeyFramePtr& keyframe,
   return false;
 }
 
-int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop) {
-  // 1. The current keyframe and its neighbours move with the similarity.
+int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop, MapLock& map_lock) {
+  // 1. The current keyframe and its neighbours move with the similarity. Tracking, let in
+  // between the steps below, follows them: it tracks where the camera is, among them.
+  map_lock.Lock();
   std::vector<KeyFramePtr> group = {keyframe};
   for (const KeyFramePtr& k : map_->BestCovisible(keyframe, keyframe->ordered_covisible.size()))
     group.push_back(k);
@@ -332,6 +375,8 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop) {
     const auto found = map_->points().find(id);
     if (found != map_->points().end()) map_->UpdatePointGeometry(found->second, pyramid_);
   }
+  map_->CountCorrection();
+  map_lock.LetWaitingTrackerIn(*map_);
 
   // 2. One point per place: the loop's points replace their duplicates.
   int fused = 0;
@@ -350,8 +395,11 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop) {
   for (const KeyFramePtr& k : group) {
     for (const auto& [id, weight] : k->covisible) before[k->id].insert(id);
   }
-  for (const KeyFramePtr& k : group)
+  for (const KeyFramePtr& k : group) {
+    map_lock.LetWaitingTrackerIn(*map_);
+    if (k->bad) continue;
     fused += FusePoints(*map_, camera_, pyramid_, matcher_, 4.0, k, loop.loop_points);
+  }
 
   // 3. The links the loop made: new covisibility between the two regions.
   std::set<KeyFrameId> group_ids;
@@ -365,8 +413,10 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop) {
   }
   keyframe->loop_edges.insert(loop.matched->id);
   loop.matched->loop_edges.insert(keyframe->id);
+  map_lock.Unlock();
 
-  // 4. The essential graph as a Sim(3) pose graph, the matched keyframe fixed.
+  // 4. The essential graph as a Sim(3) pose graph, the matched keyframe fixed: built and
+  // solved without the map lock (only this thread changes the map), written under it.
   std::vector<KeyFramePtr> all;
   std::map<KeyFrameId, int> index;
   PoseGraphProblem problem;
@@ -426,6 +476,7 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop) {
   graph_options.max_iterations = options_.pose_graph_iterations;
   const std::vector<Sim3> initial = problem.poses;
   const PoseGraphReport report = OptimizePoseGraph(&problem, graph_options);
+  map_lock.Lock();
   if (report.solved) {
     for (std::size_t n = 0; n < all.size(); ++n) all[n]->T_cw = ToSE3(problem.poses[n]);
     // Points follow the keyframe that corrected them, or their reference.
@@ -451,21 +502,28 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop) {
   }
 
   map_->CountCorrection();
-  AdjustGlobally();
+  map_lock.Unlock();
+  AdjustGlobally(map_lock);
   last_loop_keyframe_ = keyframe->id;
   return fused;
 }
 
-void LoopClosing::AdjustGlobally() {
+void LoopClosing::AdjustGlobally(MapLock& map_lock) {
   if (options_.global_ba_iterations <= 0) return;
   std::vector<KeyFramePtr> keyframes;
   for (const auto& [id, k] : map_->keyframes()) {
     if (!k->bad) keyframes.push_back(k);
   }
+  // Copying the whole map takes a while: done without the map lock (only this thread
+  // changes the map).
   KeyFrameAdjustment adjustment = PrepareAdjustment(*map_, camera_, pyramid_, keyframes);
-  if (!threaded_) {  // the caller holds the lock
+  if (!threaded_) {
     const auto start = std::chrono::steady_clock::now();
-    if (SolveGlobally(adjustment)) MergeGlobalAdjustment(adjustment, start);
+    if (SolveGlobally(adjustment)) {
+      map_lock.Lock();
+      MergeGlobalAdjustment(adjustment, start);
+      map_lock.Unlock();
+    }
     return;
   }
   global_adjustment_running_ = true;
@@ -474,7 +532,8 @@ void LoopClosing::AdjustGlobally() {
     try {
       const auto start = std::chrono::steady_clock::now();
       if (SolveGlobally(adjustment)) {
-        std::lock_guard<std::mutex> lock(map_->mutex());
+        const std::lock_guard<std::mutex> mapping(map_->mapping_mutex());
+        const std::lock_guard<std::mutex> lock(map_->mutex());
         MergeGlobalAdjustment(adjustment, start);
       }
     } catch (const std::exception& error) {

@@ -293,7 +293,8 @@ bool Tracking::Initialize(Frame& frame) {
   Map& map = *dependencies_.map;
   KeyFramePtr first, second;
   {
-    std::lock_guard<std::mutex> lock(map.mutex());
+    const std::lock_guard<std::mutex> mapping(map.mapping_mutex());
+    const std::lock_guard<std::mutex> lock(map.mutex());
     ComputeBow(*initial_frame_);
     ComputeBow(frame);
     initial_frame_->T_cw = SE3::Identity();

@@ -70,6 +70,35 @@ TEST(LiveFeed, AnImageReplacedWhileTheSystemWasBusyIsDropped) {
   EXPECT_NEAR(report["lag_ms"]["max"].get<double>(), 50.0, 1e-6);  // image 4, 0.05 s late
 }
 
+// What the image reader asks before decoding an image ahead: Replaced is true exactly
+// for the images the feed then drops, never for one it delivers.
+TEST(LiveFeed, ReplacedTellsAheadWhichImagesWillBeDropped) {
+  FakeTime time;
+  LiveFeed feed = time.Feed(TenFramesAt10Hz());
+  EXPECT_FALSE(feed.Replaced(0));                       // the camera has not started
+  std::vector<std::vector<std::size_t>> said_replaced;  // after each image's work
+  std::vector<std::size_t> delivered;
+  while (const auto i = feed.Next()) {
+    EXPECT_FALSE(feed.Replaced(*i)) << "image " << *i << " is being delivered";
+    delivered.push_back(*i);
+    time.now += *i == 2 ? 0.25 : (*i == 6 ? 0.32 : 0.01);
+    said_replaced.emplace_back();
+    for (std::size_t k = 0; k < 10; ++k) {
+      if (feed.Replaced(k)) said_replaced.back().push_back(k);
+    }
+  }
+  EXPECT_EQ(feed.Dropped(), (std::vector<std::size_t>{3, 7, 8}));
+  EXPECT_EQ(delivered, (std::vector<std::size_t>{0, 1, 2, 4, 5, 6, 9}));
+  // After image 2's work (0.45 s) image 3 is replaced by image 4, not yet by 5.
+  EXPECT_EQ(said_replaced[2], (std::vector<std::size_t>{3}));
+  // After image 6's work (0.92 s): 7 and 8 replaced, 9 the last image, never replaced.
+  EXPECT_EQ(said_replaced[5], (std::vector<std::size_t>{3, 7, 8}));
+  for (std::size_t k = 0; k < 10; ++k) {
+    const bool dropped = std::count(feed.Dropped().begin(), feed.Dropped().end(), k) > 0;
+    EXPECT_EQ(feed.Replaced(k), dropped) << "image " << k;
+  }
+}
+
 TEST(LiveFeed, ASystemSlowerThanTheCameraGetsTheNewestImageEachTime) {
   FakeTime time;
   LiveFeed feed = time.Feed(TenFramesAt10Hz());

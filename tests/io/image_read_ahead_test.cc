@@ -104,6 +104,38 @@ TEST_F(ImageReadAheadTest, GivesWhatPrepareMadeOfEachImageWithIt) {
   EXPECT_FALSE(plain.NextFrame().prepared.has_value());
 }
 
+// ocg_slam --realtime: an image the live camera replaced is neither read nor prepared
+// (here its file does not exist, and prepare would fail on it), and comes empty.
+TEST_F(ImageReadAheadTest, ASkippedImageIsNeitherReadNorPrepared) {
+  std::vector<std::string> paths;
+  for (int i = 0; i < 6; ++i) {
+    paths.push_back(i % 2 == 1 ? (folder_ / "missing.png").string() : WriteImage(i));
+  }
+  const ImageReadAhead::Prepare prepare = [](const cv::Mat& image) -> std::any {
+    const int value = image.at<unsigned char>(0, 0);
+    if (value % 20 != 0) throw std::runtime_error("an odd image was prepared");
+    return value;
+  };
+  const ImageReadAhead::Skip odd = [](std::size_t index) { return index % 2 == 1; };
+  for (const std::size_t depth : {std::size_t{0}, std::size_t{2}}) {
+    ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, depth, prepare, odd);
+    for (int i = 0; i < 6; ++i) {
+      const ImageReadAhead::Frame frame = reader.NextFrame();
+      if (i % 2 == 1) {
+        EXPECT_TRUE(frame.image.empty()) << "image " << i << ", depth " << depth;
+        EXPECT_FALSE(frame.prepared.has_value());
+      } else {
+        ASSERT_FALSE(frame.image.empty()) << "image " << i << ", depth " << depth;
+        EXPECT_EQ(std::any_cast<int>(frame.prepared), i * 10);
+      }
+    }
+  }
+  // Without the skip the same files fail in their turn.
+  ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 2, prepare);
+  reader.Next();
+  EXPECT_THROW(reader.Next(), FileError);
+}
+
 TEST_F(ImageReadAheadTest, StopsWithoutWaitingForImagesNobodyTakes) {
   std::vector<std::string> paths;
   for (int i = 0; i < 8; ++i) paths.push_back(WriteImage(i));

@@ -88,6 +88,11 @@ assert mapped >= run["keyframes"] > 0, (mapped, run["keyframes"])
 assert t["local_mapping_map_lock_held_per_keyframe"]["count"] == mapped
 assert t["local_mapping_map_lock_held_per_keyframe"]["median_ms"] <= \
     t["local_mapping_thread_per_keyframe"]["median_ms"]
+# A loop correction holds the map lock only for its steps that change the map: recognition,
+# the pose graph's solve and the copy for the global adjustment run without it.
+for loop in run["loop_closing"]["loops"]:
+    held, longest = loop["map_lock_held_seconds"], loop["map_lock_longest_hold_seconds"]
+    assert 0 < longest <= held < loop["seconds"], loop
 PY
 echo "passed: threaded mode, ATE RMSE $rmse m, $loops loop(s) closed, $merged global adjustment(s) merged"
 

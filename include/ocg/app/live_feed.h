@@ -7,10 +7,12 @@
 // image once the one after it is due too. Whether a system keeps up with its camera is
 // then measured by what it drops, not estimated from per-frame times.
 //
-// Threading: one thread (the one that feeds the system).
+// Threading: one thread (the one that feeds the system) calls everything but Replaced,
+// which any thread may call (the image reader asks it before decoding an image).
 
 #include <cstddef>
 #include <functional>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <vector>
@@ -34,6 +36,10 @@ class LiveFeed {
   // successor was due already are dropped on the way. nullopt once every image was
   // delivered or dropped.
   std::optional<std::size_t> Next();
+  // Whether image index will never be delivered: the feed dropped it, or the image after
+  // it is due already (a later Next() drops it). A live camera never hands such an image
+  // over, so nobody needs to decode it. False before the first Next().
+  bool Replaced(std::size_t index) const;
 
   std::size_t Delivered() const { return delivered_; }
   const std::vector<std::size_t>& Dropped() const { return dropped_; }
@@ -48,6 +54,7 @@ class LiveFeed {
   std::vector<double> timestamps_;
   Clock clock_;
   SleepUntil sleep_until_;
+  mutable std::mutex mutex_;     // start_, next_ and dropped_, for Replaced()
   std::optional<double> start_;  // clock time of the first image
   std::size_t next_ = 0;
   std::size_t delivered_ = 0;

@@ -32,6 +32,7 @@ class ImageReadAhead {
   // Work on a decoded image, done where it is decoded (the reader thread, or Next() when
   // depth is 0); its result comes with the image.
   using Prepare = std::function<std::any(const cv::Mat&)>;
+  using Skip = std::function<bool(std::size_t index)>;
   struct Frame {
     cv::Mat image;
     std::any prepared;  // prepare's result; empty without a prepare function
@@ -43,8 +44,12 @@ class ImageReadAhead {
   // consumer: bench/slam_speed.py --cores 1 measured it).
   // prepare: optional; an exception from it is rethrown by the Next/NextFrame call that
   // takes that image.
+  // skip: optional, asked (on the reader thread) before image index is decoded; true: it
+  // is neither read nor prepared, and Next/NextFrame give an empty image for it (ocg_slam
+  // --realtime: an image the live camera replaced is never decoded, as with a real camera,
+  // so that a dropped frame costs no work that would make the next one late too).
   ImageReadAhead(std::vector<std::string> paths, int imread_flags, std::size_t depth = 4,
-                 Prepare prepare = nullptr);
+                 Prepare prepare = nullptr, Skip skip = nullptr);
   ~ImageReadAhead();
   ImageReadAhead(const ImageReadAhead&) = delete;
   ImageReadAhead& operator=(const ImageReadAhead&) = delete;
@@ -64,17 +69,19 @@ class ImageReadAhead {
 
  private:
   struct Decoded {
-    cv::Mat image;  // empty when the file could not be read
+    bool skipped = false;
+    cv::Mat image;  // empty when the file could not be read or was skipped
     std::any prepared;
     std::exception_ptr failure;  // from prepare
   };
   void Run();
-  Decoded Decode(const std::string& path) const;
+  Decoded Decode(std::size_t index) const;
 
   const std::vector<std::string> paths_;
   const int imread_flags_;
   const std::size_t depth_;
   const Prepare prepare_;
+  const Skip skip_;
   std::size_t taken_ = 0;  // consumer thread only
 
   std::mutex mutex_;

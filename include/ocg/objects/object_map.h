@@ -198,6 +198,11 @@ class ObjectMap {
 
  private:
   friend struct MapFileAccess;
+  // The objects a between-session pairing weighs (a later session only): visit(object,
+  // removed) for each one removed in this run and last seen in an earlier session
+  // (removed true) and each live one seen in this session alone (removed false).
+  template <typename Visit>
+  void ForEachBetweenSessionCandidate(Visit&& visit) const;
   // Re-estimates centre and cuboid from the sightings (yaw from the point set when it
   // tells one); false when they do not meet.
   bool Reestimate(MapObject& object, bool candidate) const;

@@ -9,10 +9,12 @@
 // mapping has finished, and the global bundle adjustment runs inside it. In threaded mode
 // Start() runs a worker fed by Insert() (called by the local mapping thread; a bounded
 // queue), Stop() drains it and joins it and the global adjustment, and Stats() is for
-// after Stop(). ProcessKeyFrame takes Map::mutex() itself and holds it while it corrects
-// the map (tracking and local mapping wait for the correction, a fraction of a second);
-// the global adjustment then runs on a thread of its own without the lock, on a copy of
-// the map's keyframes and points, and is merged back under the lock: what was added
+// after Stop(). ProcessKeyFrame takes Map::mapping_mutex() (local mapping waits for
+// recognition and correction) and reads the map without Map::mutex(); it takes
+// Map::mutex() only for the steps of a correction that change the map, and lets a
+// waiting tracker in between them, so tracking waits milliseconds, not the correction.
+// The global adjustment then runs on a thread of its own without the locks, on a copy of
+// the map's keyframes and points, and is merged back under both: what was added
 // meanwhile follows the correction of what it hangs from (ApplyAdjustment). No loop is
 // looked for while a global adjustment runs.
 
@@ -67,7 +69,11 @@ struct LoopEvent {
   double scale = 1.0;       // the correction's scale (1: no scale drift)
   double correction = 0.0;  // how far the current keyframe moved, map units
   int points_fused = 0;
-  double seconds = 0.0;
+  double seconds = 0.0;  // from recognition to the correction's end (global BA not included)
+  // Of seconds, the time the correction held Map::mutex() (tracking may wait for it), in
+  // total and the longest stretch at once.
+  double map_lock_held_seconds = 0.0;
+  double map_lock_longest_hold_seconds = 0.0;
 };
 
 struct LoopClosingStats {
@@ -109,6 +115,7 @@ class LoopClosing {
 
  private:
   struct Loop;
+  class MapLock;
   struct ConsistentGroup {
     std::set<KeyFrameId> keyframes;
     int consistency = 0;
@@ -118,11 +125,12 @@ class LoopClosing {
                    Loop* loop);
   // The event's fields known before the correction.
   static LoopEvent Describe(const KeyFramePtr& keyframe, const Loop& loop);
-  // Returns the number of points fused.
-  int Correct(const KeyFramePtr& keyframe, Loop& loop);
-  // Global bundle adjustment after a correction (map lock held): in place in sequential
-  // mode, else started on global_adjustment_thread_.
-  void AdjustGlobally();
+  // Returns the number of points fused. Holds Map::mapping_mutex(); takes map_lock (not
+  // held on entry nor on return) only for the steps that change the map.
+  int Correct(const KeyFramePtr& keyframe, Loop& loop, MapLock& map_lock);
+  // Global bundle adjustment after a correction (Map::mapping_mutex() held, map_lock not):
+  // in place in sequential mode, else started on global_adjustment_thread_.
+  void AdjustGlobally(MapLock& map_lock);
   // Solves without the map lock; false (warned) when Ceres found no usable solution.
   bool SolveGlobally(KeyFrameAdjustment& adjustment) const;
   // Writes a solved global adjustment into the map (lock held) and counts it.

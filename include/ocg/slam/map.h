@@ -114,6 +114,13 @@ class Map {
   static constexpr int kCovisibilityThreshold = 15;
 
   std::mutex& mutex() const { return mutex_; }
+  // Changing the map over several steps (local mapping's work on a keyframe, a loop
+  // correction, the merge of a global adjustment, an initialization) takes
+  // mapping_mutex() first and then mutex() for each change. Tracking only reads the map
+  // (and counts its points' sightings), so a thread that holds mapping_mutex() may read
+  // the map without mutex(): nobody else changes it meanwhile. Lock order: mapping_mutex()
+  // before mutex(); a thread holding mutex() never waits for mapping_mutex().
+  std::mutex& mapping_mutex() const { return mapping_mutex_; }
   // Tracking must keep up with the camera; local mapping's steps on a keyframe take
   // several times a frame's tracking, and the mutex is not fair (the thread releasing it
   // can take it back before a waiter wakes). So tracking takes the lock saying that it
@@ -166,6 +173,7 @@ class Map {
 
  private:
   mutable std::mutex mutex_;
+  mutable std::mutex mapping_mutex_;
   mutable std::atomic<int> trackers_waiting_{0};
   KeyFrameId next_keyframe_id_ = 0;
   MapPointId next_point_id_ = 0;
