@@ -15,8 +15,11 @@ double IntersectionOverUnion(const Box2& a, const Box2& b) {
 
 BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou) {
   if (IntersectionOverUnion(box, projected) >= min_iou) return BoxFit::kWhole;
-  const Box2 overlap{std::max(box.x0, projected.x0), std::max(box.y0, projected.y0),
-                     std::min(box.x1, projected.x1), std::min(box.y1, projected.y1)};
+  const double slack_x = kProjectionSlack * projected.Width();
+  const double slack_y = kProjectionSlack * projected.Height();
+  const Box2 overlap{
+      std::max(box.x0, projected.x0 - slack_x), std::max(box.y0, projected.y0 - slack_y),
+      std::min(box.x1, projected.x1 + slack_x), std::min(box.y1, projected.y1 + slack_y)};
   if (box.Area() <= 0 || overlap.Area() < kPartialViewInside * box.Area()) return BoxFit::kNone;
   const bool spans = box.Width() >= kPartialViewSpan * projected.Width() ||
                      box.Height() >= kPartialViewSpan * projected.Height();

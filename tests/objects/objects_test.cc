@@ -192,6 +192,16 @@ TEST(FitOfBox, WholePartialOrNone) {
   EXPECT_EQ(FitOfBox({170, 102, 260, 298}, projected, 0.4), BoxFit::kNone);
 }
 
+TEST(FitOfBox, ASliverPokingOutOfTheProjectionByItsErrorIsAPartialView) {
+  // The first 14 pixels of an object coming out from behind another on its left, while
+  // the projected cuboid lies 7 pixels (7 % of its width) left of the object: half the
+  // sliver is outside the projection itself, all of it within the projection's error.
+  const Box2 projected{100, 100, 200, 300};
+  EXPECT_EQ(FitOfBox({193, 110, 207, 290}, projected, 0.4), BoxFit::kPartial);
+  // The same sliver 15 pixels out (beyond the slack): not this object.
+  EXPECT_EQ(FitOfBox({201, 110, 215, 290}, projected, 0.4), BoxFit::kNone);
+}
+
 // Two cuboids on a table, seen by a camera circling them; detections are the projected
 // boxes (what an ideal detector returns).
 class TwoObjectScene : public ::testing::Test {
