@@ -177,6 +177,18 @@ TEST(FilterDetections, ClassConfidenceBorderAndDuplicates) {
   EXPECT_EQ(FilterDetections(detections, options, Camera()).size(), 4u);
 }
 
+TEST(FitOfBox, ACornerOfTheObjectIsAPartialView) {
+  // The object's top right quarter, its left and bottom hidden by something nearer: the
+  // box spans neither axis, but is flush with the projection's right and top edges (here
+  // 5 pixels out, within the projection's error).
+  const Box2 projected{100, 100, 200, 300};
+  EXPECT_EQ(FitOfBox({155, 96, 204, 190}, projected, 0.4), BoxFit::kPartial);
+  // As small, flush with the right edge only, or with no edge (a farther object of the
+  // class on the same ray): not this object.
+  EXPECT_EQ(FitOfBox({155, 150, 204, 244}, projected, 0.4), BoxFit::kNone);
+  EXPECT_EQ(FitOfBox({125, 150, 175, 250}, projected, 0.4), BoxFit::kNone);
+}
+
 TEST(ObjectsOptions, ADuplicateBoxIouOutsideZeroToOneIsRefusedNamingTheKey) {
   ObjectsOptions options;
   options.duplicate_box_iou = 0.0;
