@@ -15,12 +15,22 @@ double IntersectionOverUnion(const Box2& a, const Box2& b) {
 
 BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou) {
   if (IntersectionOverUnion(box, projected) >= min_iou) return BoxFit::kWhole;
-  const Box2 overlap{std::max(box.x0, projected.x0), std::max(box.y0, projected.y0),
-                     std::min(box.x1, projected.x1), std::min(box.y1, projected.y1)};
+  const double slack_x = kProjectionSlack * projected.Width();
+  const double slack_y = kProjectionSlack * projected.Height();
+  const Box2 overlap{
+      std::max(box.x0, projected.x0 - slack_x), std::max(box.y0, projected.y0 - slack_y),
+      std::min(box.x1, projected.x1 + slack_x), std::min(box.y1, projected.y1 + slack_y)};
   if (box.Area() <= 0 || overlap.Area() < kPartialViewInside * box.Area()) return BoxFit::kNone;
   const bool spans = box.Width() >= kPartialViewSpan * projected.Width() ||
                      box.Height() >= kPartialViewSpan * projected.Height();
-  return spans ? BoxFit::kPartial : BoxFit::kNone;
+  if (spans) return BoxFit::kPartial;
+  // A corner of the object, the rest hidden by something nearer on two sides: the box is
+  // flush (within the slack) with a vertical and a horizontal edge of the projection. The
+  // whole shape shrunk about the centre (a farther object on the same ray) touches none.
+  const auto flush = [](double a, double b, double slack) { return std::abs(a - b) <= slack; };
+  const bool flush_x = flush(box.x0, projected.x0, slack_x) || flush(box.x1, projected.x1, slack_x);
+  const bool flush_y = flush(box.y0, projected.y0, slack_y) || flush(box.y1, projected.y1, slack_y);
+  return flush_x && flush_y ? BoxFit::kPartial : BoxFit::kNone;
 }
 
 std::vector<ObjectDetection> FilterDetections(const std::vector<Detection>& detections,

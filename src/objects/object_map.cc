@@ -81,11 +81,22 @@ std::vector<BoxFit> FitsOfTrack(const MapObject& track, const MapObject& object,
   return fits;
 }
 
-bool SeenTogether(const MapObject& a, const MapObject& b) {
+// Whether a and b were detected in one frame with boxes that tell two objects apart. Boxes
+// overlapping by duplicate_box_iou or more (the detector's second box on one object, which
+// the non-maximum suppression let through) do not: each fed its own object, and one
+// such frame kept the object's two halves apart for good.
+bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_iou) {
   auto i = a.sightings.begin();
   auto j = b.sightings.begin();
   while (i != a.sightings.end() && j != b.sightings.end()) {
-    if (i->frame == j->frame) return true;
+    if (i->frame == j->frame && IntersectionOverUnion(i->box, j->box) < duplicate_box_iou) {
+      return true;
+    }
+    if (i->frame == j->frame) {
+      ++i;
+      ++j;
+      continue;
+    }
     if (i->frame < j->frame) {
       ++i;
     } else {
@@ -462,7 +473,7 @@ MapObject* ObjectMap::HostOf(MapObject& candidate) {
   std::vector<BoxFit> host_fits;
   std::pair<bool, double> best{false, options_.min_inlier_share};
   for (auto& [id, object] : objects_) {
-    if (!object.has_cuboid || SeenTogether(candidate, object)) continue;
+    if (!object.has_cuboid || SeenTogether(candidate, object, options_.duplicate_box_iou)) continue;
     const bool same_class = object.class_id == candidate.class_id;
     // As in the keyframe hygiene: another class is the same object misnamed only when
     // one session saw both; across sessions it is what was put at the old one's place.
@@ -703,7 +714,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
         bool keep_first = first.sightings.size() >= second.sightings.size();
         if (!one_space) {
           // Most pairs were detected together at some time: the cheap test first.
-          if (SeenTogether(first, second)) continue;
+          if (SeenTogether(first, second, options_.duplicate_box_iou)) continue;
           // Two objects of different classes are one object the detector named twice
           // only when a session saw both. Seen in different sessions, the new one near
           // the old one's place is more likely what was put there between the visits:

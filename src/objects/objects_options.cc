@@ -45,6 +45,8 @@ void ObjectsOptions::Check() const {
   RequireOption(merge_distance >= 0, "Objects.merge_distance", "must be non-negative");
   RequireOption(merge_overlap > 0 && merge_overlap <= 1, "Objects.merge_overlap",
                 "must be in (0, 1]");
+  RequireOption(duplicate_box_iou > 0 && duplicate_box_iou <= 1, "Objects.duplicate_box_iou",
+                "must be in (0, 1]");
   RequireOption(restore_window >= 0, "Objects.restore_window", "must be non-negative (seconds)");
   RequireOption(restore_overlap > 0 && restore_overlap <= 1, "Objects.restore_overlap",
                 "must be in (0, 1]");
@@ -87,6 +89,7 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.max_rays", &options->max_rays);
   file.Read("Objects.merge_distance", &options->merge_distance);
   file.Read("Objects.merge_overlap", &options->merge_overlap);
+  file.Read("Objects.duplicate_box_iou", &options->duplicate_box_iou);
   file.Read("Objects.merge_along_rays", &options->merge_along_rays);
   file.Read("Objects.join_candidates", &options->join_candidates);
   file.Read("Objects.restore_window", &options->restore_window);

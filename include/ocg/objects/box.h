@@ -30,10 +30,17 @@ double IntersectionOverUnion(const Box2& a, const Box2& b);
 // something nearer, whose box covers only its visible part: the box lies inside the
 // projection (kPartialViewInside of its area, for jitter) and spans it across one image
 // axis (kPartialViewSpan of its width or height: a side or the top is hidden, not the
-// whole object shrunk, as a farther object of the class on the same ray would be).
+// whole object shrunk, as a farther object of the class on the same ray would be), or is
+// flush with a vertical and a horizontal edge of it (a corner of the object, hidden on two
+// sides; the shrunk whole touches no edge).
+// "Inside" is measured against the projection grown by kProjectionSlack of its width and
+// height on each side: the projected cuboid is an estimate, off by a share of the object's
+// size, and the first sliver of an object coming out from behind another (a box a few
+// pixels wide) pokes out of it by those pixels, a large share of the sliver's own area.
 enum class BoxFit { kNone, kWhole, kPartial };
 constexpr double kPartialViewInside = 0.8;
 constexpr double kPartialViewSpan = 0.7;
+constexpr double kProjectionSlack = 0.1;
 BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou);
 
 // A detection the object layer uses.

@@ -79,6 +79,13 @@ struct ObjectsOptions {
   // space, but a real detector puts a second, nested box on one object now and then (two
   // boxes per bottle), and each box feeds its own object. 1 turns it off.
   double merge_overlap = 0.5;
+  // Objects.duplicate_box_iou: two objects detected in one frame are two objects (never
+  // merged as one seen twice, nor joined) unless their boxes there overlap by this IoU or
+  // more: a detector now and then puts a second box on an object (shifted, rescaled, its
+  // IoU with the first below Objects.nms_iou, so both are kept), the second box feeds or
+  // starts another object, and that one frame kept the two apart for good (a cup mapped as
+  // two objects 7 cm apart, issue 18). 1 turns it off (only identical boxes).
+  double duplicate_box_iou = 0.3;
   // Objects.merge_along_rays: an object never seen in the same frame as another, whose
   // untruncated boxes fit the other's projected cuboid (IoU at least min_reacquire_iou, or,
   // of one class, partial views: box.h FitOfBox; for min_inlier_share of them) is the other
