@@ -774,7 +774,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
     if (frame >= session_first_frame_ && objects_.count(id) > 0) observation.observed.push_back(id);
   }
   for (const auto& [id, object] : objects_) {
-    if (observed_since_keyframe_.count(id) > 0) continue;
+    if (!point_presence_ || observed_since_keyframe_.count(id) > 0) continue;
     if (PresentByPoints(object, last_tracked_points_, T_cw, camera_, options_))
       observation.present_by_points.push_back(id);
   }

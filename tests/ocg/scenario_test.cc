@@ -826,21 +826,19 @@ std::vector<RemovalEvent> MissedAtTheSecondVisit(const std::string& mode, bool t
   return removed;
 }
 
-const char kImprovedWithoutPoints[] = "fallback+in_image+guard+view+restore+dropout";
-
 // The detector missed it, the tracking saw its points where they were: the paper and the
-// improvements that only read detections remove it, "points" and "improved" keep it.
+// improvements that only read detections remove it, "points" and "improved+points" keep it.
 TEST(Points, AnObjectMissedWhileItsOwnPointsAreTrackedIsKept) {
   ASSERT_EQ(MissedAtTheSecondVisit("paper", true).size(), 1u) << "paper ignores the points";
-  ASSERT_EQ(MissedAtTheSecondVisit(kImprovedWithoutPoints, true).size(), 1u);
+  ASSERT_EQ(MissedAtTheSecondVisit("improved", true).size(), 1u) << "not part of improved";
   EXPECT_TRUE(MissedAtTheSecondVisit("points", true).empty());
-  EXPECT_TRUE(MissedAtTheSecondVisit("improved", true).empty());
+  EXPECT_TRUE(MissedAtTheSecondVisit("improved+points", true).empty());
 }
 
 // Carried away, it took its points with it: nothing says it is there, and it is removed
 // in every mode.
 TEST(Points, AMovedObjectWhosePointsAreNotTrackedIsRemoved) {
-  for (const std::string mode : {"paper", "points", "improved"}) {
+  for (const std::string mode : {"paper", "points", "improved+points"}) {
     const std::vector<RemovalEvent> removed = MissedAtTheSecondVisit(mode, false);
     ASSERT_EQ(removed.size(), 1u) << mode;
     EXPECT_EQ(removed[0].object_id, 1) << mode;

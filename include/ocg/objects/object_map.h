@@ -168,6 +168,9 @@ class ObjectMap {
   // the next keyframe (MakeKeyframeObservation: a "restored" change, the object found
   // there merged into it, the OCG told through observation.restored).
   void SetRestore(bool restore) { restore_ = restore; }
+  // OCG.mode "points": each keyframe observation lists the objects not detected that the
+  // last frame tracked by their points (PresentByPoints).
+  void SetPointPresence(bool point_presence) { point_presence_ = point_presence; }
 
   const std::map<ObjectId, MapObject>& objects() const { return objects_; }
   std::size_t CandidateCount() const { return candidates_.size(); }
@@ -263,6 +266,7 @@ class ObjectMap {
   std::map<ObjectId, bool> geometry_changed_;
   std::vector<ObjectChange> changes_;
   bool restore_ = false;
+  bool point_presence_ = false;
   struct RemovedObject {
     MapObject object;
     double removed_at = 0.0;  // timestamp
