@@ -200,6 +200,20 @@ std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes
   return kept;
 }
 
+bool PresentByPoints(const MapObject& object, const std::vector<std::uint64_t>& tracked,
+                     const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options) {
+  if (tracked.empty()) return false;
+  int in_image = 0;
+  int seen = 0;
+  for (std::uint64_t id : ObjectPointIds(object, options.min_point_votes)) {
+    const Eigen::Vector3d point = T_cw * object.points.at(id).position;
+    if (point.z() <= 0.0 || !camera.IsInImage(camera.ProjectUndistorted(point))) continue;
+    ++in_image;
+    if (std::binary_search(tracked.begin(), tracked.end(), id)) ++seen;
+  }
+  return seen >= options.presence_min_points && seen >= options.presence_min_share * in_image;
+}
+
 std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes) {
   std::vector<Eigen::Vector3d> positions;
   for (std::uint64_t id : ObjectPointIds(object, min_votes))
@@ -317,6 +331,11 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
                                      const std::vector<ObjectDetection>& detections,
                                      const std::vector<PointObservation>* points) {
   current_frame_ = frame;
+  last_tracked_points_.clear();
+  if (points != nullptr) {
+    for (const PointObservation& point : *points) last_tracked_points_.push_back(point.id);
+    std::sort(last_tracked_points_.begin(), last_tracked_points_.end());
+  }
   FrameAssociation result;
   result.detections = detections;
   std::vector<MapObject*> entities;
@@ -764,6 +783,11 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
   observation.restored = restored;
   for (const auto& [id, frame] : observed_since_keyframe_) {
     if (frame >= session_first_frame_ && objects_.count(id) > 0) observation.observed.push_back(id);
+  }
+  for (const auto& [id, object] : objects_) {
+    if (!point_presence_ || observed_since_keyframe_.count(id) > 0) continue;
+    if (PresentByPoints(object, last_tracked_points_, T_cw, camera_, options_))
+      observation.present_by_points.push_back(id);
   }
   for (const auto& [id, changed] : geometry_changed_) {
     const auto it = objects_.find(id);

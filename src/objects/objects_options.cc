@@ -54,6 +54,9 @@ void ObjectsOptions::Check() const {
   RequireOption(point_box_shrink >= 0 && point_box_shrink < 0.5, "Objects.point_box_shrink",
                 "must be in [0, 0.5)");
   RequireOption(min_point_votes >= 1, "Objects.min_point_votes", "must be at least 1");
+  RequireOption(presence_min_points >= 1, "Objects.presence_min_points", "must be at least 1");
+  RequireOption(presence_min_share > 0 && presence_min_share <= 1, "Objects.presence_min_share",
+                "must be in (0, 1]");
   RequireOption(yaw_min_points >= 3, "Objects.yaw_min_points", "must be at least 3");
   RequireOption(yaw_min_elongation >= 1, "Objects.yaw_min_elongation", "must be at least 1");
   RequireOption(plane_max_tilt_deg > 0 && plane_max_tilt_deg < 90, "Objects.plane_max_tilt_deg",
@@ -101,6 +104,8 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   }
   file.Read("Objects.point_box_shrink", &options->point_box_shrink);
   file.Read("Objects.min_point_votes", &options->min_point_votes);
+  file.Read("Objects.presence_min_points", &options->presence_min_points);
+  file.Read("Objects.presence_min_share", &options->presence_min_share);
   file.Read("Objects.yaw_min_points", &options->yaw_min_points);
   file.Read("Objects.yaw_min_elongation", &options->yaw_min_elongation);
   file.Read("Objects.plane_max_tilt_deg", &options->plane_max_tilt_deg);

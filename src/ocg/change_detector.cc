@@ -140,6 +140,15 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   // an observed neighbour (others have rate 0 and stay), and in "fallback" mode the
   // neighbourless ones.
   candidates_.assign(observed.begin(), observed.end());
+  // "points": objects the keyframe saw by their map points (only those in the graph).
+  std::vector<ObjectId> present;
+  if (modes_.point_presence) {
+    for (ObjectId id : observation.present_by_points) {
+      if (records_.count(id) > 0) present.push_back(id);
+    }
+    std::sort(present.begin(), present.end());
+    candidates_.insert(candidates_.end(), present.begin(), present.end());
+  }
   candidates_.insert(candidates_.end(), active_.begin(), active_.end());
   for (const ObservedWeight& entry : observed_weight_) candidates_.push_back(entry.id);
   if (modes_.isolated_fallback) {
@@ -158,6 +167,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     Record& record = records_.at(id);
     ObjectEvidence evidence;
     evidence.observed = std::binary_search(observed.begin(), observed.end(), id);
+    evidence.present_by_points = std::binary_search(present.begin(), present.end(), id);
     while (weight != observed_weight_.end() && weight->id < id) ++weight;
     if (weight != observed_weight_.end() && weight->id == id) {
       evidence.observed_weight = weight->weight;

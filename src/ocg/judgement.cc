@@ -80,6 +80,14 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
     judgement.next = NextState(current, true, judgement.rate, 0.0, options);
     return judgement;
   }
+  if (evidence.present_by_points && modes.point_presence &&
+      modes.strategy == ChangeStrategy::kGraph) {
+    // Its own points are where they were and look as they did: the detector missed it.
+    // Present, as if detected; the caller gives it no edge and no detection record (only
+    // detections feed the graph).
+    judgement.next = NextState(current, true, judgement.rate, 0.0, options);
+    return judgement;
+  }
   if (modes.strategy == ChangeStrategy::kOff) {
     judgement.next = current;
     if (current.state == ObjectState::kObserved)

@@ -20,9 +20,9 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {"paper",    "fallback",    "in_image",  "guard",
-                                               "view",     "reliability", "restore",   "dropout",
-                                               "improved", "off",         "visibility"};
+  static const std::set<std::string> kKnown = {"paper",  "fallback",    "in_image", "guard",
+                                               "view",   "reliability", "restore",  "dropout",
+                                               "points", "improved",    "off",      "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
   OcgModes modes;
@@ -38,7 +38,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
     RequireOption(kKnown.count(part) > 0, "OCG.mode",
                   "unknown mode '" + part +
                       "' (use paper, or fallback, in_image, guard, view, reliability, restore, "
-                      "dropout joined with "
+                      "dropout, points joined with "
                       "'+', or improved; "
                       "baselines: off, visibility)");
   }
@@ -52,6 +52,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
   modes.detection_reliability = parts.count("reliability") > 0;  // not in "improved"
   modes.restore = all || parts.count("restore") > 0;
   modes.dropout_discount = all || parts.count("dropout") > 0;
+  modes.point_presence = parts.count("points") > 0;  // not in "improved": docs/ocg.md
   return modes;
 }
 

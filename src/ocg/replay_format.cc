@@ -132,6 +132,10 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
     if (root.contains("forgotten")) {
       observation.forgotten = ObjectIdList(root.at("forgotten"), "\"forgotten\"");
     }
+    if (root.contains("present_by_points")) {
+      observation.present_by_points =
+          ObjectIdList(root.at("present_by_points"), "\"present_by_points\"");
+    }
     if (root.contains("restored")) {
       observation.restored = ObjectIdList(root.at("restored"), "\"restored\"");
     }
@@ -174,6 +178,8 @@ std::string ObservationToJson(const KeyframeObservation& observation) {
   if (!classes.empty()) root["classes"] = classes;
   if (!observation.forgotten.empty()) root["forgotten"] = observation.forgotten;
   if (!observation.restored.empty()) root["restored"] = observation.restored;
+  if (!observation.present_by_points.empty())
+    root["present_by_points"] = observation.present_by_points;
   return root.dump();
 }
 

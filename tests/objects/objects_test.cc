@@ -761,6 +761,54 @@ TEST(ObjectMap, YawFromThePointSetWhenTheViewsAreNarrow) {
   EXPECT_LT((estimate.centre - truth.centre).norm(), 0.15 * truth.size.maxCoeff());
 }
 
+// An object of 10 map points (a 5 x 2 grid, 8 by 4 cm), in front of the
+// camera; its point set is what a tracked frame is checked against.
+MapObject ObjectOfTenPoints(const SE3& T_cw) {
+  MapObject object;
+  object.id = 1;
+  object.has_cuboid = true;
+  object.cuboid.centre = T_cw.Inverse() * Eigen::Vector3d(0, 0, 1.5);
+  object.cuboid.size = Eigen::Vector3d(0.1, 0.1, 0.1);
+  for (std::uint64_t id = 0; id < 10; ++id) {
+    const Eigen::Vector3d offset(0.02 * (static_cast<int>(id % 5) - 2),
+                                 0.04 * static_cast<int>(id / 5) - 0.02, 0.0);
+    object.points[id].votes = 3;
+    object.points[id].position = object.cuboid.centre + offset;
+  }
+  return object;
+}
+
+TEST(PresentByPoints, MostOfItsPointsInViewTrackedSaysPresent) {
+  const SE3 T_cw = OrbitPose(0.0);
+  const MapObject object = ObjectOfTenPoints(T_cw);
+  ASSERT_EQ(ObjectPointIds(object, 3).size(), 10u);
+  ObjectsOptions options;  // at least 5 tracked, and half of those in the image
+  EXPECT_TRUE(PresentByPoints(object, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, T_cw, Camera(), options));
+  EXPECT_TRUE(PresentByPoints(object, {0, 1, 2, 3, 4}, T_cw, Camera(), options));
+  // A third of its points: what stays at the place of an object carried away (the table
+  // behind it) is not the object.
+  EXPECT_FALSE(PresentByPoints(object, {0, 1, 2, 3}, T_cw, Camera(), options));
+  EXPECT_FALSE(PresentByPoints(object, {}, T_cw, Camera(), options)) << "no SLAM map";
+  options.presence_min_share = 0.6;
+  EXPECT_FALSE(PresentByPoints(object, {0, 1, 2, 3, 4}, T_cw, Camera(), options));
+  // Points tracked by ids the object does not hold say nothing about it.
+  EXPECT_FALSE(PresentByPoints(object, {20, 21, 22, 23, 24, 25}, T_cw, Camera(), options));
+}
+
+TEST(PresentByPoints, PointsOutsideTheImageAreNotAsked) {
+  const SE3 T_cw = OrbitPose(0.0);
+  const MapObject object = ObjectOfTenPoints(T_cw);
+  ObjectsOptions options;
+  // Five of its ten points tracked: from T_cw, half of the set in the image, enough. With
+  // the camera turned round (the object behind it) none of its points is in the image, so
+  // the same ids count for nothing (only points that project into the image are asked).
+  const SE3 turned_round = SE3(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()).toRotationMatrix(),
+                               Eigen::Vector3d::Zero()) *
+                           T_cw;
+  EXPECT_TRUE(PresentByPoints(object, {0, 1, 2, 3, 4}, T_cw, Camera(), options));
+  EXPECT_FALSE(PresentByPoints(object, {0, 1, 2, 3, 4}, turned_round, Camera(), options));
+}
+
 TEST(RobustPointBounds, LeaveOutliersOut) {
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 50; ++i)

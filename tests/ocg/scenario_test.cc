@@ -782,3 +782,96 @@ TEST(ViewMode, RecordedDirectionsAreSpacedAndSurviveJson) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+using testing::LookAt;
+using testing::MakeObservation;
+
+// "points": the camera visits the table (objects 1-4) and turns to the shelf (5, 6), twice.
+// At the second visit the detector misses object 1 for two keyframes while it finds 2-4;
+// in those keyframes SLAM tracked object 1's own map points when tracked_by_points.
+// Returns the removals.
+std::vector<RemovalEvent> MissedAtTheSecondVisit(const std::string& mode, bool tracked_by_points) {
+  OcgOptions options;
+  options.mode = mode;
+  ObjectChangeDetector detector(options);
+  const SE3 table = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const SE3 shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+  struct Look {
+    SE3 T_cw;
+    std::vector<ObjectId> detected;
+    std::vector<ObjectId> present_by_points;
+  };
+  const std::vector<ObjectId> by_points =
+      tracked_by_points ? std::vector<ObjectId>{1} : std::vector<ObjectId>{};
+  const std::vector<Look> looks = {{table, {1, 2, 3, 4}, {}},
+                                   {shelf, {5, 6}, {}},
+                                   {table, {2, 3, 4}, by_points},
+                                   {table, {2, 3, 4}, by_points},
+                                   {shelf, {5, 6}, {}}};
+  std::vector<RemovalEvent> removed;
+  std::int64_t keyframe = 0;
+  for (const Look& look : looks) {
+    KeyframeObservation observation = MakeObservation(keyframe++, look.T_cw, look.detected);
+    observation.present_by_points = look.present_by_points;
+    for (ObjectId id : look.detected) {
+      observation.updates[id].centroid = kPlaces.at(id);
+      observation.updates[id].size = Eigen::Vector3d(0.1, 0.1, 0.1);
+    }
+    for (const RemovalEvent& event : detector.Process(observation).removed)
+      removed.push_back(event);
+  }
+  return removed;
+}
+
+// The detector missed it, the tracking saw its points where they were: the paper and the
+// improvements that only read detections remove it, "points" and "improved+points" keep it.
+TEST(Points, AnObjectMissedWhileItsOwnPointsAreTrackedIsKept) {
+  ASSERT_EQ(MissedAtTheSecondVisit("paper", true).size(), 1u) << "paper ignores the points";
+  ASSERT_EQ(MissedAtTheSecondVisit("improved", true).size(), 1u) << "not part of improved";
+  EXPECT_TRUE(MissedAtTheSecondVisit("points", true).empty());
+  EXPECT_TRUE(MissedAtTheSecondVisit("improved+points", true).empty());
+}
+
+// Carried away, it took its points with it: nothing says it is there, and it is removed
+// in every mode.
+TEST(Points, AMovedObjectWhosePointsAreNotTrackedIsRemoved) {
+  for (const std::string mode : {"paper", "points", "improved+points"}) {
+    const std::vector<RemovalEvent> removed = MissedAtTheSecondVisit(mode, false);
+    ASSERT_EQ(removed.size(), 1u) << mode;
+    EXPECT_EQ(removed[0].object_id, 1) << mode;
+  }
+}
+
+// Present by its points clears the doubt gathered so far, but makes no edge: only
+// detections feed the graph.
+TEST(Points, PresenceByPointsClearsTheDoubtAndAddsNoEdge) {
+  OcgOptions options;
+  options.mode = "points";
+  ObjectChangeDetector detector(options);
+  const SE3 table = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const SE3 shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+  std::int64_t keyframe = 0;
+  const auto step = [&](const SE3& T_cw, const std::vector<ObjectId>& detected,
+                        const std::vector<ObjectId>& by_points) {
+    KeyframeObservation observation = MakeObservation(keyframe++, T_cw, detected);
+    observation.present_by_points = by_points;
+    for (ObjectId id : detected) observation.updates[id].centroid = kPlaces.at(id);
+    return detector.Process(observation);
+  };
+  step(table, {1, 2, 3, 4}, {});
+  step(shelf, {5, 6}, {});
+  step(table, {2, 3, 4}, {});
+  ASSERT_GT(detector.Status(1)->doubt, 0.0);
+  const std::uint64_t weight = detector.graph().WeightSum(1);
+  step(table, {2, 3, 4}, {1});
+  EXPECT_EQ(detector.Status(1)->doubt, 0.0);
+  EXPECT_EQ(detector.Status(1)->state, ObjectState::kObserved);
+  EXPECT_EQ(detector.graph().WeightSum(1), weight);
+  EXPECT_EQ(detector.Status(1)->geometry.detected_keyframes, 1u);
+}
+
+}  // namespace
+}  // namespace ocg

@@ -85,6 +85,15 @@ std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes
 // place match these far better than those of another object of its class.
 std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes);
 
+// OCG.mode "points": whether a frame's tracking saw the object by its own map points. Of
+// its point set (ObjectPointIds) the points that project inside the image from T_cw, at
+// least Objects.presence_min_points and a share Objects.presence_min_share were tracked
+// (tracked: the frame's tracked map point ids, sorted). A detector that misses an object
+// does not make its points vanish; an object carried away takes its points with it, and
+// what is left at its place (the table behind) was never most of its set.
+bool PresentByPoints(const MapObject& object, const std::vector<std::uint64_t>& tracked,
+                     const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options);
+
 struct ObjectChange {
   // "removed" (by the OCG), "merged" (a duplicate, hygiene), "dropped" (too few
   // sightings, hygiene) or "restored" (a removed object found again at its place)
@@ -159,6 +168,9 @@ class ObjectMap {
   // the next keyframe (MakeKeyframeObservation: a "restored" change, the object found
   // there merged into it, the OCG told through observation.restored).
   void SetRestore(bool restore) { restore_ = restore; }
+  // OCG.mode "points": each keyframe observation lists the objects not detected that the
+  // last frame tracked by their points (PresentByPoints).
+  void SetPointPresence(bool point_presence) { point_presence_ = point_presence; }
 
   const std::map<ObjectId, MapObject>& objects() const { return objects_; }
   std::size_t CandidateCount() const { return candidates_.size(); }
@@ -253,9 +265,13 @@ class ObjectMap {
   std::map<ObjectId, MapObject> objects_;
   std::map<ObjectId, MapObject> candidates_;                  // negative ids
   std::map<ObjectId, std::int64_t> observed_since_keyframe_;  // id -> last frame
+  // The map point ids the last frame tracked, sorted ("points" evidence); empty without a
+  // SLAM map.
+  std::vector<std::uint64_t> last_tracked_points_;
   std::map<ObjectId, bool> geometry_changed_;
   std::vector<ObjectChange> changes_;
   bool restore_ = false;
+  bool point_presence_ = false;
   struct RemovedObject {
     MapObject object;
     double removed_at = 0.0;  // timestamp

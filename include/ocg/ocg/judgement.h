@@ -24,6 +24,8 @@ struct ObjectEvidence {
   // "dropout" only: sum of E(i, j) over neighbours j detected in the keyframe or expected
   // in view (ExpectedInView); 0 when not gathered.
   std::uint64_t in_view_weight = 0;
+  // "points" only: not detected, but its own map points were tracked in the keyframe.
+  bool present_by_points = false;
 };
 
 struct ObjectGeometry {

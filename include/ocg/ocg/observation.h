@@ -38,6 +38,10 @@ struct KeyframeObservation {
   // remove, or removed in a mode without "restore", is ignored: it re-enters as a new node
   // when observed.
   std::vector<ObjectId> restored;
+  // Objects not detected whose own SLAM map points the keyframe tracked ("points" mode;
+  // the object map decides, docs/objects.md): the thing at their place still looks as
+  // they did, so a detector miss there is no evidence of absence. Ignored in other modes.
+  std::vector<ObjectId> present_by_points;
 };
 
 }  // namespace ocg
