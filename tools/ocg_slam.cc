@@ -393,6 +393,7 @@ int main(int argc, char** argv) {
       progress.Update(i + 1);
     };
     if (live) {
+      images.WaitForNext();  // the camera starts once the system has its first image
       std::size_t images_taken = 0;
       while (const std::optional<std::size_t> due = live->Next()) {
         // Images the live camera replaced before tracking was ready are lost (and were

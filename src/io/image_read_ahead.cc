@@ -85,6 +85,12 @@ std::size_t ImageReadAhead::AutomaticDepth() {
   return std::thread::hardware_concurrency() >= 2 ? kDepth : 0;
 }
 
+void ImageReadAhead::WaitForNext() {
+  if (depth_ == 0 || !HasNext()) return;
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [this] { return !ready_.empty(); });
+}
+
 cv::Mat ImageReadAhead::Next() { return NextFrame().image; }
 
 ImageReadAhead::Frame ImageReadAhead::NextFrame() {

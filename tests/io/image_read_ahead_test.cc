@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <any>
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -134,6 +138,29 @@ TEST_F(ImageReadAheadTest, ASkippedImageIsNeitherReadNorPrepared) {
   ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 2, prepare);
   reader.Next();
   EXPECT_THROW(reader.Next(), FileError);
+}
+
+// ocg_slam --realtime starts the camera's clock once the first image is ready.
+TEST_F(ImageReadAheadTest, WaitForNextReturnsOnceTheNextImageIsPrepared) {
+  const std::vector<std::string> paths = {WriteImage(0), WriteImage(1)};
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  const ImageReadAhead::Prepare held = [released](const cv::Mat&) -> std::any {
+    released.wait();
+    return 0;
+  };
+  ImageReadAhead reader(paths, cv::IMREAD_GRAYSCALE, 2, held);
+  std::atomic<bool> ready{false};
+  std::thread waiter([&] {
+    reader.WaitForNext();
+    ready = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_FALSE(ready.load()) << "returned before the first image was prepared";
+  release.set_value();
+  waiter.join();
+  EXPECT_TRUE(ready.load());
+  EXPECT_EQ(reader.NextFrame().image.at<unsigned char>(0, 0), 0);
 }
 
 TEST_F(ImageReadAheadTest, StopsWithoutWaitingForImagesNobodyTakes) {

@@ -59,6 +59,11 @@ class ImageReadAhead {
   static std::size_t AutomaticDepth();
 
   bool HasNext() const { return taken_ < paths_.size(); }
+  // Waits until the next image is decoded and prepared (at once when depth is 0, where
+  // Next() does that work). ocg_slam --realtime starts the camera's clock after it: the
+  // reader's cold start (the first decoding and extraction, several times a frame's) is
+  // the system's start-up, not a frame the camera waits for.
+  void WaitForNext();
 
   // The next image in path order, waiting for it if it is not decoded yet. Throws
   // FileError naming the file when it cannot be read or decoded, and std::logic_error when
