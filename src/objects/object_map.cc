@@ -89,15 +89,11 @@ bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_i
   auto i = a.sightings.begin();
   auto j = b.sightings.begin();
   while (i != a.sightings.end() && j != b.sightings.end()) {
-    if (i->frame == j->frame && IntersectionOverUnion(i->box, j->box) < duplicate_box_iou) {
-      return true;
-    }
     if (i->frame == j->frame) {
+      if (IntersectionOverUnion(i->box, j->box) < duplicate_box_iou) return true;
       ++i;
       ++j;
-      continue;
-    }
-    if (i->frame < j->frame) {
+    } else if (i->frame < j->frame) {
       ++i;
     } else {
       ++j;
@@ -332,7 +328,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
                                      const std::vector<PointObservation>* points) {
   current_frame_ = frame;
   last_tracked_points_.clear();
-  if (points != nullptr) {
+  if (point_presence_ && points != nullptr) {  // read by the 'points' evidence alone
     for (const PointObservation& point : *points) last_tracked_points_.push_back(point.id);
     std::sort(last_tracked_points_.begin(), last_tracked_points_.end());
   }
