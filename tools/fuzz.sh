@@ -5,11 +5,14 @@ set -euo pipefail
 
 usage() {
   cat <<'USAGE'
-Usage: tools/fuzz.sh [SECONDS] [--jobs N] [--only NAME[,NAME...]] [--build-dir DIR]
+Usage: tools/fuzz.sh [SECONDS] [--jobs N] [--only NAME[,NAME...]] [--exclude NAME[,NAME...]]
+                    [--build-dir DIR]
 
 Builds every fuzz target of fuzz/targets.txt (clang 14, libFuzzer, address and undefined
 sanitizers) and runs each for SECONDS (default 600), N at a time (default 1), then prints
-one line per target: runs, execs/s and the result.
+one line per target: runs, execs/s and the result. --only keeps the named targets,
+--exclude leaves them out; only the targets kept are built (with the libraries they need:
+`settings` needs the whole library, the others a few modules).
 
 Seeds: fuzz/seeds/<target>/ (committed), tests/data, config/ and, when present,
 ../shared/data. Inputs the fuzzer finds interesting go to BUILD/corpus/<target>/ and are
@@ -30,11 +33,13 @@ BUILD=${OCG_FUZZ_BUILD_DIR:-$ROOT/build-fuzz}
 SECONDS_PER_TARGET=600
 JOBS=1
 ONLY=""
+EXCLUDE=""
 while [ $# -gt 0 ]; do
   case "$1" in
     -h|--help) usage; exit 0 ;;
     --jobs) JOBS=${2:?--jobs needs a number}; shift 2 ;;
     --only) ONLY=${2:?--only needs target names}; shift 2 ;;
+    --exclude) EXCLUDE=${2:?--exclude needs target names}; shift 2 ;;
     --build-dir) BUILD=${2:?--build-dir needs a folder}; shift 2 ;;
     *)
       if [[ "$1" =~ ^[0-9]+$ ]] && [ "$1" -gt 0 ]; then
@@ -56,16 +61,23 @@ for tool in clang clang++; do
   }
 done
 
+# A misspelt name would silently fuzz everything or nothing it was meant to.
+for name in ${ONLY//,/ } ${EXCLUDE//,/ }; do
+  grep -qE "^$name +" "$ROOT/fuzz/targets.txt" ||
+    { echo "fuzz.sh: no fuzz target '$name' (see fuzz/targets.txt)" >&2; exit 2; }
+done
+
 # name max_len, from the one list CMake also builds from.
 TARGETS=()
 declare -A MAX_LEN
 while read -r name _library max_len; do
   [[ -z "$name" || "$name" == \#* ]] && continue
   if [ -n "$ONLY" ] && [[ ",$ONLY," != *",$name,"* ]]; then continue; fi
+  if [[ ",$EXCLUDE," == *",$name,"* ]]; then continue; fi
   TARGETS+=("$name")
   MAX_LEN[$name]=$max_len
 done <"$ROOT/fuzz/targets.txt"
-[ ${#TARGETS[@]} -gt 0 ] || { echo "fuzz.sh: no target matches --only '$ONLY' (see fuzz/targets.txt)" >&2; exit 2; }
+[ ${#TARGETS[@]} -gt 0 ] || { echo "fuzz.sh: no target left by --only '$ONLY' --exclude '$EXCLUDE' (see fuzz/targets.txt)" >&2; exit 2; }
 
 LAUNCHER=()
 command -v ccache >/dev/null 2>&1 &&
@@ -83,7 +95,7 @@ cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" "${LAUNCHER[@]}" \
   >"$BUILD/configure.log" 2>&1 || { cat "$BUILD/configure.log"; exit 2; }
 echo "== build ($(nproc 2>/dev/null || echo 2) jobs)"
 BUILD_START=$(date +%s)
-cmake --build "$BUILD" --target ocg_fuzz --parallel "$(nproc 2>/dev/null || echo 2)" \
+cmake --build "$BUILD" --target "${TARGETS[@]/#/ocg_fuzz_}" --parallel "$(nproc 2>/dev/null || echo 2)" \
   >"$BUILD/build.log" 2>&1 || { tail -n 60 "$BUILD/build.log"; echo "fuzz.sh: build failed, log: $BUILD/build.log" >&2; exit 2; }
 echo "   built in $(( $(date +%s) - BUILD_START )) s"
 
@@ -93,7 +105,9 @@ extra_seeds() {
   local name=$1 out=$2
   mkdir -p "$out"
   case "$name" in
-    settings)
+    settings|settings_file)
+      # settings_file parses the same files: it shares the committed seeds of settings.
+      [ "$name" = settings_file ] && cp "$ROOT"/fuzz/seeds/settings/* "$out"/
       cp "$ROOT"/config/*.yaml "$out"/ 2>/dev/null || true
       [ -d "$SHARED" ] && find "$SHARED" -maxdepth 2 -name '*.yaml' -size -8k -exec cp {} "$out"/ \; ;;
     replay_jsonl)
