@@ -189,6 +189,19 @@ TEST(FitOfBox, ACornerOfTheObjectIsAPartialView) {
   EXPECT_EQ(FitOfBox({125, 150, 175, 250}, projected, 0.4), BoxFit::kNone);
 }
 
+TEST(FitOfBox, ASideViewSpansAProjectionTooLargeByItsErrorAsAPartialView) {
+  // A flat object mapped from a short stretch of views: its footprint taken square, its
+  // projection a quarter too large on both axes. The real object's right part, its left
+  // hidden by a nearer one: the box spans the real object's height (15 of 18 pixels) but
+  // only 65 % of the projection's, and is flush with neither of its vertical edges (round_2's
+  // cell phone behind the potted plant, issue 18).
+  const Box2 projected{156, 214, 216, 237};
+  EXPECT_EQ(FitOfBox({182, 214, 206, 229}, projected, 0.4), BoxFit::kPartial);
+  // The object's size is known only to the slack: a box half the projection on both axes
+  // (a farther object of the class on the same ray) is still not this object.
+  EXPECT_EQ(FitOfBox({171, 220, 201, 231}, projected, 0.4), BoxFit::kNone);
+}
+
 TEST(ObjectsOptions, ADuplicateBoxIouOutsideZeroToOneIsRefusedNamingTheKey) {
   ObjectsOptions options;
   options.duplicate_box_iou = 0.0;
