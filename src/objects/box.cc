@@ -21,8 +21,9 @@ BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou) {
       std::max(box.x0, projected.x0 - slack_x), std::max(box.y0, projected.y0 - slack_y),
       std::min(box.x1, projected.x1 + slack_x), std::min(box.y1, projected.y1 + slack_y)};
   if (box.Area() <= 0 || overlap.Area() < kPartialViewInside * box.Area()) return BoxFit::kNone;
-  const bool spans = box.Width() >= kPartialViewSpan * projected.Width() ||
-                     box.Height() >= kPartialViewSpan * projected.Height();
+  // Across the projection the estimate may be too large by the slack on both sides.
+  const bool spans = box.Width() >= kPartialViewSpan * (projected.Width() - 2.0 * slack_x) ||
+                     box.Height() >= kPartialViewSpan * (projected.Height() - 2.0 * slack_y);
   if (spans) return BoxFit::kPartial;
   // A corner of the object, the rest hidden by something nearer on two sides: the box is
   // flush (within the slack) with a vertical and a horizontal edge of the projection. The

@@ -513,6 +513,15 @@ MapObject* ObjectMap::HostOf(MapObject& candidate) {
   return host;
 }
 
+void ObjectMap::MarkPartialViews(MapObject& stand_in, const MapObject& object) const {
+  if (!object.has_cuboid) return;
+  const std::vector<BoxFit> fits =
+      FitsOfTrack(stand_in, object, options_.min_reacquire_iou, R_wg_, camera_);
+  for (std::size_t i = 0; i < stand_in.sightings.size(); ++i) {
+    if (fits[i] == BoxFit::kPartial) stand_in.sightings[i].truncated = true;
+  }
+}
+
 std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int64_t frame) {
   if (!options_.join_candidates) return std::nullopt;
   MapObject* host = HostOf(candidate);
@@ -753,8 +762,10 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
     }
     return std::nullopt;
   };
-  while (const auto pair = find_pair())
+  while (const auto pair = find_pair()) {
+    MarkPartialViews(objects_.at(pair->second), objects_.at(pair->first));
     Merge(pair->first, pair->second, keyframe_id, timestamp, merges);
+  }
 
   for (auto it = objects_.begin(); it != objects_.end();) {
     MapObject& object = it->second;

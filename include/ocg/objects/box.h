@@ -37,6 +37,11 @@ double IntersectionOverUnion(const Box2& a, const Box2& b);
 // height on each side: the projected cuboid is an estimate, off by a share of the object's
 // size, and the first sliver of an object coming out from behind another (a box a few
 // pixels wide) pokes out of it by those pixels, a large share of the sliver's own area.
+// "Spans" is measured against the projection shrunk by the same slack: an object mapped
+// from a short stretch of views has a footprint taken square (object_geometry.h), its
+// projection up to a quarter too large, and a side view of the real object spans less of
+// it (round_2's cell phone, issue 18). A farther object of the class on the same ray still
+// fails when its box is at most about half the projection on both axes.
 enum class BoxFit { kNone, kWhole, kPartial };
 constexpr double kPartialViewInside = 0.8;
 constexpr double kPartialViewSpan = 0.7;

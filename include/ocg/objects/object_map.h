@@ -244,6 +244,11 @@ class ObjectMap {
   // A candidate about to be promoted that is a map object seen again (its boxes fit the
   // object's projection: Objects.join_candidates) joins it; returns the object's id.
   std::optional<ObjectId> JoinCandidate(MapObject& candidate, std::int64_t frame);
+  // The sightings of stand_in that are partial views of object's projected cuboid (a part
+  // of it, the rest hidden by something nearer) become truncated: their centres and extents
+  // do not tell the object's. As a joining candidate's, so an object merged into another
+  // does not pull its centre towards the visible part's.
+  void MarkPartialViews(MapObject& stand_in, const MapObject& object) const;
   void Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
              std::vector<ObjectChange>* merges);
   // Brings back the removed objects a map object now stands in for; returns their ids.
