@@ -161,6 +161,10 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   std::sort(candidates_.begin(), candidates_.end());
   candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
 
+  // "occlusion": every mapped object's image rectangle, the occluders of this keyframe.
+  std::vector<ImageRectangle> rectangles;
+  if (modes_.occlusion) rectangles = ImageRectangles(observation);
+
   std::vector<ObjectId> outliers;
   auto weight = observed_weight_.begin();  // both lists ascend by id: walk them together
   for (ObjectId id : candidates_) {
@@ -179,6 +183,11 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
         (record.state.state == ObjectState::kUnknown ||
          record.state.state == ObjectState::kSuspicious)) {
       evidence.in_view_weight = InViewNeighbourWeight(id, observed, observation);
+    }
+    if (modes_.occlusion && !evidence.observed && !evidence.present_by_points &&
+        (record.state.state == ObjectState::kUnknown ||
+         record.state.state == ObjectState::kSuspicious)) {
+      evidence.occluded_share = OccludedShareOf(record, rectangles, observation);
     }
     const Judgement judgement = JudgeObject(record.state, evidence, record.geometry,
                                             observation.T_cw, observation.camera, options_, modes_);
@@ -213,6 +222,28 @@ std::uint64_t ObjectChangeDetector::InViewNeighbourWeight(
     }
   }
   return weight;
+}
+
+std::vector<ImageRectangle> ObjectChangeDetector::ImageRectangles(
+    const KeyframeObservation& observation) const {
+  std::vector<ImageRectangle> rectangles;
+  for (const auto& [id, record] : records_) {
+    if (!record.geometry.centroid || !record.geometry.size) continue;
+    const std::optional<ImageRectangle> rectangle = ProjectBox(
+        *record.geometry.centroid, *record.geometry.size, observation.T_cw, observation.camera);
+    if (rectangle) rectangles.push_back(*rectangle);
+  }
+  return rectangles;
+}
+
+double ObjectChangeDetector::OccludedShareOf(const Record& record,
+                                             const std::vector<ImageRectangle>& rectangles,
+                                             const KeyframeObservation& observation) const {
+  if (!record.geometry.centroid || !record.geometry.size) return 0.0;
+  const std::optional<ImageRectangle> own = ProjectBox(
+      *record.geometry.centroid, *record.geometry.size, observation.T_cw, observation.camera);
+  // Its own rectangle is among them but never in front of its own centre.
+  return own ? OccludedShare(*own, rectangles, observation.camera) : 0.0;
 }
 
 RemovalEvent ObjectChangeDetector::MakeRemoval(ObjectId id, std::int64_t keyframe,
