@@ -536,26 +536,48 @@ TEST(Occlusion, MissedInPlainSightIsRemoved) {
   }
 }
 
-TEST(Occlusion, OnlyRectanglesWhollyInFrontOfTheCentreCover) {
+ImageFootprint Rectangle(double min_x, double min_y, double max_x, double max_y,
+                         double centre_depth, double far_depth) {
+  return FootprintOf({{min_x, min_y}, {max_x, min_y}, {max_x, max_y}, {min_x, max_y}}, centre_depth,
+                     far_depth);
+}
+
+TEST(Occlusion, OnlyOutlinesWhollyInFrontOfTheObjectCover) {
   const PinholeCamera camera = testing::TestCamera();
-  ImageRectangle object{100, 100, 200, 200, 3.0, 3.1};
-  ImageRectangle left_half{0, 0, 150, 480, 1.0, 1.5};
+  const ImageFootprint object = Rectangle(100, 100, 200, 200, 3.0, 3.1);
+  const ImageFootprint left_half = Rectangle(0, 0, 150, 480, 1.0, 1.5);
   EXPECT_NEAR(OccludedShare(object, {left_half}, camera), 0.5, 1e-9);
-  ImageRectangle right_half{150, 0, 640, 480, 1.0, 1.5};
+  const ImageFootprint right_half = Rectangle(150, 0, 640, 480, 1.0, 1.5);
   EXPECT_NEAR(OccludedShare(object, {left_half, right_half, object}, camera), 1.0, 1e-9)
-      << "its own rectangle never covers it";
-  // A table under the object: its centre is nearer, its far edge is not.
-  const ImageRectangle table{0, 0, 640, 480, 2.5, 4.0};
-  EXPECT_EQ(OccludedShare(object, {table}, camera), 0.0);
-  const ImageRectangle behind{0, 0, 640, 480, 4.0, 4.2};
-  EXPECT_EQ(OccludedShare(object, {behind}, camera), 0.0);
-  // Only the part inside the image counts: half of it is outside, and all of the rest is
-  // covered.
-  const ImageRectangle at_the_border{540, 100, 740, 200, 3.0, 3.1};
-  const ImageRectangle border_cover{500, 0, 640, 480, 1.0, 1.5};
-  EXPECT_NEAR(OccludedShare(at_the_border, {border_cover}, camera), 1.0, 1e-9);
-  const ImageRectangle outside{700, 100, 800, 200, 3.0, 3.1};
-  EXPECT_EQ(OccludedShare(outside, {border_cover}, camera), 0.0);
+      << "its own outline never covers it";
+  // A table under the object: its near edge is nearer, its far edge is not; a neighbour
+  // beside it, overlapping it in depth; something behind it.
+  EXPECT_EQ(OccludedShare(object, {Rectangle(0, 0, 640, 480, 2.5, 4.0)}, camera), 0.0);
+  EXPECT_EQ(OccludedShare(object, {Rectangle(0, 0, 640, 480, 2.8, 3.05)}, camera), 0.0);
+  EXPECT_EQ(OccludedShare(object, {Rectangle(0, 0, 640, 480, 4.0, 4.2)}, camera), 0.0);
+  // Only the part inside the image counts: half of it is outside, all of the rest covered.
+  const ImageFootprint border_cover = Rectangle(500, 0, 640, 480, 1.0, 1.5);
+  EXPECT_NEAR(OccludedShare(Rectangle(540, 100, 740, 200, 3.0, 3.1), {border_cover}, camera), 1.0,
+              1e-9);
+  EXPECT_EQ(OccludedShare(Rectangle(700, 100, 800, 200, 3.0, 3.1), {border_cover}, camera), 0.0);
+  // The outline, not its bounding rectangle: a triangle over the lower left half of the
+  // object's square covers half of it, though its rectangle covers all of it.
+  const ImageFootprint triangle = FootprintOf({{90, 90}, {90, 210}, {210, 210}}, 1.0, 1.5);
+  EXPECT_NEAR(OccludedShare(object, {triangle}, camera), 0.5, 0.07);
+}
+
+// A cell phone lying on the desk 0.3 m behind a laptop, seen from 2 m and 0.8 m up: the
+// laptop lies flat and hides nothing of it; a box of the laptop's footprint 0.3 m tall
+// hides it.
+TEST(Occlusion, AFlatObjectInFrontHidesNothingBehindIt) {
+  const PinholeCamera camera = testing::TestCamera();
+  const SE3 T_cw = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const auto phone = ProjectBox({0, 0, 0.005}, {0.08, 0.04, 0.01}, T_cw, camera);
+  const auto laptop = ProjectBox({-0.3, 0, 0.015}, {0.23, 0.33, 0.03}, T_cw, camera);
+  const auto box = ProjectBox({-0.3, 0, 0.15}, {0.23, 0.33, 0.3}, T_cw, camera);
+  ASSERT_TRUE(phone && laptop && box);
+  EXPECT_EQ(OccludedShare(*phone, {*laptop}, camera), 0.0);
+  EXPECT_EQ(OccludedShare(*phone, {*box}, camera), 1.0);
 }
 
 // Sessions: session 0 maps the table and leaves; between the sessions object 1 is

@@ -110,18 +110,18 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
       in_view.insert(id);
   }
   if (modes.occlusion) {
-    std::vector<ImageRectangle> rectangles;
+    std::vector<ImageFootprint> footprints;
     for (const auto& [id, object] : objects_) {
       if (!object.geometry.centroid || !object.geometry.size) continue;
-      if (const auto rectangle = ProjectBox(*object.geometry.centroid, *object.geometry.size,
+      if (const auto footprint = ProjectBox(*object.geometry.centroid, *object.geometry.size,
                                             observation.T_cw, observation.camera))
-        rectangles.push_back(*rectangle);
+        footprints.push_back(*footprint);
     }
     for (const auto& [id, object] : objects_) {
       if (!object.geometry.centroid || !object.geometry.size) continue;
       if (const auto own = ProjectBox(*object.geometry.centroid, *object.geometry.size,
                                       observation.T_cw, observation.camera))
-        evidence[id].occluded_share = OccludedShare(*own, rectangles, observation.camera);
+        evidence[id].occluded_share = OccludedShare(*own, footprints, observation.camera);
     }
   }
   for (const auto& [pair, weight] : edges_) {
