@@ -161,6 +161,10 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   std::sort(candidates_.begin(), candidates_.end());
   candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
 
+  // "occlusion": every mapped object's image footprint, the occluders of this keyframe.
+  std::vector<ImageFootprint> footprints;
+  if (modes_.occlusion) footprints = ImageFootprints(observation);
+
   std::vector<ObjectId> outliers;
   auto weight = observed_weight_.begin();  // both lists ascend by id: walk them together
   for (ObjectId id : candidates_) {
@@ -179,6 +183,11 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
         (record.state.state == ObjectState::kUnknown ||
          record.state.state == ObjectState::kSuspicious)) {
       evidence.in_view_weight = InViewNeighbourWeight(id, observed, observation);
+    }
+    if (modes_.occlusion && !evidence.observed && !evidence.present_by_points &&
+        (record.state.state == ObjectState::kUnknown ||
+         record.state.state == ObjectState::kSuspicious)) {
+      evidence.occluded_share = OccludedShareOf(record, footprints, observation);
     }
     const Judgement judgement = JudgeObject(record.state, evidence, record.geometry,
                                             observation.T_cw, observation.camera, options_, modes_);
@@ -213,6 +222,28 @@ std::uint64_t ObjectChangeDetector::InViewNeighbourWeight(
     }
   }
   return weight;
+}
+
+std::vector<ImageFootprint> ObjectChangeDetector::ImageFootprints(
+    const KeyframeObservation& observation) const {
+  std::vector<ImageFootprint> footprints;
+  for (const auto& [id, record] : records_) {
+    if (!record.geometry.centroid || !record.geometry.size) continue;
+    const std::optional<ImageFootprint> footprint = ProjectBox(
+        *record.geometry.centroid, *record.geometry.size, observation.T_cw, observation.camera);
+    if (footprint) footprints.push_back(*footprint);
+  }
+  return footprints;
+}
+
+double ObjectChangeDetector::OccludedShareOf(const Record& record,
+                                             const std::vector<ImageFootprint>& footprints,
+                                             const KeyframeObservation& observation) const {
+  if (!record.geometry.centroid || !record.geometry.size) return 0.0;
+  const std::optional<ImageFootprint> own = ProjectBox(
+      *record.geometry.centroid, *record.geometry.size, observation.T_cw, observation.camera);
+  // Its own footprint is among them but never in front of its own centre.
+  return own ? OccludedShare(*own, footprints, observation.camera) : 0.0;
 }
 
 RemovalEvent ObjectChangeDetector::MakeRemoval(ObjectId id, std::int64_t keyframe,

@@ -118,7 +118,9 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
   double increment = 0.0;
   // Only states 3 and 4 use the increment: skip the projections for the others.
   if (current.state == ObjectState::kUnknown || current.state == ObjectState::kSuspicious) {
-    const double fraction = ExpectedInView(geometry, T_cw, camera, options, modes);
+    double fraction = ExpectedInView(geometry, T_cw, camera, options, modes);
+    // Hidden behind objects nearer the camera: a detector cannot find it there.
+    if (modes.occlusion && evidence.occluded_share >= options.max_occluded_share) fraction = 0.0;
     increment = DoubtIncrement(judgement.rate, fraction > 0.0, options) * fraction;
     if (modes.dropout_guard && evidence.degree > 0) {
       const std::size_t required = std::min<std::size_t>(

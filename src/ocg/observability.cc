@@ -37,31 +37,128 @@ bool CentroidInImage(const Eigen::Vector3d& centroid_world, const SE3& T_cw,
   return (ray.head<2>() - point.head<2>() / point.z()).norm() < kRoundTripTolerance;
 }
 
-double BoxFractionInImage(const Eigen::Vector3d& centroid_world, const Eigen::Vector3d& size,
-                          const SE3& T_cw, const PinholeCamera& camera) {
-  if ((T_cw * centroid_world).z() <= kMinDepth) return 0.0;
-  double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
-  double max_x = -min_x, max_y = -min_x;
+namespace {
+
+// z of (b - a) x (c - a): positive when a, b, c turn counter-clockwise.
+double Turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const Eigen::Vector2d ab = b - a, ac = c - a;
+  return ab.x() * ac.y() - ab.y() * ac.x();
+}
+
+// Andrew's monotone chain.
+std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points) {
+  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (points.size() < 3) return points;
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {  // lower chain
+    while (k >= 2 && Turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && Turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);  // the last point is the first
+  return hull;
+}
+
+}  // namespace
+
+bool ImageFootprint::Contains(const Eigen::Vector2d& pixel) const {
+  if (outline.size() < 3) return false;
+  if (pixel.x() < min_x || pixel.x() > max_x || pixel.y() < min_y || pixel.y() > max_y)
+    return false;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    if (Turn(outline[i], outline[(i + 1) % outline.size()], pixel) < 0) return false;
+  }
+  return true;
+}
+
+ImageFootprint FootprintOf(const std::vector<Eigen::Vector2d>& points, double near_depth,
+                           double far_depth) {
+  ImageFootprint footprint;
+  footprint.outline = ConvexHull(points);
+  footprint.min_x = footprint.min_y = std::numeric_limits<double>::infinity();
+  footprint.max_x = footprint.max_y = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& point : points) {
+    footprint.min_x = std::min(footprint.min_x, point.x());
+    footprint.max_x = std::max(footprint.max_x, point.x());
+    footprint.min_y = std::min(footprint.min_y, point.y());
+    footprint.max_y = std::max(footprint.max_y, point.y());
+  }
+  footprint.near_depth = near_depth;
+  footprint.far_depth = far_depth;
+  return footprint;
+}
+
+std::optional<ImageFootprint> ProjectBox(const Eigen::Vector3d& centroid_world,
+                                         const Eigen::Vector3d& size, const SE3& T_cw,
+                                         const PinholeCamera& camera) {
+  const double centre_depth = (T_cw * centroid_world).z();
+  if (centre_depth <= kMinDepth) return std::nullopt;
+  double near_depth = centre_depth;
+  double far_depth = centre_depth;
+  std::vector<Eigen::Vector2d> corners;
+  corners.reserve(8);
   for (int corner = 0; corner < 8; ++corner) {
     const Eigen::Vector3d offset((corner & 1 ? 0.5 : -0.5) * size.x(),
                                  (corner & 2 ? 0.5 : -0.5) * size.y(),
                                  (corner & 4 ? 0.5 : -0.5) * size.z());
     const Eigen::Vector3d point = T_cw * (centroid_world + offset);
-    // A corner behind the camera makes the rectangle unbounded: clip it to the near plane.
+    near_depth = std::min(near_depth, point.z());
+    far_depth = std::max(far_depth, point.z());
+    // A corner behind the camera makes the projection unbounded: clip it to the near plane.
     const Eigen::Vector3d clipped(point.x(), point.y(), std::max(point.z(), 0.05));
-    const Eigen::Vector2d pixel = camera.ProjectUndistorted(clipped);
-    min_x = std::min(min_x, pixel.x());
-    max_x = std::max(max_x, pixel.x());
-    min_y = std::min(min_y, pixel.y());
-    max_y = std::max(max_y, pixel.y());
+    corners.push_back(camera.ProjectUndistorted(clipped));
   }
-  const double area = (max_x - min_x) * (max_y - min_y);
+  return FootprintOf(corners, near_depth, far_depth);
+}
+
+double BoxFractionInImage(const Eigen::Vector3d& centroid_world, const Eigen::Vector3d& size,
+                          const SE3& T_cw, const PinholeCamera& camera) {
+  const std::optional<ImageFootprint> box = ProjectBox(centroid_world, size, T_cw, camera);
+  if (!box) return 0.0;
+  const double area = (box->max_x - box->min_x) * (box->max_y - box->min_y);
   if (!(area > 0)) return CentroidInImage(centroid_world, T_cw, camera) ? 1.0 : 0.0;
   const double inside_x =
-      std::max(0.0, std::min(max_x, double(camera.width)) - std::max(min_x, 0.0));
+      std::max(0.0, std::min(box->max_x, double(camera.width)) - std::max(box->min_x, 0.0));
   const double inside_y =
-      std::max(0.0, std::min(max_y, double(camera.height)) - std::max(min_y, 0.0));
+      std::max(0.0, std::min(box->max_y, double(camera.height)) - std::max(box->min_y, 0.0));
   return std::clamp(inside_x * inside_y / area, 0.0, 1.0);
+}
+
+double OccludedShare(const ImageFootprint& object, const std::vector<ImageFootprint>& others,
+                     const PinholeCamera& camera) {
+  std::vector<const ImageFootprint*> in_front;
+  for (const ImageFootprint& other : others) {
+    if (other.far_depth < object.near_depth) in_front.push_back(&other);
+  }
+  if (in_front.empty()) return 0.0;
+  // The outline's bounding rectangle inside the image, sampled at cell centres; only the
+  // samples inside the outline count.
+  const double min_x = std::max(object.min_x, 0.0);
+  const double max_x = std::min(object.max_x, double(camera.width));
+  const double min_y = std::max(object.min_y, 0.0);
+  const double max_y = std::min(object.max_y, double(camera.height));
+  if (!(max_x > min_x && max_y > min_y)) return 0.0;
+  constexpr int kSamples = 16;
+  int inside = 0;
+  int covered = 0;
+  for (int i = 0; i < kSamples; ++i) {
+    for (int j = 0; j < kSamples; ++j) {
+      const Eigen::Vector2d sample(min_x + (i + 0.5) * (max_x - min_x) / kSamples,
+                                   min_y + (j + 0.5) * (max_y - min_y) / kSamples);
+      if (!object.Contains(sample)) continue;
+      ++inside;
+      covered +=
+          std::any_of(in_front.begin(), in_front.end(),
+                      [&sample](const ImageFootprint* other) { return other->Contains(sample); });
+    }
+  }
+  return inside > 0 ? static_cast<double>(covered) / inside : 0.0;
 }
 
 double DistanceFromCamera(const Eigen::Vector3d& point_world, const SE3& T_cw) {

@@ -20,9 +20,9 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {"paper",  "fallback",    "in_image", "guard",
-                                               "view",   "reliability", "restore",  "dropout",
-                                               "points", "improved",    "off",      "visibility"};
+  static const std::set<std::string> kKnown = {
+      "paper",   "fallback", "in_image",  "guard",    "view", "reliability", "restore",
+      "dropout", "points",   "occlusion", "improved", "off",  "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
   OcgModes modes;
@@ -38,7 +38,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
     RequireOption(kKnown.count(part) > 0, "OCG.mode",
                   "unknown mode '" + part +
                       "' (use paper, or fallback, in_image, guard, view, reliability, restore, "
-                      "dropout, points joined with "
+                      "dropout, points, occlusion joined with "
                       "'+', or improved; "
                       "baselines: off, visibility)");
   }
@@ -53,6 +53,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
   modes.restore = all || parts.count("restore") > 0;
   modes.dropout_discount = all || parts.count("dropout") > 0;
   modes.point_presence = parts.count("points") > 0;  // not in "improved": docs/ocg.md
+  modes.occlusion = all || parts.count("occlusion") > 0;
   return modes;
 }
 
@@ -82,6 +83,8 @@ void OcgOptions::Check() const {
                 "OCG.reliable_detection_rate", "must be in (0, 1)");
   RequireOption(dropout_full_share > 0 && dropout_full_share < 1, "OCG.dropout_full_share",
                 "must be in (0, 1)");
+  RequireOption(max_occluded_share > 0 && max_occluded_share <= 1, "OCG.max_occluded_share",
+                "must be in (0, 1]");
   RequireOption(visibility_keyframes >= 1, "OCG.visibility_keyframes", "must be at least 1");
 }
 

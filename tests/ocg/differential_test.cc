@@ -88,8 +88,9 @@ class RandomStream {
 };
 
 TEST(Differential, IncrementalMatchesNaiveReferenceOnRandomStreams) {
-  const std::vector<std::string> modes = {"paper",   "fallback", "in_image", "guard",
-                                          "dropout", "improved", "off",      "visibility"};
+  const std::vector<std::string> modes = {"paper",    "fallback", "in_image",
+                                          "guard",    "dropout",  "occlusion",
+                                          "improved", "off",      "visibility"};
   constexpr int kStreams = 2000;
   std::size_t removals = 0, suspicious_seen = 0, keyframes = 0;
   for (int stream = 0; stream < kStreams; ++stream) {

@@ -481,6 +481,105 @@ TEST(ViewMode, HiddenFromASideItWasNeverDetectedFromIsKept) {
   EXPECT_TRUE(BehindThePartition("improved").empty());
 }
 
+// Object 1 (20 cm) stands on the table with 2-4; box 8 (60 cm) stands at `occluder`. The
+// camera detects everything from high up, looking down at the table, and leaves; 1 is
+// not detected when it comes back lower down (25 degrees lower, within "view"'s 30) and
+// leaves again. With 8 between that place and 1, 8 hides 1 there; with 8 behind the table,
+// 1 is in plain sight and was moved.
+std::vector<RemovalEvent> MissedFromBehindABox(const std::string& mode,
+                                               const Eigen::Vector3d& occluder) {
+  OcgOptions options;
+  options.mode = mode;
+  ObjectChangeDetector detector(options);
+  std::map<ObjectId, Eigen::Vector3d> places = kPlaces;
+  places[8] = occluder;
+  std::vector<RemovalEvent> removed;
+  std::int64_t keyframe = 0;
+  const auto step = [&](const SE3& T_cw, const std::vector<ObjectId>& seen) {
+    KeyframeObservation observation = MakeObservation(keyframe++, T_cw, seen);
+    for (ObjectId id : seen) {
+      observation.updates[id].centroid = places.at(id);
+      observation.updates[id].size = Eigen::Vector3d::Constant(id == 8 ? 0.6 : 0.2);
+    }
+    for (const RemovalEvent& event : detector.Process(observation).removed)
+      removed.push_back(event);
+  };
+  const SE3 above = LookAt({-2, 0, 2.2}, {0, 0, 0});
+  const SE3 low = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const SE3 shelf = LookAt({8, 0, 0.8}, {10, 0, 0});
+  for (int i = 0; i < 3; ++i) step(above, {1, 2, 3, 4, 8});
+  step(shelf, {5, 6});
+  for (int i = 0; i < 3; ++i) step(low, {2, 3, 4, 8});
+  step(shelf, {5, 6});
+  return removed;
+}
+
+const Eigen::Vector3d kBetweenCameraAndObject1(-1.0, 0.0, 0.3);
+const Eigen::Vector3d kBehindTheTable(1.2, 0.0, 0.3);
+
+TEST(Occlusion, HiddenBehindANearerMappedObjectIsKept) {
+  const std::string without_occlusion = "fallback+in_image+guard+view+restore+dropout";
+  for (const std::string& mode : {std::string("paper"), without_occlusion}) {
+    const std::vector<RemovalEvent> removed = MissedFromBehindABox(mode, kBetweenCameraAndObject1);
+    ASSERT_EQ(removed.size(), 1u) << mode << " takes the hidden object for a moved one";
+    EXPECT_EQ(removed[0].object_id, 1);
+  }
+  EXPECT_TRUE(MissedFromBehindABox("occlusion", kBetweenCameraAndObject1).empty());
+  EXPECT_TRUE(MissedFromBehindABox("improved", kBetweenCameraAndObject1).empty());
+}
+
+TEST(Occlusion, MissedInPlainSightIsRemoved) {
+  for (const std::string mode : {"paper", "occlusion", "improved"}) {
+    const std::vector<RemovalEvent> removed = MissedFromBehindABox(mode, kBehindTheTable);
+    ASSERT_EQ(removed.size(), 1u) << mode;
+    EXPECT_EQ(removed[0].object_id, 1);
+  }
+}
+
+ImageFootprint Rectangle(double min_x, double min_y, double max_x, double max_y,
+                         double centre_depth, double far_depth) {
+  return FootprintOf({{min_x, min_y}, {max_x, min_y}, {max_x, max_y}, {min_x, max_y}}, centre_depth,
+                     far_depth);
+}
+
+TEST(Occlusion, OnlyOutlinesWhollyInFrontOfTheObjectCover) {
+  const PinholeCamera camera = testing::TestCamera();
+  const ImageFootprint object = Rectangle(100, 100, 200, 200, 3.0, 3.1);
+  const ImageFootprint left_half = Rectangle(0, 0, 150, 480, 1.0, 1.5);
+  EXPECT_NEAR(OccludedShare(object, {left_half}, camera), 0.5, 1e-9);
+  const ImageFootprint right_half = Rectangle(150, 0, 640, 480, 1.0, 1.5);
+  EXPECT_NEAR(OccludedShare(object, {left_half, right_half, object}, camera), 1.0, 1e-9)
+      << "its own outline never covers it";
+  // A table under the object: its near edge is nearer, its far edge is not; a neighbour
+  // beside it, overlapping it in depth; something behind it.
+  EXPECT_EQ(OccludedShare(object, {Rectangle(0, 0, 640, 480, 2.5, 4.0)}, camera), 0.0);
+  EXPECT_EQ(OccludedShare(object, {Rectangle(0, 0, 640, 480, 2.8, 3.05)}, camera), 0.0);
+  EXPECT_EQ(OccludedShare(object, {Rectangle(0, 0, 640, 480, 4.0, 4.2)}, camera), 0.0);
+  // Only the part inside the image counts: half of it is outside, all of the rest covered.
+  const ImageFootprint border_cover = Rectangle(500, 0, 640, 480, 1.0, 1.5);
+  EXPECT_NEAR(OccludedShare(Rectangle(540, 100, 740, 200, 3.0, 3.1), {border_cover}, camera), 1.0,
+              1e-9);
+  EXPECT_EQ(OccludedShare(Rectangle(700, 100, 800, 200, 3.0, 3.1), {border_cover}, camera), 0.0);
+  // The outline, not its bounding rectangle: a triangle over the lower left half of the
+  // object's square covers half of it, though its rectangle covers all of it.
+  const ImageFootprint triangle = FootprintOf({{90, 90}, {90, 210}, {210, 210}}, 1.0, 1.5);
+  EXPECT_NEAR(OccludedShare(object, {triangle}, camera), 0.5, 0.07);
+}
+
+// A cell phone lying on the desk 0.3 m behind a laptop, seen from 2 m and 0.8 m up: the
+// laptop lies flat and hides nothing of it; a box of the laptop's footprint 0.3 m tall
+// hides it.
+TEST(Occlusion, AFlatObjectInFrontHidesNothingBehindIt) {
+  const PinholeCamera camera = testing::TestCamera();
+  const SE3 T_cw = LookAt({-2, 0, 0.8}, {0, 0, 0});
+  const auto phone = ProjectBox({0, 0, 0.005}, {0.08, 0.04, 0.01}, T_cw, camera);
+  const auto laptop = ProjectBox({-0.3, 0, 0.015}, {0.23, 0.33, 0.03}, T_cw, camera);
+  const auto box = ProjectBox({-0.3, 0, 0.15}, {0.23, 0.33, 0.3}, T_cw, camera);
+  ASSERT_TRUE(phone && laptop && box);
+  EXPECT_EQ(OccludedShare(*phone, {*laptop}, camera), 0.0);
+  EXPECT_EQ(OccludedShare(*phone, {*box}, camera), 1.0);
+}
+
 // Sessions: session 0 maps the table and leaves; between the sessions object 1 is
 // carried away; session 1 comes back and looks at the table until it ends, without ever
 // leaving its observable region, so the paper's rule (an outlier on leaving) never fires.

@@ -9,6 +9,8 @@
 
 #include <unistd.h>
 
+#include "ocg/ocg/observability.h"
+
 namespace ocg::testing {
 
 namespace fs = std::filesystem;
@@ -106,6 +108,21 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
     evidence[id].observed = observed.count(id) > 0;
     if (ExpectedInView(object.geometry, observation.T_cw, observation.camera, options_, modes) > 0)
       in_view.insert(id);
+  }
+  if (modes.occlusion) {
+    std::vector<ImageFootprint> footprints;
+    for (const auto& [id, object] : objects_) {
+      if (!object.geometry.centroid || !object.geometry.size) continue;
+      if (const auto footprint = ProjectBox(*object.geometry.centroid, *object.geometry.size,
+                                            observation.T_cw, observation.camera))
+        footprints.push_back(*footprint);
+    }
+    for (const auto& [id, object] : objects_) {
+      if (!object.geometry.centroid || !object.geometry.size) continue;
+      if (const auto own = ProjectBox(*object.geometry.centroid, *object.geometry.size,
+                                      observation.T_cw, observation.camera))
+        evidence[id].occluded_share = OccludedShare(*own, footprints, observation.camera);
+    }
   }
   for (const auto& [pair, weight] : edges_) {
     for (const auto& [self, other] :

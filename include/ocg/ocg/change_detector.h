@@ -15,6 +15,7 @@
 
 #include "ocg/ocg/graph.h"
 #include "ocg/ocg/judgement.h"
+#include "ocg/ocg/observability.h"
 #include "ocg/ocg/observation.h"
 #include "ocg/ocg/options.h"
 
@@ -118,6 +119,12 @@ class ObjectChangeDetector {
   // expected in view (ExpectedInView). O(degree of id).
   std::uint64_t InViewNeighbourWeight(ObjectId id, const std::vector<ObjectId>& observed,
                                       const KeyframeObservation& observation) const;
+  // "occlusion": the image footprints of the graph's objects with a centroid and a size,
+  // in front of the camera. O(objects in the graph), once per keyframe.
+  std::vector<ImageFootprint> ImageFootprints(const KeyframeObservation& observation) const;
+  // "occlusion": OccludedShare of the record's footprint among those; 0 without geometry.
+  double OccludedShareOf(const Record& record, const std::vector<ImageFootprint>& footprints,
+                         const KeyframeObservation& observation) const;
   RemovalEvent MakeRemoval(ObjectId id, std::int64_t keyframe, double timestamp) const;
   ObjectStatus MakeStatus(ObjectId id, const Record& record) const;
 

@@ -26,6 +26,9 @@ struct ObjectEvidence {
   std::uint64_t in_view_weight = 0;
   // "points" only: not detected, but its own map points were tracked in the keyframe.
   bool present_by_points = false;
+  // "occlusion" only: the share of its image rectangle that nearer objects cover
+  // (OccludedShare); 0 when not gathered.
+  double occluded_share = 0.0;
 };
 
 struct ObjectGeometry {

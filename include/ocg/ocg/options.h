@@ -26,6 +26,7 @@ struct OcgModes {
   bool restore = false;                // "restore"
   bool dropout_discount = false;       // "dropout"
   bool point_presence = false;         // "points"
+  bool occlusion = false;              // "occlusion"
 };
 
 // Parses OCG.mode; throws OptionError naming the key when it is not a valid mode.
@@ -56,7 +57,10 @@ struct OcgOptions {
   //               detector says: it takes no doubt and its doubt is cleared (SLAM runs
   //               only); not part of "improved" (object points are rarely tracked again at
   //               later keyframes, so it did not fire on desk_static: docs/ocg.md),
-  //   "improved"  fallback+in_image+guard+view+restore+dropout, the default (on TUM fr3
+  //   "occlusion" P is 0 for an object whose image rectangle is covered, by at least
+  //               max_occluded_share, by the rectangles of mapped objects wholly in front of
+  //               it (hidden behind them, a detector cannot find it),
+  //   "improved"  fallback+in_image+guard+view+restore+dropout+occlusion, the default (on TUM fr3
   //               long_office's real detections it removes no object of that static scene,
   //               paper removes 9; docs/results.md). See docs/ocg.md for the case each one fixes.
   // Baselines for comparison: "off" (nothing is ever removed) and "visibility" (an object
@@ -98,6 +102,9 @@ struct OcgOptions {
   // miss counts fully; below it a miss weighs by how likely the detector was to find the
   // object at the rate it found its neighbours (docs/ocg.md: real and generated figures).
   double dropout_full_share = 0.7;
+  // "occlusion": the share of an object's image rectangle (inside the image) covered by
+  // nearer objects' rectangles from which it counts as hidden (P = 0).
+  double max_occluded_share = 0.5;
   // "visibility": keyframes since the last detection in which the object was geometrically
   // visible (as for "fallback") and not detected, after which it is removed.
   int visibility_keyframes = 5;
@@ -131,6 +138,7 @@ void VisitOcgOptionFields(Options& options, Visitor&& visit) {
   visit("view_max_angle_deg", options.view_max_angle_deg);
   visit("reliable_detection_rate", options.reliable_detection_rate);
   visit("dropout_full_share", options.dropout_full_share);
+  visit("max_occluded_share", options.max_occluded_share);
   visit("visibility_keyframes", options.visibility_keyframes);
 }
 
