@@ -251,13 +251,14 @@ std::vector<RemovalEvent> MissedAtTheTable(const std::string& mode, bool frame_s
 }
 
 TEST(PointPresenceStory, AnObjectMissedWhoseTextureIsAtItsPointsStays) {
-  ASSERT_EQ(MissedAtTheTable("improved", true).size(), 1u) << "detections alone: removed";
-  EXPECT_TRUE(MissedAtTheTable("improved+points", true).empty());
+  ASSERT_EQ(MissedAtTheTable("fallback+in_image+guard+view+restore+dropout", true).size(), 1u)
+      << "detections alone: removed";
+  EXPECT_TRUE(MissedAtTheTable("improved", true).empty());
   EXPECT_TRUE(MissedAtTheTable("points", true).empty());
 }
 
 TEST(PointPresenceStory, AnObjectMovedAwayIsRemovedWithTheEvidenceOn) {
-  for (const std::string mode : {"improved", "improved+points"}) {
+  for (const std::string mode : {"fallback+in_image+guard+view+restore+dropout", "improved"}) {
     const std::vector<RemovalEvent> removed = MissedAtTheTable(mode, false);
     ASSERT_EQ(removed.size(), 1u) << mode;
     EXPECT_EQ(removed[0].object_id, 1) << mode;
