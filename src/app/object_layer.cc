@@ -61,6 +61,10 @@ nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& fol
 
 ObjectLayer::ObjectLayer(const Settings& settings, bool enabled, bool keep_first_removal)
     : settings_(settings), enabled_(enabled), keep_first_removal_(keep_first_removal) {
+  point_search_.pyramid = MakeScalePyramid(settings_.orb.levels, settings_.orb.scale_factor);
+  point_search_.radius = settings_.objects.presence_search_radius;
+  point_search_.max_distance = settings_.matcher.loose_distance;
+  point_search_.ratio = settings_.matcher.projection_ratio;
   if (enabled_) Start();
 }
 
@@ -91,7 +95,9 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     std::vector<ObjectView> before;
     if (keep_first_removal_ && !removal_seen_) before = mapper_->Views();
     const std::int64_t removed = mapper_->Stats().objects_removed;
-    mapper_->AddKeyframe(keyframes_++, timestamp, *result.T_cw);
+    point_search_.features = system.LastFrameFeatures();
+    mapper_->AddKeyframe(keyframes_++, timestamp, *result.T_cw, &point_search_);
+    point_search_.features = nullptr;
     if (!removal_seen_ && mapper_->Stats().objects_removed > removed) {
       removal_seen_ = true;
       if (keep_first_removal_) first_removal_ = std::move(before);
@@ -197,6 +203,16 @@ nlohmann::json ObjectLayer::Write(const std::string& output) const {
                    {{"keyframe_images", colour_images_}, {"sightings", colour_signatures_}}},
                   {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
                   {"timing", {{"objects_per_frame", Timing(seconds_)}}}});
+  if (settings_.ocg.modes().point_presence) {
+    const ObjectMap::PointPresenceStats points = mapper_->PointPresenceStats();
+    section["point_presence"] = {
+        {"keyframes_searched", points.keyframes},
+        {"keyframes_with_presence", points.keyframes_with_presence},
+        {"objects_searched", points.objects_searched},
+        {"objects_present", points.objects_present},
+        {"cpu_ms_per_keyframe",
+         points.keyframes > 0 ? 1000.0 * points.cpu_seconds / points.keyframes : 0.0}};
+  }
   return section;
 }
 

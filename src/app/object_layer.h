@@ -91,6 +91,10 @@ class ObjectLayer {
   bool enabled_;
   bool keep_first_removal_;
   std::unique_ptr<ObjectMapper> mapper_;
+  // OCG.mode "points": how the keyframe's features are searched for the objects' points
+  // (the pyramid of ORBextractor.*, the window of Objects.presence_search_radius, the
+  // thresholds of Matcher.*); its features are set at each keyframe.
+  FrameFeatureSearch point_search_;
   std::int64_t keyframes_ = 0;
   std::int64_t tracked_frames_ = 0;
   int resets_ = 0;

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "ocg/core/coco.h"
+#include "ocg/core/cpu_time.h"
 #include "ocg/objects/assignment.h"
 #include "ocg/objects/cuboid_json.h"
 #include "ocg/objects/object_geometry.h"
@@ -197,16 +198,25 @@ std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes
 }
 
 bool PresentByPoints(const MapObject& object, const std::vector<std::uint64_t>& tracked,
-                     const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options) {
-  if (tracked.empty()) return false;
+                     const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options,
+                     const FrameFeatureSearch* frame) {
+  const bool searchable = frame != nullptr && frame->features != nullptr;
+  if (tracked.empty() && !searchable) return false;
   int in_image = 0;
   int seen = 0;
+  std::vector<PointToFind> to_find;
   for (std::uint64_t id : ObjectPointIds(object, options.min_point_votes)) {
-    const Eigen::Vector3d point = T_cw * object.points.at(id).position;
-    if (point.z() <= 0.0 || !camera.IsInImage(camera.ProjectUndistorted(point))) continue;
+    const ObjectPoint& point = object.points.at(id);
+    const Eigen::Vector3d in_camera = T_cw * point.position;
+    if (in_camera.z() <= 0.0 || !camera.IsInImage(camera.ProjectUndistorted(in_camera))) continue;
     ++in_image;
-    if (std::binary_search(tracked.begin(), tracked.end(), id)) ++seen;
+    if (std::binary_search(tracked.begin(), tracked.end(), id)) {
+      ++seen;
+    } else if (searchable && point.descriptor) {
+      to_find.push_back({point.position, *point.descriptor});
+    }
   }
+  if (!to_find.empty()) seen += SearchPointsInFrame(to_find, T_cw, camera, *frame).found;
   return seen >= options.presence_min_points && seen >= options.presence_min_share * in_image;
 }
 
@@ -703,9 +713,28 @@ std::vector<ObjectId> ObjectMap::RestoreRemoved(std::int64_t keyframe_id, double
   return restored;
 }
 
+void ObjectMap::AddPresentByPoints(const SE3& T_cw, const FrameFeatureSearch* frame,
+                                   KeyframeObservation* observation) {
+  const double cpu_start = ThreadCpuSeconds();
+  const bool searched = frame != nullptr && frame->features != nullptr;
+  for (const auto& [id, object] : objects_) {
+    if (observed_since_keyframe_.count(id) > 0) continue;
+    if (searched) ++point_presence_stats_.objects_searched;
+    if (PresentByPoints(object, last_tracked_points_, T_cw, camera_, options_, frame))
+      observation->present_by_points.push_back(id);
+  }
+  if (!searched) return;
+  ++point_presence_stats_.keyframes;
+  if (!observation->present_by_points.empty()) ++point_presence_stats_.keyframes_with_presence;
+  point_presence_stats_.objects_present +=
+      static_cast<std::int64_t>(observation->present_by_points.size());
+  point_presence_stats_.cpu_seconds += ThreadCpuSeconds() - cpu_start;
+}
+
 KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id, double timestamp,
                                                        const SE3& T_cw,
-                                                       std::vector<ObjectChange>* merges) {
+                                                       std::vector<ObjectChange>* merges,
+                                                       const FrameFeatureSearch* frame) {
   // Restores first: the object found at a removed one's place is that object, and the
   // hygiene below then treats it as the one object it is.
   std::vector<ObjectChange> hygiene;
@@ -791,11 +820,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
   for (const auto& [id, frame] : observed_since_keyframe_) {
     if (frame >= session_first_frame_ && objects_.count(id) > 0) observation.observed.push_back(id);
   }
-  for (const auto& [id, object] : objects_) {
-    if (!point_presence_ || observed_since_keyframe_.count(id) > 0) continue;
-    if (PresentByPoints(object, last_tracked_points_, T_cw, camera_, options_))
-      observation.present_by_points.push_back(id);
-  }
+  if (point_presence_) AddPresentByPoints(T_cw, frame, &observation);
   for (const auto& [id, changed] : geometry_changed_) {
     const auto it = objects_.find(id);
     if (it == objects_.end() || !it->second.has_cuboid) continue;

@@ -115,12 +115,13 @@ std::map<ObjectId, ColourHistogram> ObjectMapper::ColourAppearances(int min_sign
   return map_.ColourAppearances(min_signatures);
 }
 
-void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw) {
+void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw,
+                               const FrameFeatureSearch* frame) {
   KeyframeObservation observation;
   {
     std::lock_guard<std::mutex> lock(map_mutex_);
     std::vector<ObjectChange> merges;
-    observation = map_.MakeKeyframeObservation(keyframe_id, timestamp, T_cw, &merges);
+    observation = map_.MakeKeyframeObservation(keyframe_id, timestamp, T_cw, &merges, frame);
     ++stats_.keyframes;
     if (record_observations_) observations_jsonl_ += ObservationToJson(observation) + "\n";
   }
@@ -136,6 +137,11 @@ void ObjectMapper::StartSession(int session, std::int64_t first_frame) {
 void ObjectMapper::Finish() {
   manager_.EndSession();
   manager_.Shutdown();
+}
+
+ObjectMap::PointPresenceStats ObjectMapper::PointPresenceStats() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.point_presence_stats();
 }
 
 std::string ObjectMapper::ObjectsJson() const {

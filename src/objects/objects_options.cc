@@ -57,6 +57,8 @@ void ObjectsOptions::Check() const {
   RequireOption(presence_min_points >= 1, "Objects.presence_min_points", "must be at least 1");
   RequireOption(presence_min_share > 0 && presence_min_share <= 1, "Objects.presence_min_share",
                 "must be in (0, 1]");
+  RequireOption(presence_search_radius > 0, "Objects.presence_search_radius",
+                "must be positive (pixels)");
   RequireOption(yaw_min_points >= 3, "Objects.yaw_min_points", "must be at least 3");
   RequireOption(yaw_min_elongation >= 1, "Objects.yaw_min_elongation", "must be at least 1");
   RequireOption(plane_max_tilt_deg > 0 && plane_max_tilt_deg < 90, "Objects.plane_max_tilt_deg",
@@ -106,6 +108,7 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.min_point_votes", &options->min_point_votes);
   file.Read("Objects.presence_min_points", &options->presence_min_points);
   file.Read("Objects.presence_min_share", &options->presence_min_share);
+  file.Read("Objects.presence_search_radius", &options->presence_search_radius);
   file.Read("Objects.yaw_min_points", &options->yaw_min_points);
   file.Read("Objects.yaw_min_elongation", &options->yaw_min_elongation);
   file.Read("Objects.plane_max_tilt_deg", &options->plane_max_tilt_deg);

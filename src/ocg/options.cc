@@ -52,7 +52,7 @@ OcgModes ParseOcgMode(const std::string& mode) {
   modes.detection_reliability = parts.count("reliability") > 0;  // not in "improved"
   modes.restore = all || parts.count("restore") > 0;
   modes.dropout_discount = all || parts.count("dropout") > 0;
-  modes.point_presence = parts.count("points") > 0;  // not in "improved": docs/ocg.md
+  modes.point_presence = all || parts.count("points") > 0;  // SLAM runs only: docs/ocg.md
   modes.occlusion = all || parts.count("occlusion") > 0;
   return modes;
 }

@@ -172,6 +172,10 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   return poses;
 }
 
+const ExtractedFeatures* System::LastFrameFeatures() const {
+  return tracking_->LastFrameFeatures();
+}
+
 std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* ids,
                                                        std::vector<Descriptor>* descriptors) const {
   std::lock_guard<std::mutex> lock(map_.mutex());

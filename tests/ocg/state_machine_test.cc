@@ -94,7 +94,7 @@ TEST(Options, ModesParseAndReject) {
   options.mode = "improved";
   const OcgModes all = options.modes();
   EXPECT_TRUE(all.isolated_fallback && all.box_in_image && all.dropout_guard && all.detected_view &&
-              all.restore && all.dropout_discount);
+              all.restore && all.dropout_discount && all.point_presence);
   EXPECT_FALSE(all.detection_reliability) << "measured, not adopted (docs/ocg.md)";
   options.mode = "improved+reliability";
   EXPECT_TRUE(options.modes().detection_reliability && options.modes().detected_view);

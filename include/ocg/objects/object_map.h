@@ -21,6 +21,7 @@
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/object_geometry.h"
 #include "ocg/objects/objects_options.h"
+#include "ocg/objects/point_presence.h"
 #include "ocg/ocg/change_detector.h"
 #include "ocg/ocg/observation.h"
 
@@ -85,14 +86,18 @@ std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes
 // place match these far better than those of another object of its class.
 std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes);
 
-// OCG.mode "points": whether a frame's tracking saw the object by its own map points. Of
-// its point set (ObjectPointIds) the points that project inside the image from T_cw, at
-// least Objects.presence_min_points and a share Objects.presence_min_share were tracked
-// (tracked: the frame's tracked map point ids, sorted). A detector that misses an object
-// does not make its points vanish; an object carried away takes its points with it, and
-// what is left at its place (the table behind) was never most of its set.
+// OCG.mode "points": whether a frame still shows the object by its own map points. Of its
+// point set (ObjectPointIds) the points that project inside the image from T_cw, at least
+// Objects.presence_min_points and a share Objects.presence_min_share were tracked in the
+// frame (tracked: its tracked map point ids, sorted) or, with frame, found by their
+// descriptors near their projections (SearchPointsInFrame). A detector that misses an
+// object does not change its texture; an object carried away takes its points with it,
+// and what is left at its place (the table behind) was never most of its set. Tracking
+// alone rarely sees them again: it follows its local map, and an object's points were made
+// in the few frames it was detected in.
 bool PresentByPoints(const MapObject& object, const std::vector<std::uint64_t>& tracked,
-                     const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options);
+                     const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options,
+                     const FrameFeatureSearch* frame = nullptr);
 
 struct ObjectChange {
   // "removed" (by the OCG), "merged" (a duplicate, hygiene), "dropped" (too few
@@ -158,8 +163,11 @@ class ObjectMap {
   // any frame since the previous keyframe, with the geometry of those that changed.
   // Hygiene first: merges duplicates and drops objects with too few sightings (returned
   // in merges; the OCG is told to forget them through the observation).
+  // frame (SLAM runs, OCG.mode "points"): the keyframe's features, searched for the
+  // points of the objects not detected (PresentByPoints).
   KeyframeObservation MakeKeyframeObservation(std::int64_t keyframe_id, double timestamp,
-                                              const SE3& T_cw, std::vector<ObjectChange>* merges);
+                                              const SE3& T_cw, std::vector<ObjectChange>* merges,
+                                              const FrameFeatureSearch* frame = nullptr);
 
   // The OCG declared the object an outlier: it leaves the map and enters the change log
   // (with restore on, it is kept aside for Objects.restore_window seconds).
@@ -169,8 +177,18 @@ class ObjectMap {
   // there merged into it, the OCG told through observation.restored).
   void SetRestore(bool restore) { restore_ = restore; }
   // OCG.mode "points": each keyframe observation lists the objects not detected that the
-  // last frame tracked by their points (PresentByPoints).
+  // last frame shows by their points (PresentByPoints).
   void SetPointPresence(bool point_presence) { point_presence_ = point_presence; }
+  // The "points" evidence so far: keyframes given a frame to search, objects searched,
+  // objects found present, and the thread CPU time it took.
+  struct PointPresenceStats {
+    std::int64_t keyframes = 0;
+    std::int64_t keyframes_with_presence = 0;
+    std::int64_t objects_searched = 0;
+    std::int64_t objects_present = 0;
+    double cpu_seconds = 0.0;
+  };
+  const PointPresenceStats& point_presence_stats() const { return point_presence_stats_; }
 
   const std::map<ObjectId, MapObject>& objects() const { return objects_; }
   std::size_t CandidateCount() const { return candidates_.size(); }
@@ -254,6 +272,10 @@ class ObjectMap {
   // Brings back the removed objects a map object now stands in for; returns their ids.
   std::vector<ObjectId> RestoreRemoved(std::int64_t keyframe_id, double timestamp,
                                        std::vector<ObjectChange>* merges);
+  // OCG.mode "points": the objects not detected since the last keyframe that the frame at
+  // T_cw shows by their points (PresentByPoints), into observation->present_by_points.
+  void AddPresentByPoints(const SE3& T_cw, const FrameFeatureSearch* frame,
+                          KeyframeObservation* observation);
   struct PointCue;
   // Whether one of box_points is a point on the object (voted for, within its largest
   // extent of its centre).
@@ -277,6 +299,7 @@ class ObjectMap {
   std::vector<ObjectChange> changes_;
   bool restore_ = false;
   bool point_presence_ = false;
+  PointPresenceStats point_presence_stats_;
   struct RemovedObject {
     MapObject object;
     double removed_at = 0.0;  // timestamp

@@ -58,8 +58,11 @@ class ObjectMapper {
   // (RANSAC seeded with seed) refined by the objects' bottoms, the sightings moved to their
   // frames' optimized poses and the objects' points to their optimized positions.
   void FollowSlamMap(const SlamMapView& view, std::uint64_t seed);
-  // Hands the OCG this keyframe (at the last added frame's pose).
-  void AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw);
+  // Hands the OCG this keyframe (at the last added frame's pose). frame: that frame's
+  // features (SLAM runs; OCG.mode "points" searches the points of the objects not detected
+  // in them), read during the call only.
+  void AddKeyframe(std::int64_t keyframe_id, double timestamp, const SE3& T_cw,
+                   const FrameFeatureSearch* frame = nullptr);
   // Keeps every keyframe's OCG input as a JSON line (SPEC 3.1), so the OCG can be replayed
   // alone (`ocg_replay`) in other modes. Call before the first keyframe.
   void RecordObservations() { record_observations_ = true; }
@@ -80,6 +83,8 @@ class ObjectMapper {
   // The up direction the cuboids are aligned with.
   Eigen::Vector3d Up() const;
   std::size_t LiveObjectCount() const;
+  // ObjectMap::point_presence_stats().
+  ObjectMap::PointPresenceStats PointPresenceStats() const;
   // ObjectMap::Appearances().
   std::map<ObjectId, std::vector<Descriptor>> Appearances() const;
   // ObjectMap::BoxAppearances().

@@ -126,10 +126,13 @@ struct ObjectsOptions {
   double point_box_shrink = 0.1;
   int min_point_votes = 3;
   // OCG.mode "points": an object not detected in a keyframe is present by its points when
-  // the keyframe tracked at least Objects.presence_min_points of its point set and at
-  // least Objects.presence_min_share of those of them that project inside the image.
+  // the keyframe shows at least Objects.presence_min_points of its point set and at least
+  // Objects.presence_min_share of those of them that project inside the image: tracked, or
+  // found by descriptor among the keypoints within Objects.presence_search_radius level-0
+  // pixels (times the keypoint's level scale) of the point's projection.
   int presence_min_points = 5;
   double presence_min_share = 0.5;
+  double presence_search_radius = 4.0;
   // Yaw from the map: once an object's point set has Objects.yaw_min_points points whose
   // footprint's smallest rectangle is Objects.yaw_min_elongation times longer than wide,
   // that rectangle's yaw is the cuboid's (the boxes' widths only fit the sides); rounder

@@ -52,17 +52,17 @@ struct OcgOptions {
   //               neighbours in view (a whole-view detector dropout) is weak evidence:
   //               the increment is weighed by the detected share s of the in-view
   //               neighbours' edge weight, min(1, ln(1 - s) / ln(1 - dropout_full_share)),
-  //   "points"    an object whose own SLAM map points are tracked in the keyframe (the
-  //               object map decides: Objects.presence_*) is present whatever the
-  //               detector says: it takes no doubt and its doubt is cleared (SLAM runs
-  //               only); not part of "improved" (object points are rarely tracked again at
-  //               later keyframes, so it did not fire on desk_static: docs/ocg.md),
-  //   "occlusion" P is 0 for an object whose image rectangle is covered, by at least
-  //               max_occluded_share, by the rectangles of mapped objects wholly in front of
+  //   "points"    an object whose own SLAM map points are tracked in the keyframe or found
+  //               there by their descriptors near their projections (the object map
+  //               decides: Objects.presence_*) is present whatever the detector says: it
+  //               takes no doubt and its doubt is cleared (SLAM runs only; pose-given runs
+  //               have no image and no tracked points, and it never fires there),
+  //   "occlusion" P is 0 for an object whose image outline is covered, by at least
+  //               max_occluded_share, by the outlines of mapped objects wholly in front of
   //               it (hidden behind them, a detector cannot find it),
-  //   "improved"  fallback+in_image+guard+view+restore+dropout+occlusion, the default (on TUM fr3
-  //               long_office's real detections it removes no object of that static scene,
-  //               paper removes 9; docs/results.md). See docs/ocg.md for the case each one fixes.
+  //   "improved"  fallback+in_image+guard+view+restore+dropout+occlusion+points, the
+  //               default (on TUM fr3 long_office's real detections it removes no object of
+  //               that static scene, paper removes 14; docs/results.md). See docs/ocg.md for the case each one fixes.
   // Baselines for comparison: "off" (nothing is ever removed) and "visibility" (an object
   // is removed after visibility_keyframes keyframes in which it should have been seen and
   // was not, no graph involved).

@@ -66,6 +66,9 @@ class System {
   TrackingResult TrackImage(const cv::Mat& image, double timestamp,
                             const std::string& timestamp_text,
                             const ExtractedFeatures* features = nullptr);
+  // The ORB features of the last frame TrackImage tracked (null before one was): valid
+  // until the next TrackImage. For the caller's thread (the object layer's point search).
+  const ExtractedFeatures* LastFrameFeatures() const;
   // A function that extracts an image's ORB features as tracking does once initialized
   // (same options, camera and undistortion), with an extractor of its own: for another
   // thread, so that extraction, half of tracking's CPU, runs while the previous frame is

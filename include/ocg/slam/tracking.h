@@ -126,6 +126,10 @@ class Tracking {
   // keyframes'. Call before the first Track().
   void StartInLoadedMap(std::uint64_t first_frame_id);
   const ScalePyramid& pyramid() const { return extractor_.pyramid(); }
+  // The features of the last frame tracked (null before one was), until the next Track().
+  const ExtractedFeatures* LastFrameFeatures() const {
+    return last_frame_ ? &last_frame_->features : nullptr;
+  }
 
  private:
   bool Initialize(Frame& frame);
