@@ -62,7 +62,8 @@ struct OcgOptions {
   //               it (hidden behind them, a detector cannot find it),
   //   "improved"  fallback+in_image+guard+view+restore+dropout+occlusion+points, the
   //               default (on TUM fr3 long_office's real detections it removes no object of
-  //               that static scene, paper removes 14; docs/results.md). See docs/ocg.md for the case each one fixes.
+  //               that static scene, paper removes 14; docs/results.md). See docs/ocg.md
+  //               for the case each one fixes.
   // Baselines for comparison: "off" (nothing is ever removed) and "visibility" (an object
   // is removed after visibility_keyframes keyframes in which it should have been seen and
   // was not, no graph involved).
