@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include "ocg/core/convex_hull.h"
 #include "ocg/core/statistics.h"
 
 namespace ocg {
@@ -233,26 +234,7 @@ Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>&
 Rectangle2 MinAreaRectangle(const std::vector<Eigen::Vector2d>& points) {
   Rectangle2 best;
   if (points.size() < 3) return best;
-  // Convex hull, counter-clockwise (Andrew's monotone chain).
-  std::vector<Eigen::Vector2d> sorted = points;
-  std::sort(sorted.begin(), sorted.end(), [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-    return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
-  });
-  const auto turn = [](const Eigen::Vector2d& o, const Eigen::Vector2d& p,
-                       const Eigen::Vector2d& q) {
-    return (p.x() - o.x()) * (q.y() - o.y()) - (p.y() - o.y()) * (q.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d> hull(2 * sorted.size());
-  std::size_t size = 0;
-  for (std::size_t i = 0; i < sorted.size(); ++i) {  // lower hull
-    while (size >= 2 && turn(hull[size - 2], hull[size - 1], sorted[i]) <= 0) --size;
-    hull[size++] = sorted[i];
-  }
-  for (std::size_t i = sorted.size() - 1, lower = size + 1; i-- > 0;) {  // upper hull
-    while (size >= lower && turn(hull[size - 2], hull[size - 1], sorted[i]) <= 0) --size;
-    hull[size++] = sorted[i];
-  }
-  hull.resize(size - 1);  // the last point is the first
+  const std::vector<Eigen::Vector2d> hull = ConvexHull(points);
   if (hull.size() < 3) return best;
   // The smallest rectangle has a side on a hull edge: try each edge's direction.
   double best_area = std::numeric_limits<double>::infinity();

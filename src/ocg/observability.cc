@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ocg/core/convex_hull.h"
+
 namespace ocg {
 namespace {
 
@@ -37,36 +39,6 @@ bool CentroidInImage(const Eigen::Vector3d& centroid_world, const SE3& T_cw,
   return (ray.head<2>() - point.head<2>() / point.z()).norm() < kRoundTripTolerance;
 }
 
-namespace {
-
-// z of (b - a) x (c - a): positive when a, b, c turn counter-clockwise.
-double Turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  const Eigen::Vector2d ab = b - a, ac = c - a;
-  return ab.x() * ac.y() - ab.y() * ac.x();
-}
-
-// Andrew's monotone chain.
-std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points) {
-  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  if (points.size() < 3) return points;
-  std::vector<Eigen::Vector2d> hull(2 * points.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {  // lower chain
-    while (k >= 2 && Turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
-    while (k >= lower && Turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k - 1);  // the last point is the first
-  return hull;
-}
-
-}  // namespace
-
 bool ImageFootprint::Contains(const Eigen::Vector2d& pixel) const {
   if (outline.size() < 3) return false;
   if (pixel.x() < min_x || pixel.x() > max_x || pixel.y() < min_y || pixel.y() > max_y)
@@ -77,18 +49,62 @@ bool ImageFootprint::Contains(const Eigen::Vector2d& pixel) const {
   return true;
 }
 
+namespace {
+
+// A world-axis box's corners in the image (undistorted pixels; corners behind the camera
+// clipped to 5 cm in front) and its nearest and farthest corner depth.
+struct ProjectedCorners {
+  std::vector<Eigen::Vector2d> pixels;
+  double near_depth = 0.0;
+  double far_depth = 0.0;
+};
+
+// Empty when the centre is behind the camera.
+std::optional<ProjectedCorners> ProjectCorners(const Eigen::Vector3d& centroid_world,
+                                               const Eigen::Vector3d& size, const SE3& T_cw,
+                                               const PinholeCamera& camera) {
+  const double centre_depth = (T_cw * centroid_world).z();
+  if (centre_depth <= kMinDepth) return std::nullopt;
+  ProjectedCorners corners;
+  corners.near_depth = corners.far_depth = centre_depth;
+  corners.pixels.reserve(8);
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d offset((corner & 1 ? 0.5 : -0.5) * size.x(),
+                                 (corner & 2 ? 0.5 : -0.5) * size.y(),
+                                 (corner & 4 ? 0.5 : -0.5) * size.z());
+    const Eigen::Vector3d point = T_cw * (centroid_world + offset);
+    corners.near_depth = std::min(corners.near_depth, point.z());
+    corners.far_depth = std::max(corners.far_depth, point.z());
+    // A corner behind the camera makes the projection unbounded: clip it to the near plane.
+    const Eigen::Vector3d clipped(point.x(), point.y(), std::max(point.z(), 0.05));
+    corners.pixels.push_back(camera.ProjectUndistorted(clipped));
+  }
+  return corners;
+}
+
+// The bounding rectangle of points, as min x, min y, max x, max y.
+Eigen::Vector4d BoundsOf(const std::vector<Eigen::Vector2d>& points) {
+  Eigen::Vector4d bounds(
+      std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+      -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+  for (const Eigen::Vector2d& point : points) {
+    bounds.head<2>() = bounds.head<2>().cwiseMin(point);
+    bounds.tail<2>() = bounds.tail<2>().cwiseMax(point);
+  }
+  return bounds;
+}
+
+}  // namespace
+
 ImageFootprint FootprintOf(const std::vector<Eigen::Vector2d>& points, double near_depth,
                            double far_depth) {
   ImageFootprint footprint;
   footprint.outline = ConvexHull(points);
-  footprint.min_x = footprint.min_y = std::numeric_limits<double>::infinity();
-  footprint.max_x = footprint.max_y = -std::numeric_limits<double>::infinity();
-  for (const Eigen::Vector2d& point : points) {
-    footprint.min_x = std::min(footprint.min_x, point.x());
-    footprint.max_x = std::max(footprint.max_x, point.x());
-    footprint.min_y = std::min(footprint.min_y, point.y());
-    footprint.max_y = std::max(footprint.max_y, point.y());
-  }
+  const Eigen::Vector4d bounds = BoundsOf(points);
+  footprint.min_x = bounds[0];
+  footprint.min_y = bounds[1];
+  footprint.max_x = bounds[2];
+  footprint.max_y = bounds[3];
   footprint.near_depth = near_depth;
   footprint.far_depth = far_depth;
   return footprint;
@@ -97,36 +113,26 @@ ImageFootprint FootprintOf(const std::vector<Eigen::Vector2d>& points, double ne
 std::optional<ImageFootprint> ProjectBox(const Eigen::Vector3d& centroid_world,
                                          const Eigen::Vector3d& size, const SE3& T_cw,
                                          const PinholeCamera& camera) {
-  const double centre_depth = (T_cw * centroid_world).z();
-  if (centre_depth <= kMinDepth) return std::nullopt;
-  double near_depth = centre_depth;
-  double far_depth = centre_depth;
-  std::vector<Eigen::Vector2d> corners;
-  corners.reserve(8);
-  for (int corner = 0; corner < 8; ++corner) {
-    const Eigen::Vector3d offset((corner & 1 ? 0.5 : -0.5) * size.x(),
-                                 (corner & 2 ? 0.5 : -0.5) * size.y(),
-                                 (corner & 4 ? 0.5 : -0.5) * size.z());
-    const Eigen::Vector3d point = T_cw * (centroid_world + offset);
-    near_depth = std::min(near_depth, point.z());
-    far_depth = std::max(far_depth, point.z());
-    // A corner behind the camera makes the projection unbounded: clip it to the near plane.
-    const Eigen::Vector3d clipped(point.x(), point.y(), std::max(point.z(), 0.05));
-    corners.push_back(camera.ProjectUndistorted(clipped));
-  }
-  return FootprintOf(corners, near_depth, far_depth);
+  const std::optional<ProjectedCorners> corners =
+      ProjectCorners(centroid_world, size, T_cw, camera);
+  if (!corners) return std::nullopt;
+  return FootprintOf(corners->pixels, corners->near_depth, corners->far_depth);
 }
 
 double BoxFractionInImage(const Eigen::Vector3d& centroid_world, const Eigen::Vector3d& size,
                           const SE3& T_cw, const PinholeCamera& camera) {
-  const std::optional<ImageFootprint> box = ProjectBox(centroid_world, size, T_cw, camera);
-  if (!box) return 0.0;
-  const double area = (box->max_x - box->min_x) * (box->max_y - box->min_y);
+  // Called for every object that could take an increment ("in_image"): the rectangle
+  // alone, no outline.
+  const std::optional<ProjectedCorners> corners =
+      ProjectCorners(centroid_world, size, T_cw, camera);
+  if (!corners) return 0.0;
+  const Eigen::Vector4d box = BoundsOf(corners->pixels);
+  const double area = (box[2] - box[0]) * (box[3] - box[1]);
   if (!(area > 0)) return CentroidInImage(centroid_world, T_cw, camera) ? 1.0 : 0.0;
   const double inside_x =
-      std::max(0.0, std::min(box->max_x, double(camera.width)) - std::max(box->min_x, 0.0));
+      std::max(0.0, std::min(box[2], double(camera.width)) - std::max(box[0], 0.0));
   const double inside_y =
-      std::max(0.0, std::min(box->max_y, double(camera.height)) - std::max(box->min_y, 0.0));
+      std::max(0.0, std::min(box[3], double(camera.height)) - std::max(box[1], 0.0));
   return std::clamp(inside_x * inside_y / area, 0.0, 1.0);
 }
 
