@@ -61,6 +61,7 @@ py::dict MetricsDict(const ObjectMetrics& m, const std::optional<RunAlignment>& 
   d["corr_m"] = m.corr_m, d["delet_s"] = m.delet_s, d["unident_m"] = m.unident_m;
   d["acc"] = m.acc, d["prec"] = m.prec, d["recall"] = m.recall;
   d["gt_static"] = m.gt_static, d["gt_outdated"] = m.gt_outdated;
+  d["gt_never_in_view"] = m.gt_never_in_view, d["never_in_view_ids"] = m.never_in_view_ids;
   d["live_objects"] = m.live_objects, d["removed_objects"] = m.removed_objects;
   d["gt_moves"] = m.gt_moves, d["moves_right"] = m.moves_right;
   d["deleted_static_ids"] = m.deleted_static_ids;
@@ -180,13 +181,14 @@ void BindEvaluation(py::module_& module) {
   module.def(
       "object_metrics",
       [](const py::object& objects_gt, const py::object& run, const py::object& groundtruth,
-         double distance_factor, double min_distance) {
+         double distance_factor, double min_distance, bool include_never_in_view) {
         const auto fspath = py::module_::import("os").attr("fspath");
         if (!(distance_factor > 0)) throw py::value_error("distance_factor must be positive");
         if (!(min_distance >= 0)) throw py::value_error("min_distance must be non-negative");
         ObjectMatchOptions options;
         options.distance_factor = distance_factor;
         options.min_distance = min_distance;
+        options.include_never_in_view = include_never_in_view;
         std::optional<RunAlignment> alignment;
         const std::string groundtruth_path =
             groundtruth.is_none() ? std::string() : std::string(py::str(fspath(groundtruth)));
@@ -197,6 +199,7 @@ void BindEvaluation(py::module_& module) {
       },
       py::arg("objects_gt"), py::arg("run"), py::arg("groundtruth") = py::none(),
       py::arg("distance_factor") = 0.5, py::arg("min_distance") = 0.0,
+      py::arg("include_never_in_view") = false,
       "Object-map metrics of the paper's Table I (SPEC 4), as `ocg_eval objects --json`.\n\n"
       "objects_gt: the generator's objects_gt.json.\n"
       "run: a run folder (objects.json, changes.json).\n"

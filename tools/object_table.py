@@ -68,6 +68,9 @@ def main():
     parser.add_argument("--reuse", action="store_true",
                         help="with --slam: score existing runs (OUT/<name>/<mode>/run.json)")
     parser.add_argument("--settings", help="settings file (default: the sequence's camera.yaml)")
+    parser.add_argument("--include-never-in-view", action="store_true",
+                        help="count static objects the sequence never shows as ground truth "
+                             "(ocg_eval objects --include-never-in-view)")
     parser.add_argument("--out", help="keep the runs and table.md here (default: a temp folder)")
     args = parser.parse_args()
     if args.slam and args.slam_runs:
@@ -98,6 +101,8 @@ def main():
             run_dir = os.path.join(out, name, mode)
             evaluate = [os.path.join(tools, "ocg_eval"), "objects", "--gt",
                         os.path.join(sequence, "objects_gt.json"), "--run", run_dir, "--json"]
+            if args.include_never_in_view:
+                evaluate.append("--include-never-in-view")
             if args.slam:
                 evaluate += ["--groundtruth", groundtruth]
             else:
@@ -124,8 +129,10 @@ def main():
                 name, mode, m["corr_s"], m["unident_s"], m["redun_s"], m["redun_duplicates"],
                 m["redun_spurious"], m["corr_m"], m["delet_s"], m["unident_m"], m["acc"],
                 m["prec"], m["recall"]))
-        lines.append("| %s | GT | %d | 0 | 0 | %d | 0 | 0 | - | - | - |" % (
-            name, truth["gt_static"], truth["gt_outdated"]))
+        unseen = truth.get("gt_never_in_view", 0)
+        lines.append("| %s | GT | %d%s | 0 | 0 | %d | 0 | 0 | - | - | - |" % (
+            name, truth["gt_static"],
+            " (+%d never in view)" % unseen if unseen else "", truth["gt_outdated"]))
     write_table(out, "table.md", lines)
 
 

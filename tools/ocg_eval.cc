@@ -85,6 +85,8 @@ void EvaluateObjects(const ObjectsInput& input) {
                                  {"recall", m.recall},
                                  {"gt_static", m.gt_static},
                                  {"gt_outdated", m.gt_outdated},
+                                 {"gt_never_in_view", m.gt_never_in_view},
+                                 {"never_in_view_ids", m.never_in_view_ids},
                                  {"live_objects", m.live_objects},
                                  {"removed_objects", m.removed_objects},
                                  {"gt_moves", m.gt_moves},
@@ -106,6 +108,12 @@ void EvaluateObjects(const ObjectsInput& input) {
               m.unident_s, m.redun_s, m.redun_duplicates, m.redun_spurious, m.corr_m, m.delet_s,
               m.unident_m, m.acc, m.prec, m.recall);
   std::printf("| GT: %d static | | | %d moved | | | | | |\n", m.gt_static, m.gt_outdated);
+  if (m.gt_never_in_view > 0) {
+    std::printf("%d static object(s) never in view left out of the ground truth (ids",
+                m.gt_never_in_view);
+    for (const int id : m.never_in_view_ids) std::printf(" %d", id);
+    std::printf("; --include-never-in-view counts them)\n");
+  }
   std::printf("%d live objects, %d removed by change detection", m.live_objects, m.removed_objects);
   if (m.gt_moves > 0) {
     std::printf("; moves reported right: %d of %d", m.moves_right, m.gt_moves);
@@ -169,6 +177,10 @@ int main(int argc, char** argv) {
                    "but never closer than this, metres")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  objects->add_flag("--include-never-in-view", objects_input.match.include_never_in_view,
+                    "count static objects the sequence never shows (objects_gt.json's "
+                    "\"frames_in_view\": 0) as ground truth too; by default they are left out, "
+                    "as a list made from the frames would not hold them");
   objects->add_flag("--json", objects_input.json, "print JSON instead of a table row");
 
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {

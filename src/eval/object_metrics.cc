@@ -51,14 +51,22 @@ ObjectGroundTruth ReadObjectGroundTruth(const std::string& path,
       place.radius = std::max(options.distance_factor * size.maxCoeff(), options.min_distance);
       std::vector<Eigen::Vector3d> present;
       bool present_at_end = false;
+      bool last_in_view = true;
       for (const nlohmann::json& placement : object.at("history")) {
         present_at_end = placement.at("present").get<bool>();
-        if (present_at_end) present.push_back(Vector3(placement.at("centre"), "centre"));
+        if (!present_at_end) continue;
+        present.push_back(Vector3(placement.at("centre"), "centre"));
+        last_in_view =
+            !placement.contains("frames_in_view") || placement.at("frames_in_view").get<int>() > 0;
       }
       for (std::size_t i = 0; i < present.size(); ++i) {
         place.centre = present[i];
         if (present_at_end && i + 1 == present.size()) {
-          truth.static_places.push_back(place);
+          if (last_in_view || options.include_never_in_view) {
+            truth.static_places.push_back(place);
+          } else {
+            truth.never_in_view_places.push_back(place);
+          }
         } else {
           truth.outdated_places.push_back(place);
         }
@@ -123,6 +131,10 @@ ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
   ObjectMetrics metrics;
   metrics.gt_static = static_cast<int>(truth.static_places.size());
   metrics.gt_outdated = static_cast<int>(truth.outdated_places.size());
+  metrics.gt_never_in_view = static_cast<int>(truth.never_in_view_places.size());
+  for (const GroundTruthPlace& place : truth.never_in_view_places) {
+    metrics.never_in_view_ids.push_back(place.object_id);
+  }
   std::vector<std::size_t> live;
   for (std::size_t i = 0; i < objects.size(); ++i) {
     if (objects[i].live) {

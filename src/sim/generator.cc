@@ -390,6 +390,7 @@ DetectionModel::FrameResult DetectionModel::Detect(const cv::Mat& ids, double t,
     }
     const Stats& s = found->second;
     ++result.visible;
+    result.visible_objects.push_back(object.id);
     Detection detection;
     detection.class_id = object.class_id;
     detection.x = s.min_x;
@@ -522,7 +523,7 @@ std::string StatusOf(const std::vector<PlacedPose>& history) {
 
 }  // namespace
 
-std::string ObjectsGroundTruthJson(const Scene& scene) {
+std::string ObjectsGroundTruthJson(const Scene& scene, const FramesInView* frames_in_view) {
   nlohmann::json objects = nlohmann::json::array();
   nlohmann::json between = nlohmann::json::array();
   for (const SceneObject& object : scene.objects) {
@@ -546,9 +547,19 @@ std::string ObjectsGroundTruthJson(const Scene& scene) {
            {"after",
             after.present ? PlacementJson(after, scene.time_origin) : nlohmann::json(nullptr)}});
     }
-    for (const PlacedPose& pose : object.history) {
+    const std::vector<int>* in_view = nullptr;
+    if (frames_in_view != nullptr) {
+      const auto found = frames_in_view->find(object.id);
+      if (found != frames_in_view->end()) in_view = &found->second;
+    }
+    for (std::size_t i = 0; i < object.history.size(); ++i) {
+      const PlacedPose& pose = object.history[i];
       combined.push_back(pose);
       history.push_back(PlacementJson(pose, scene.time_origin + pose.time));
+      if (frames_in_view != nullptr) {
+        history.back()["frames_in_view"] =
+            in_view != nullptr && i < in_view->size() ? (*in_view)[i] : 0;
+      }
     }
     objects.push_back({{"id", object.id},
                        {"class_id", object.class_id},
@@ -597,6 +608,23 @@ std::string CameraSettingsYaml(const Scene& scene) {
 
 namespace {
 
+// Adds one to the placement each visible object has at time t (its last history entry
+// not after t).
+void CountFramesInView(const Scene& scene, double t, const std::vector<int>& visible_objects,
+                       FramesInView* frames_in_view) {
+  for (const int id : visible_objects) {
+    const SceneObject* object = scene.FindObject(id);
+    if (object == nullptr || object->history.empty()) continue;
+    std::size_t placement = 0;
+    for (std::size_t i = 0; i < object->history.size(); ++i) {
+      if (object->history[i].time <= t) placement = i;
+    }
+    std::vector<int>& counts = (*frames_in_view)[id];
+    counts.resize(object->history.size(), 0);
+    ++counts[placement];
+  }
+}
+
 // Renders and writes every file of the sequence into folder.
 GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& staging,
                               const GeneratorOptions& options) {
@@ -613,6 +641,7 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
       "# exposure of each frame (realistic look)\n# timestamp exposure_ms gain\n";
   std::vector<StampedPose> groundtruth;
   std::string oracle;
+  FramesInView frames_in_view;
   const auto start = std::chrono::steady_clock::now();
   ProgressLine progress("frames", static_cast<std::size_t>(frames));
   // Huffman-only deflate: sensor noise defeats string matching, so this is both the
@@ -665,6 +694,7 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
     stats.missed += static_cast<std::size_t>(detections.missed);
     stats.false_positives += static_cast<std::size_t>(detections.false_positives);
     stats.duplicates += static_cast<std::size_t>(detections.duplicates);
+    CountFramesInView(scene, t, detections.visible_objects, &frames_in_view);
     if (options.keyframe_interval > 0 && frame % options.keyframe_interval == 0) {
       oracle += OracleObservation(scene, frame / options.keyframe_interval, t, T_cw,
                                   detections.detected_objects) +
@@ -687,7 +717,7 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
       staging + "/groundtruth.txt",
       "# ground truth trajectory (camera to world)\n# timestamp tx ty tz qx qy qz qw\n" +
           FormatTumTrajectory(groundtruth));
-  WriteFile(staging + "/objects_gt.json", ObjectsGroundTruthJson(scene));
+  WriteFile(staging + "/objects_gt.json", ObjectsGroundTruthJson(scene, &frames_in_view));
   if (options.keyframe_interval > 0) WriteFile(staging + "/oracle_observations.jsonl", oracle);
   WriteFile(staging + "/scene.yaml", SceneToYaml(scene));
   WriteFile(staging + "/camera.yaml", CameraSettingsYaml(scene));

@@ -138,6 +138,51 @@ TEST(ObjectMetrics, AMoveEntryCountsItsOldPlaceAsRemoved) {
   EXPECT_NEAR(objects[1].moved_to->x(), 0.4, 1e-12);
 }
 
+// An object the sequence never shows (frames_in_view 0 at its last placement) is no ground
+// truth by default: no detector could box it, so it would be Unident.S whatever the map
+// does. A move to a place never in view leaves its old place outdated. Older files
+// without the count, and --include-never-in-view, count every object.
+TEST(ObjectMetrics, StaticObjectsNeverInViewAreLeftOutOfTheGroundTruth) {
+  const std::string dir = testing::MakeTempDir("never_in_view");
+  WriteFile(dir + "/objects_gt.json", R"({"objects": [
+      {"id": 1, "class_id": 41, "size": [0.1, 0.1, 0.1],
+       "history": [{"present": true, "centre": [0, 0, 0], "frames_in_view": 12}]},
+      {"id": 2, "class_id": 73, "size": [0.2, 0.2, 0.04],
+       "history": [{"present": true, "centre": [3, 0, 0], "frames_in_view": 0}]},
+      {"id": 3, "class_id": 67, "size": [0.1, 0.1, 0.02],
+       "history": [{"present": true, "centre": [1, 0, 0], "frames_in_view": 40},
+                   {"present": true, "centre": [2, 0, 0], "frames_in_view": 0}]},
+      {"id": 4, "class_id": 39, "size": [0.1, 0.1, 0.3],
+       "history": [{"present": true, "centre": [5, 0, 0]}]}]})");
+  const ObjectGroundTruth truth = ReadObjectGroundTruth(dir + "/objects_gt.json");
+  ASSERT_EQ(truth.static_places.size(), 2u);
+  EXPECT_EQ(truth.static_places[0].object_id, 1);
+  EXPECT_EQ(truth.static_places[1].object_id, 4);  // no count: in view
+  ASSERT_EQ(truth.outdated_places.size(), 1u);
+  EXPECT_EQ(truth.outdated_places[0].object_id, 3);
+  ASSERT_EQ(truth.never_in_view_places.size(), 2u);
+  EXPECT_EQ(truth.never_in_view_places[0].object_id, 2);
+  EXPECT_EQ(truth.never_in_view_places[1].object_id, 3);
+
+  // A map holding objects 1 and 4: every object the frames show is found.
+  const std::vector<RunObject> objects = {Object(10, 41, 0.0), Object(11, 39, 5.0)};
+  const ObjectMetrics m = ComputeObjectMetrics(truth, objects);
+  EXPECT_EQ(m.corr_s, 2);
+  EXPECT_EQ(m.unident_s, 0);
+  EXPECT_EQ(m.gt_never_in_view, 2);
+  EXPECT_EQ(m.never_in_view_ids, (std::vector<int>{2, 3}));
+  EXPECT_DOUBLE_EQ(m.acc, 1.0);
+
+  ObjectMatchOptions every_object;
+  every_object.include_never_in_view = true;
+  const ObjectMetrics all =
+      ComputeObjectMetrics(ReadObjectGroundTruth(dir + "/objects_gt.json", every_object), objects);
+  EXPECT_EQ(all.gt_static, 4);
+  EXPECT_EQ(all.unident_s, 2);
+  EXPECT_EQ(all.gt_never_in_view, 0);
+  EXPECT_DOUBLE_EQ(all.acc, 0.5);
+}
+
 // An object removed and restored is live, once: its removal is not a removed object (it
 // would count its place as visited by a removed object twice over); removed again after
 // the restore, it is removed.

@@ -100,7 +100,10 @@ def test_object_metrics_matches_ocg_eval(tools, tmp_path):
     write_json(tmp_path / "objects_gt.json", {"objects": [
         {"id": 1, "class_id": 41, "size": [0.1, 0.1, 0.1], "history": [placement([0, 0, 0])]},
         {"id": 2, "class_id": 73, "size": [0.2, 0.2, 0.05],
-         "history": [placement([1, 0, 0]), placement([2, 0, 0])]}]})
+         "history": [placement([1, 0, 0]), placement([2, 0, 0])]},
+        # A remote the sequence never shows: no ground truth unless asked for.
+        {"id": 3, "class_id": 65, "size": [0.05, 0.18, 0.02],
+         "history": [dict(placement([4, 0, 0]), frames_in_view=0)]}]})
     # A monocular run: its frame is the ground truth's scaled by 2. It found the cup, kept
     # the book at its old place, and saw nothing at the new one.
     run = tmp_path / "run"
@@ -122,6 +125,14 @@ def test_object_metrics_matches_ocg_eval(tools, tmp_path):
     assert got == expected
     assert got["corr_s"] == 1 and got["unident_s"] == 1 and got["unident_m"] == 1
     assert got["alignment"]["scale"] == pytest.approx(0.5)
+    assert got["gt_never_in_view"] == 1 and got["never_in_view_ids"] == [3]
+    every = ocg.object_metrics(tmp_path / "objects_gt.json", run, tmp_path / "groundtruth.txt",
+                               include_never_in_view=True)
+    assert every == json.loads(run_tool(tools, "ocg_eval", "objects", "--gt",
+                                        str(tmp_path / "objects_gt.json"), "--run", str(run),
+                                        "--groundtruth", str(tmp_path / "groundtruth.txt"),
+                                        "--include-never-in-view", "--json"))
+    assert every["unident_s"] == 2 and every["gt_never_in_view"] == 0
     # Without the trajectory the run is taken in the ground truth's frame: the cup at 2 cm
     # still matches, the book at x = 2 now sits on the book's new place.
     plain = ocg.object_metrics(tmp_path / "objects_gt.json", run)

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -59,6 +60,50 @@ TEST(Generator, SameSeedSameFilesDifferentSeedDifferentFiles) {
   EXPECT_DOUBLE_EQ(camera.settings.camera.model.fx, 535.4);
   // An existing output is never overwritten by accident.
   EXPECT_THROW(Generate(ScheduledPreset("smoke", 3), dir + "/a", options), FileError);
+}
+
+// objects_gt.json counts, per placement, the frames that show the object at the
+// detector's least visible size: with the perfect detector that is the number of its
+// boxes, and an object behind the partition in every frame has none.
+TEST(Generator, ObjectsGroundTruthCountsTheFramesInViewOfEachPlacement) {
+  Scene scene = MakePreset("smoke", 1);
+  scene.noise.perfect = true;
+  const int hidden_id = scene.objects[0].id;
+  scene.objects[0].history = {PlacedPose{0.0, true, Eigen::Vector3d(0.0, 0.2, 0.80), 0.0}};
+  GeneratorOptions options;
+  options.max_frames = 6;
+  options.write_images = false;
+  const std::string dir = testing::MakeTempDir("frames_in_view");
+  Generate(scene, dir + "/out", options);
+
+  std::map<int, int> boxes_of_class;
+  for (const auto& [name, text] : ReadTree(dir + "/out/detections")) {
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::istringstream fields(line);
+      int class_id = -1;
+      fields >> class_id;
+      ++boxes_of_class[class_id];
+    }
+  }
+  const nlohmann::json gt = nlohmann::json::parse(ReadTextFile(dir + "/out/objects_gt.json"));
+  std::map<int, int> in_view_of_class;
+  int objects_in_view = 0;
+  for (const nlohmann::json& object : gt.at("objects")) {
+    ASSERT_EQ(object.at("history").size(), 1u);
+    const int frames = object.at("history")[0].at("frames_in_view").get<int>();
+    EXPECT_LE(frames, options.max_frames);
+    if (object.at("id").get<int>() == hidden_id) {
+      EXPECT_EQ(frames, 0);
+    }
+    if (frames == 0) continue;
+    in_view_of_class[object.at("class_id").get<int>()] += frames;
+    ++objects_in_view;
+  }
+  EXPECT_GT(objects_in_view, 1);
+  EXPECT_EQ(in_view_of_class, boxes_of_class);
 }
 
 TEST(DetectionModel, UnoccludedObjectBoxEqualsItsProjectedBox) {

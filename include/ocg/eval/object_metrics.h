@@ -22,17 +22,25 @@ struct GroundTruthPlace {
 struct ObjectGroundTruth {
   std::vector<GroundTruthPlace> static_places;    // where objects are at the end
   std::vector<GroundTruthPlace> outdated_places;  // where moved objects were before
+  // Static places the sequence never shows (left out of static_places; see
+  // ObjectMatchOptions::include_never_in_view).
+  std::vector<GroundTruthPlace> never_in_view_places;
 };
 
 struct ObjectMatchOptions {
   // Matching distance = max(distance_factor x the larger GT extent, min_distance).
   double distance_factor = 0.5;
   double min_distance = 0.0;
+  // false: a static place whose placement has "frames_in_view": 0 (the generator's count of
+  // frames showing it at the detector's least visible size) is not ground truth, as a list
+  // made from the frames would not hold it. true: every placed object counts.
+  bool include_never_in_view = false;
 };
 
 // The generator's objects_gt.json: per object class_id, size and its history of
 // placements; the last present placement is a static place, every earlier one an
-// outdated place. Throws ParseError naming the file and what is wrong.
+// outdated place. A placement without "frames_in_view" (older files) counts as in view.
+// Throws ParseError naming the file and what is wrong.
 ObjectGroundTruth ReadObjectGroundTruth(const std::string& path,
                                         const ObjectMatchOptions& options = {});
 
@@ -53,6 +61,7 @@ struct ObjectMetrics {
   int corr_s = 0, unident_s = 0, redun_s = 0, corr_m = 0, delet_s = 0, unident_m = 0;
   int redun_duplicates = 0, redun_spurious = 0;  // the two parts of redun_s
   int gt_static = 0, gt_outdated = 0;
+  int gt_never_in_view = 0;  // static places left out: never in view in the sequence
   int live_objects = 0, removed_objects = 0;
   // Moves reported right: of the gt_moves ground-truth objects that left a place for
   // another one, those with a "moved" entry from the old place (near it) to the new one
@@ -61,6 +70,7 @@ struct ObjectMetrics {
   double acc = 0.0, prec = 0.0, recall = 0.0;
   // Per place / object, for reading a result: the ids behind each count.
   std::vector<int> deleted_static_ids, unidentified_static_ids, unidentified_moved_ids;
+  std::vector<int> never_in_view_ids;
   std::vector<long long> duplicate_ids, spurious_ids;
 };
 

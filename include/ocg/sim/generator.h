@@ -77,7 +77,8 @@ class DetectionModel {
 
   struct FrameResult {
     std::vector<Detection> detections;
-    int visible = 0;  // objects with enough visible pixels
+    int visible = 0;                   // objects with enough visible pixels
+    std::vector<int> visible_objects;  // their scene ids (boxed or not)
     int missed = 0;
     int false_positives = 0;
     int duplicates = 0;
@@ -133,10 +134,18 @@ std::int64_t OracleMapId(int object_id, std::size_t pose_index);
 std::string OracleObservation(const Scene& scene, std::int64_t keyframe, double t, const SE3& T_cw,
                               const std::vector<int>& detected_objects);
 
+// Per object id, per entry of its history (this visit's, in order): the number of rendered
+// frames in which the object, at that placement, showed at least noise.min_visible_pixels
+// pixels (the least the detector boxes).
+using FramesInView = std::map<int, std::vector<int>>;
+
 // objects_gt.json text for the scene; for a later visit, each changed object's history
 // starts with its pose when the previous visit ended, and "session" lists the changes
-// between the visits (docs/sessions.md).
-std::string ObjectsGroundTruthJson(const Scene& scene);
+// between the visits (docs/sessions.md). With frames_in_view, each of this visit's history
+// entries carries "frames_in_view" (an object never in view is in no list a person would
+// make from the frames; `ocg_eval objects` leaves such places out).
+std::string ObjectsGroundTruthJson(const Scene& scene,
+                                   const FramesInView* frames_in_view = nullptr);
 // A settings file (our format) for the rendered camera.
 std::string CameraSettingsYaml(const Scene& scene);
 // Timestamp text of a frame ("1000.033333").
