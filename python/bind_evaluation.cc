@@ -62,6 +62,7 @@ py::dict MetricsDict(const ObjectMetrics& m, const std::optional<RunAlignment>& 
   d["acc"] = m.acc, d["prec"] = m.prec, d["recall"] = m.recall;
   d["gt_static"] = m.gt_static, d["gt_outdated"] = m.gt_outdated;
   d["gt_never_in_view"] = m.gt_never_in_view, d["never_in_view_ids"] = m.never_in_view_ids;
+  d["never_in_view_object_ids"] = m.never_in_view_object_ids;
   d["live_objects"] = m.live_objects, d["removed_objects"] = m.removed_objects;
   d["gt_moves"] = m.gt_moves, d["moves_right"] = m.moves_right;
   d["deleted_static_ids"] = m.deleted_static_ids;
@@ -210,7 +211,10 @@ void BindEvaluation(py::module_& module) {
       "larger ground-truth extent, min_distance).\n"
       "Returns a dict: corr_s, unident_s, redun_s (redun_duplicates + redun_spurious), "
       "corr_m, delet_s, unident_m, acc, prec, recall, the ground-truth counts, the ids behind "
-      "each count, and alignment (trajectory, pairs, scale, ate_rmse) or None.\n"
+      "each count, the static objects left out as never in view (gt_never_in_view, "
+      "never_in_view_ids) and the live objects at their places, ignored "
+      "(never_in_view_object_ids), and alignment (trajectory, pairs, scale, ate_rmse) or "
+      "None.\n"
       "Raises ocg.FileError / ocg.ParseError naming the file, ValueError when the "
       "trajectories do not align.");
 }

@@ -87,6 +87,7 @@ void EvaluateObjects(const ObjectsInput& input) {
                                  {"gt_outdated", m.gt_outdated},
                                  {"gt_never_in_view", m.gt_never_in_view},
                                  {"never_in_view_ids", m.never_in_view_ids},
+                                 {"never_in_view_object_ids", m.never_in_view_object_ids},
                                  {"live_objects", m.live_objects},
                                  {"removed_objects", m.removed_objects},
                                  {"gt_moves", m.gt_moves},
@@ -112,7 +113,12 @@ void EvaluateObjects(const ObjectsInput& input) {
     std::printf("%d static object(s) never in view left out of the ground truth (ids",
                 m.gt_never_in_view);
     for (const int id : m.never_in_view_ids) std::printf(" %d", id);
-    std::printf("; --include-never-in-view counts them)\n");
+    std::printf("; --include-never-in-view counts them)");
+    if (!m.never_in_view_object_ids.empty()) {
+      std::printf("; live objects at their places, ignored:");
+      for (const long long id : m.never_in_view_object_ids) std::printf(" %lld", id);
+    }
+    std::printf("\n");
   }
   std::printf("%d live objects, %d removed by change detection", m.live_objects, m.removed_objects);
   if (m.gt_moves > 0) {

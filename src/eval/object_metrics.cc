@@ -28,6 +28,19 @@ Eigen::Vector3d Vector3(const nlohmann::json& json, const std::string& what) {
   return {values[0], values[1], values[2]};
 }
 
+// A placement's "frames_in_view": a count, or -1 when the file has none (older files:
+// taken as in view). Every placement's is checked.
+long long FramesInView(const nlohmann::json& placement, int object_id) {
+  const auto found = placement.find("frames_in_view");
+  if (found == placement.end()) return -1;
+  if (!found->is_number_integer() || found->get<long long>() < 0) {
+    throw std::invalid_argument("object " + std::to_string(object_id) +
+                                ": frames_in_view must be a non-negative integer, not " +
+                                found->dump());
+  }
+  return found->get<long long>();
+}
+
 bool Near(const GroundTruthPlace& place, int class_id, const Eigen::Vector3d& centre) {
   return place.class_id == class_id && (place.centre - centre).norm() < place.radius;
 }
@@ -54,10 +67,10 @@ ObjectGroundTruth ReadObjectGroundTruth(const std::string& path,
       bool last_in_view = true;
       for (const nlohmann::json& placement : object.at("history")) {
         present_at_end = placement.at("present").get<bool>();
+        const long long frames_in_view = FramesInView(placement, place.object_id);
         if (!present_at_end) continue;
         present.push_back(Vector3(placement.at("centre"), "centre"));
-        last_in_view =
-            !placement.contains("frames_in_view") || placement.at("frames_in_view").get<int>() > 0;
+        last_in_view = frames_in_view != 0;
       }
       for (std::size_t i = 0; i < present.size(); ++i) {
         place.centre = present[i];
@@ -75,7 +88,7 @@ ObjectGroundTruth ReadObjectGroundTruth(const std::string& path,
   } catch (const std::exception& error) {
     throw ParseError(path + ": " + error.what() +
                      " (expected {\"objects\": [{\"id\", \"class_id\", \"size\", \"history\": "
-                     "[{\"present\", \"centre\"}]}]})");
+                     "[{\"present\", \"centre\", \"frames_in_view\" (optional)}]}]})");
   }
   return truth;
 }
@@ -216,6 +229,13 @@ ObjectMetrics ComputeObjectMetrics(const ObjectGroundTruth& truth,
     const RunObject& object = objects[o];
     const auto near = [&object](const GroundTruthPlace& place) { return Near(place, object); };
     if (std::any_of(truth.outdated_places.begin(), truth.outdated_places.end(), near)) continue;
+    // A place the sequence never shows is ignored, as benchmarks ignore regions no one can
+    // label: an object there (carried from an earlier session, say) is neither right nor
+    // redundant.
+    if (std::any_of(truth.never_in_view_places.begin(), truth.never_in_view_places.end(), near)) {
+      metrics.never_in_view_object_ids.push_back(object.id);
+      continue;
+    }
     ++metrics.redun_s;
     if (std::any_of(truth.static_places.begin(), truth.static_places.end(), near)) {
       ++metrics.redun_duplicates;

@@ -523,7 +523,8 @@ std::string StatusOf(const std::vector<PlacedPose>& history) {
 
 }  // namespace
 
-std::string ObjectsGroundTruthJson(const Scene& scene, const FramesInView* frames_in_view) {
+std::string ObjectsGroundTruthJson(const Scene& scene, const FramesInView* frames_in_view,
+                                   double end_time) {
   nlohmann::json objects = nlohmann::json::array();
   nlohmann::json between = nlohmann::json::array();
   for (const SceneObject& object : scene.objects) {
@@ -554,6 +555,7 @@ std::string ObjectsGroundTruthJson(const Scene& scene, const FramesInView* frame
     }
     for (std::size_t i = 0; i < object.history.size(); ++i) {
       const PlacedPose& pose = object.history[i];
+      if (i > 0 && pose.time > end_time) break;  // history is in time order
       combined.push_back(pose);
       history.push_back(PlacementJson(pose, scene.time_origin + pose.time));
       if (frames_in_view != nullptr) {
@@ -717,7 +719,8 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
       staging + "/groundtruth.txt",
       "# ground truth trajectory (camera to world)\n# timestamp tx ty tz qx qy qz qw\n" +
           FormatTumTrajectory(groundtruth));
-  WriteFile(staging + "/objects_gt.json", ObjectsGroundTruthJson(scene, &frames_in_view));
+  WriteFile(staging + "/objects_gt.json",
+            ObjectsGroundTruthJson(scene, &frames_in_view, scene.TimeOfFrame(frames - 1)));
   if (options.keyframe_interval > 0) WriteFile(staging + "/oracle_observations.jsonl", oracle);
   WriteFile(staging + "/scene.yaml", SceneToYaml(scene));
   WriteFile(staging + "/camera.yaml", CameraSettingsYaml(scene));

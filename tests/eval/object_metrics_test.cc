@@ -4,6 +4,7 @@
 
 #include "ocg/core/file_io.h"
 #include "ocg/eval/object_metrics.h"
+#include "ocg/io/text_lines.h"
 #include "test_support.h"
 
 namespace ocg {
@@ -164,23 +165,54 @@ TEST(ObjectMetrics, StaticObjectsNeverInViewAreLeftOutOfTheGroundTruth) {
   EXPECT_EQ(truth.never_in_view_places[0].object_id, 2);
   EXPECT_EQ(truth.never_in_view_places[1].object_id, 3);
 
-  // A map holding objects 1 and 4: every object the frames show is found.
-  const std::vector<RunObject> objects = {Object(10, 41, 0.0), Object(11, 39, 5.0)};
+  // A map holding objects 1 and 4, and one at object 2's place (an earlier session's, say):
+  // every object the frames show is found, the one at the unseen place is ignored.
+  const std::vector<RunObject> objects = {Object(10, 41, 0.0), Object(11, 39, 5.0),
+                                          Object(12, 73, 3.02)};
   const ObjectMetrics m = ComputeObjectMetrics(truth, objects);
   EXPECT_EQ(m.corr_s, 2);
   EXPECT_EQ(m.unident_s, 0);
+  EXPECT_EQ(m.redun_s, 0);
   EXPECT_EQ(m.gt_never_in_view, 2);
   EXPECT_EQ(m.never_in_view_ids, (std::vector<int>{2, 3}));
+  EXPECT_EQ(m.never_in_view_object_ids, std::vector<long long>{12});
   EXPECT_DOUBLE_EQ(m.acc, 1.0);
+  // Elsewhere, the same object is spurious.
+  const ObjectMetrics elsewhere =
+      ComputeObjectMetrics(truth, {Object(10, 41, 0.0), Object(11, 39, 5.0), Object(12, 73, 4.0)});
+  EXPECT_EQ(elsewhere.redun_spurious, 1);
+  EXPECT_TRUE(elsewhere.never_in_view_object_ids.empty());
 
   ObjectMatchOptions every_object;
   every_object.include_never_in_view = true;
   const ObjectMetrics all =
       ComputeObjectMetrics(ReadObjectGroundTruth(dir + "/objects_gt.json", every_object), objects);
   EXPECT_EQ(all.gt_static, 4);
-  EXPECT_EQ(all.unident_s, 2);
+  EXPECT_EQ(all.corr_s, 3);
+  EXPECT_EQ(all.unident_s, 1);  // object 3 at its new place
   EXPECT_EQ(all.gt_never_in_view, 0);
-  EXPECT_DOUBLE_EQ(all.acc, 0.5);
+  EXPECT_DOUBLE_EQ(all.acc, 0.75);
+}
+
+TEST(ObjectMetrics, AFramesInViewThatIsNoCountIsRefusedNamingTheObject) {
+  const std::string dir = testing::MakeTempDir("frames_in_view_errors");
+  for (const std::string value : {"-3", "0.5", "true", "\"12\"", "null"}) {
+    // The bad value on the first placement: every placement is checked, not the last only.
+    WriteFile(dir + "/gt.json", R"({"objects": [{"id": 7, "class_id": 41, "size": [0.1, 0.1, 0.1],
+        "history": [{"present": true, "centre": [0, 0, 0], "frames_in_view": )" +
+                                    value + R"(},
+                    {"present": true, "centre": [1, 0, 0], "frames_in_view": 3}]}]})");
+    try {
+      ReadObjectGroundTruth(dir + "/gt.json");
+      ADD_FAILURE() << value << " accepted";
+    } catch (const ParseError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("gt.json"), std::string::npos) << message;
+      EXPECT_NE(message.find("object 7: frames_in_view must be a non-negative integer"),
+                std::string::npos)
+          << message;
+    }
+  }
 }
 
 // An object removed and restored is live, once: its removal is not a removed object (it

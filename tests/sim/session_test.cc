@@ -72,6 +72,33 @@ TEST(LaterVisit, SharesRoomAndStaticObjectsAndDiffersExactlyAsObjectsGtSays) {
   EXPECT_EQ(removed, 1);
   EXPECT_EQ(added, 1);
   EXPECT_EQ(static_cast<int>(listed.size()), moved + removed + added);
+
+  // Frames in view count this visit's frames: the previous visit's pose, first in a changed
+  // object's history, has no count; this visit's placements have theirs, in order.
+  FramesInView frames_in_view;
+  for (const SceneObject& object : second.objects) {
+    for (std::size_t i = 0; i < object.history.size(); ++i) {
+      frames_in_view[object.id].push_back(object.id * 10 + static_cast<int>(i));
+    }
+  }
+  const nlohmann::json counted =
+      nlohmann::json::parse(ObjectsGroundTruthJson(second, &frames_in_view));
+  for (const nlohmann::json& entry : counted.at("objects")) {
+    const int id = entry.at("id").get<int>();
+    const SceneObject* object = second.FindObject(id);
+    ASSERT_NE(object, nullptr);
+    const nlohmann::json& history = entry.at("history");
+    const std::size_t first_of_visit = object->before_session ? 1 : 0;
+    ASSERT_EQ(history.size(), first_of_visit + object->history.size()) << id;
+    if (object->before_session) {
+      EXPECT_FALSE(history[0].contains("frames_in_view")) << id;
+    }
+    for (std::size_t i = 0; i < object->history.size(); ++i) {
+      EXPECT_EQ(history[first_of_visit + i].at("frames_in_view").get<int>(),
+                id * 10 + static_cast<int>(i))
+          << id;
+    }
+  }
   EXPECT_GE(unchanged, 2);
 
   // ocg_eval reads it: the places left between the visits are outdated places.

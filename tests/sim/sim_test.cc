@@ -106,6 +106,62 @@ TEST(Generator, ObjectsGroundTruthCountsTheFramesInViewOfEachPlacement) {
   EXPECT_EQ(in_view_of_class, boxes_of_class);
 }
 
+// With a move: each frame counts for the placement the object has then. The oracle
+// observations name it (OracleMapId: object id and placement index), and with the
+// perfect detector every object in view is observed. Rendered only up to before the move,
+// the moved object has one placement: the move did not happen in those frames.
+TEST(Generator, FramesInViewCountEachPlacementAndChangesAfterTheLastFrameAreLeftOut) {
+  const Scene scene = ScheduledPreset("smoke", 1);
+  Scene perfect = scene;
+  perfect.noise.perfect = true;
+  GeneratorOptions options;
+  options.write_images = false;
+  options.keyframe_interval = 1;
+  const std::string dir = testing::MakeTempDir("frames_in_view_moves");
+  Generate(perfect, dir + "/all", options);
+
+  std::map<std::int64_t, int> observed;  // oracle map id -> keyframes observed in
+  std::ifstream oracle(dir + "/all/oracle_observations.jsonl");
+  std::string line;
+  while (std::getline(oracle, line)) {
+    const nlohmann::json observation = nlohmann::json::parse(line);
+    for (const std::int64_t id : observation.at("observed")) ++observed[id];
+  }
+  const nlohmann::json gt = nlohmann::json::parse(ReadTextFile(dir + "/all/objects_gt.json"));
+  int moved = 0;
+  double first_change = 1e9;
+  for (const nlohmann::json& object : gt.at("objects")) {
+    const nlohmann::json& history = object.at("history");
+    if (history.size() > 1) {
+      ++moved;
+      first_change = std::min(
+          first_change, history[1].at("time").get<double>() - gt.at("time_origin").get<double>());
+    }
+    for (std::size_t i = 0; i < history.size(); ++i) {
+      const std::int64_t id = OracleMapId(object.at("id").get<int>(), i);
+      EXPECT_EQ(history[i].at("frames_in_view").get<int>(), observed[id])
+          << "object " << object.at("id") << " placement " << i;
+    }
+  }
+  ASSERT_GT(moved, 0);
+  // Placements after the move saw frames too (else this test could not tell them apart).
+  int seen_after_a_move = 0;
+  for (const auto& [id, count] : observed) {
+    if (id % kOracleIdStride > 0 && count > 0) ++seen_after_a_move;
+  }
+  EXPECT_GT(seen_after_a_move, 0);
+
+  options.max_frames = static_cast<int>(first_change * scene.fps) - 1;
+  ASSERT_GT(options.max_frames, 0);
+  Generate(perfect, dir + "/before", options);
+  const nlohmann::json before =
+      nlohmann::json::parse(ReadTextFile(dir + "/before/objects_gt.json"));
+  for (const nlohmann::json& object : before.at("objects")) {
+    EXPECT_EQ(object.at("history").size(), 1u) << "object " << object.at("id");
+    EXPECT_EQ(object.at("status"), "static");
+  }
+}
+
 TEST(DetectionModel, UnoccludedObjectBoxEqualsItsProjectedBox) {
   Scene scene = MakePreset("smoke", 1);
   scene.objects.resize(1);

@@ -23,7 +23,8 @@ struct ObjectGroundTruth {
   std::vector<GroundTruthPlace> static_places;    // where objects are at the end
   std::vector<GroundTruthPlace> outdated_places;  // where moved objects were before
   // Static places the sequence never shows (left out of static_places; see
-  // ObjectMatchOptions::include_never_in_view).
+  // ObjectMatchOptions::include_never_in_view): ignored, as benchmarks ignore regions no
+  // one can label. A live object near one is neither Corr.S nor Redun.S.
   std::vector<GroundTruthPlace> never_in_view_places;
 };
 
@@ -40,7 +41,8 @@ struct ObjectMatchOptions {
 // The generator's objects_gt.json: per object class_id, size and its history of
 // placements; the last present placement is a static place, every earlier one an
 // outdated place. A placement without "frames_in_view" (older files) counts as in view.
-// Throws ParseError naming the file and what is wrong.
+// Throws ParseError naming the file and what is wrong (for a "frames_in_view" that is not
+// a non-negative integer, the object's id).
 ObjectGroundTruth ReadObjectGroundTruth(const std::string& path,
                                         const ObjectMatchOptions& options = {});
 
@@ -71,6 +73,8 @@ struct ObjectMetrics {
   // Per place / object, for reading a result: the ids behind each count.
   std::vector<int> deleted_static_ids, unidentified_static_ids, unidentified_moved_ids;
   std::vector<int> never_in_view_ids;
+  // Live objects near a place never in view: ignored (neither Corr.S nor Redun.S).
+  std::vector<long long> never_in_view_object_ids;
   std::vector<long long> duplicate_ids, spurious_ids;
 };
 

@@ -4,6 +4,7 @@
 // Threading: everything here runs on the calling thread (one OSMesa context).
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -143,9 +144,11 @@ using FramesInView = std::map<int, std::vector<int>>;
 // starts with its pose when the previous visit ended, and "session" lists the changes
 // between the visits (docs/sessions.md). With frames_in_view, each of this visit's history
 // entries carries "frames_in_view" (an object never in view is in no list a person would
-// make from the frames; `ocg_eval objects` leaves such places out).
-std::string ObjectsGroundTruthJson(const Scene& scene,
-                                   const FramesInView* frames_in_view = nullptr);
+// make from the frames; `ocg_eval objects` leaves such places out). Changes after
+// end_time (seconds from the start: the last rendered frame's time) did not happen in the
+// rendered sequence and are left out.
+std::string ObjectsGroundTruthJson(const Scene& scene, const FramesInView* frames_in_view = nullptr,
+                                   double end_time = std::numeric_limits<double>::infinity());
 // A settings file (our format) for the rendered camera.
 std::string CameraSettingsYaml(const Scene& scene);
 // Timestamp text of a frame ("1000.033333").
