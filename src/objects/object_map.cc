@@ -386,9 +386,14 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
 
   for (std::size_t d = 0; d < detections.size(); ++d) {
     const ObjectDetection& detection = detections[d];
-    const ObjectSighting sighting{
-        frame,    T_cw,        detection.box, detection.truncated, detection.class_id,
-        session_, std::nullopt};
+    const ObjectSighting sighting{frame,
+                                  T_cw,
+                                  detection.box,
+                                  detection.truncated,
+                                  OverlapsAnotherOfItsClass(detections, d),
+                                  detection.class_id,
+                                  session_,
+                                  std::nullopt};
     MapObject* across_gap = nullptr;
     if (assignment[d] < 0) across_gap = CandidateAcrossGap(detection, frame, timestamp, T_cw);
     if (assignment[d] < 0 && across_gap == nullptr) {
@@ -620,7 +625,12 @@ std::optional<double> ObjectMap::PointSetYaw(const MapObject& object) const {
 bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
   std::vector<const ObjectSighting*> usable;
   for (const ObjectSighting& sighting : object.sightings) {
-    if (!sighting.truncated) usable.push_back(&sighting);
+    // A candidate triangulates from its uncrowded boxes alone: the centre of a box that
+    // overlaps another of its class may be on either object (a detector's second box on
+    // one, or a box sliding from one onto the other as the view changes), and its ray then
+    // meets the others in front of both (issue 18, fr3: a bottle 1.3 m short, from second
+    // boxes on another).
+    if (!sighting.truncated && !(candidate && sighting.crowded)) usable.push_back(&sighting);
   }
   if (candidate && static_cast<int>(usable.size()) < options_.candidate_min_observations) {
     return false;

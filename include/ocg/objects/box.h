@@ -63,6 +63,11 @@ std::vector<ObjectDetection> FilterDetections(const std::vector<Detection>& dete
                                               const ObjectsOptions& options,
                                               const PinholeCamera& camera);
 
+// Whether detections[index]'s box overlaps (a positive shared area) the box of another
+// detection of its class: two objects of a class standing together, or one behind the
+// other, whose boxes the detector splits its own way in every frame.
+bool OverlapsAnotherOfItsClass(const std::vector<ObjectDetection>& detections, std::size_t index);
+
 // A gravity-aligned box: size along its own axes, yaw about the up direction.
 struct Cuboid {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // world
