@@ -13,6 +13,23 @@ double IntersectionOverUnion(const Box2& a, const Box2& b) {
   return united > 0 ? intersection / united : 0.0;
 }
 
+bool BesideAMoreConfidentBoxOfItsClass(const std::vector<ObjectDetection>& detections,
+                                       std::size_t index) {
+  const ObjectDetection& detection = detections[index];
+  for (std::size_t other = 0; other < detections.size(); ++other) {
+    const ObjectDetection& neighbour = detections[other];
+    if (other == index || neighbour.class_id != detection.class_id) continue;
+    const bool more_confident = neighbour.confidence > detection.confidence ||
+                                (neighbour.confidence == detection.confidence && other < index);
+    const Box2& a = detection.box;
+    const Box2& b = neighbour.box;
+    const Box2 shared{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
+                      std::min(a.y1, b.y1)};
+    if (more_confident && shared.Area() > 0) return true;
+  }
+  return false;
+}
+
 BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou) {
   if (IntersectionOverUnion(box, projected) >= min_iou) return BoxFit::kWhole;
   const double slack_x = kProjectionSlack * projected.Width();

@@ -69,7 +69,6 @@ RayIntersection IntersectRays(const std::vector<Ray>& rays, double min_sigma,
     point = next;
     if (step < 1e-6) break;
   }
-  Eigen::Vector3d mean_direction = Eigen::Vector3d::Zero();
   double squared = 0.0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const double distance = DistanceToRay(point, rays[i]);
@@ -78,20 +77,20 @@ RayIntersection IntersectRays(const std::vector<Ray>& rays, double min_sigma,
     result.inliers[i] = true;
     ++result.inlier_count;
     squared += distance * distance;
-    mean_direction += rays[i].direction;
   }
   if (result.inlier_count < 2) return result;
   result.point = point;
   result.rms_distance = std::sqrt(squared / result.inlier_count);
-  // Twice the widest angle to the mean direction: the spread of the inlier rays.
-  mean_direction.normalize();
-  double widest = 0.0;
+  // The largest angle between two inlier rays, exactly.
+  double smallest_cosine = 1.0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     if (!result.inliers[i]) continue;
-    widest =
-        std::max(widest, std::acos(std::clamp(rays[i].direction.dot(mean_direction), -1.0, 1.0)));
+    for (std::size_t j = i + 1; j < rays.size(); ++j) {
+      if (result.inliers[j])
+        smallest_cosine = std::min(smallest_cosine, rays[i].direction.dot(rays[j].direction));
+    }
   }
-  result.parallax_deg = 2.0 * widest * 180.0 / kPi;
+  result.parallax_deg = std::acos(std::clamp(smallest_cosine, -1.0, 1.0)) * 180.0 / kPi;
   result.valid = result.inlier_count >= min_inlier_share * static_cast<double>(rays.size());
   return result;
 }

@@ -386,9 +386,14 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
 
   for (std::size_t d = 0; d < detections.size(); ++d) {
     const ObjectDetection& detection = detections[d];
-    const ObjectSighting sighting{
-        frame,    T_cw,        detection.box, detection.truncated, detection.class_id,
-        session_, std::nullopt};
+    const ObjectSighting sighting{frame,
+                                  T_cw,
+                                  detection.box,
+                                  detection.truncated,
+                                  BesideAMoreConfidentBoxOfItsClass(detections, d),
+                                  detection.class_id,
+                                  session_,
+                                  std::nullopt};
     MapObject* across_gap = nullptr;
     if (assignment[d] < 0) across_gap = CandidateAcrossGap(detection, frame, timestamp, T_cw);
     if (assignment[d] < 0 && across_gap == nullptr) {
@@ -620,7 +625,12 @@ std::optional<double> ObjectMap::PointSetYaw(const MapObject& object) const {
 bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
   std::vector<const ObjectSighting*> usable;
   for (const ObjectSighting& sighting : object.sightings) {
-    if (!sighting.truncated) usable.push_back(&sighting);
+    // A candidate triangulates from its uncrowded boxes alone: the centre of a box beside a
+    // more confident one of its class may be on that object (a detector's second box on
+    // it, or a box sliding onto it as the view changes), and its ray then meets the others
+    // in front of both (issue 18, fr3: a bottle 1.3 m short, from second boxes on
+    // another).
+    if (!sighting.truncated && !(candidate && sighting.crowded)) usable.push_back(&sighting);
   }
   if (candidate && static_cast<int>(usable.size()) < options_.candidate_min_observations) {
     return false;
@@ -798,8 +808,14 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
 
   for (auto it = objects_.begin(); it != objects_.end();) {
     MapObject& object = it->second;
+    // Crowded boxes (beside a more confident box of the class) may be the neighbour's: they
+    // are no evidence that this object exists (issue 18, fr3: a bottle in mid-air, promoted from 8
+    // boxes of two bottles, kept by 13 boxes beside the front bottle's).
+    const auto own_sightings =
+        std::count_if(object.sightings.begin(), object.sightings.end(),
+                      [](const ObjectSighting& sighting) { return !sighting.crowded; });
     if (++object.keyframes_in_map < options_.probation_keyframes ||
-        static_cast<int>(object.sightings.size()) >= options_.min_sightings) {
+        own_sightings >= options_.min_sightings) {
       ++it;
       continue;
     }

@@ -78,6 +78,28 @@ TEST(IntersectRays, RecoversThePointAndRejectsAStrayRay) {
   EXPECT_NEAR(result.parallax_deg, 0.7 * 180 / kPi, 3.0);  // the azimuths span 0.7 rad
 }
 
+// Issue 18 (fr3's mid-air bottle): the spread of the rays was twice the widest angle to
+// their mean direction, which overstates it when most views sit at one end of the
+// baseline: seven views within 0.3 degrees of azimuth and one 3 degrees away (rays 2.85
+// degrees apart) read 4.7 degrees, past Objects.candidate_min_parallax_deg (4). On fr3 the
+// shelf's bottles were promoted from 3.0-3.8 degrees read as 4.0-4.8.
+TEST(IntersectRays, ParallaxIsTheLargestAngleBetweenTwoRaysWhenTheViewsAreLopsided) {
+  const Eigen::Vector3d point(0, 0, 0.8);
+  std::vector<Ray> rays;
+  const double degree = kPi / 180;
+  for (double azimuth : {0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 3.0}) {
+    const Eigen::Vector3d origin = OrbitPose(azimuth * degree, point).Inverse().translation();
+    rays.push_back({origin, (point - origin).normalized()});
+  }
+  const RayIntersection result = IntersectRays(rays);
+  ASSERT_TRUE(result.valid);
+  // The orbit's azimuth is about the vertical through the point, with the camera 0.5 m
+  // above it at 1.5 m: the rays' angle is the azimuth step times cos(elevation).
+  const double elevation = std::atan2(0.5, 1.5);
+  EXPECT_NEAR(result.parallax_deg, 3.0 * std::cos(elevation), 0.02);
+  EXPECT_LT(result.parallax_deg, ObjectsOptions().candidate_min_parallax_deg);
+}
+
 TEST(IntersectRays, ParallelRaysHaveNoIntersection) {
   std::vector<Ray> rays = {{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d::UnitX()},
                            {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d::UnitX()}};
@@ -149,6 +171,101 @@ TEST(FitOfBoxToTrack, ABoxWhereTheTracksObjectProjectsFitsAndOthersDoNot) {
   const std::vector<BoxView> two = {one[0], again};
   EXPECT_GT(FitOfBoxToTrack(two, view_of(cup, 0.4), Camera(), min_iou, share).iou, 0.6);
   EXPECT_EQ(FitOfBoxToTrack(two, view_of(beside, 0.4), Camera(), min_iou, share).iou, 0.0);
+}
+
+TEST(BesideAMoreConfidentBoxOfItsClass, ASharedAreaWithAMoreConfidentBoxOfItsClassOnly) {
+  const auto detection = [](int class_id, double x0, double x1, double confidence) {
+    return ObjectDetection{class_id, Box2{x0, 100, x1, 180}, confidence, false};
+  };
+  // Bottles (39): 100-120 (0.9) and 115-135 (0.8) overlap; 135-150 (0.5) touches the
+  // second along an edge only; a cup (41, 0.95) overlaps the first; two bottles as
+  // confident, 200-220 and 210-230, overlap: the earlier wins.
+  const std::vector<ObjectDetection> detections = {
+      detection(39, 100, 120, 0.9),  detection(39, 115, 135, 0.8), detection(39, 135, 150, 0.5),
+      detection(41, 105, 125, 0.95), detection(39, 200, 220, 0.7), detection(39, 210, 230, 0.7)};
+  EXPECT_FALSE(BesideAMoreConfidentBoxOfItsClass(detections, 0));
+  EXPECT_TRUE(BesideAMoreConfidentBoxOfItsClass(detections, 1));
+  EXPECT_FALSE(BesideAMoreConfidentBoxOfItsClass(detections, 2));
+  EXPECT_FALSE(BesideAMoreConfidentBoxOfItsClass(detections, 3));
+  EXPECT_FALSE(BesideAMoreConfidentBoxOfItsClass(detections, 4));
+  EXPECT_TRUE(BesideAMoreConfidentBoxOfItsClass(detections, 5));
+}
+
+// Issue 18 (fr3 long_office, ground-truth poses): a detector puts a second box on a
+// bottle, or a box that slides from one bottle onto its neighbour as the view changes;
+// such a box overlaps a more confident box of its class, and its centre stays where neither
+// bottle is. Here it stays 9 pixels right of the image centre while the camera orbits the
+// point it looks at, 0.3 m in front of the bottle: its rays meet near that point with 8
+// degrees of spread, and it became a bottle in mid-air that no merge could take (detected
+// beside the real one, IoU below Objects.duplicate_box_iou). A candidate now triangulates
+// from boxes beside no more confident box of their class: the real bottle is mapped, the
+// box in mid-air never is.
+TEST(ObjectMap, ACandidateDoesNotTriangulateFromBoxesBesideAMoreConfidentOneOfItsClass) {
+  ObjectsOptions options;
+  ObjectMap map(options, Camera());
+  const Eigen::Vector3d target(0, 0, 0.8);
+  Cuboid bottle;
+  bottle.centre = target - 0.3 * Eigen::Vector3d(std::cos(0.15), std::sin(0.15), 0);
+  bottle.size = Eigen::Vector3d(0.08, 0.08, 0.25);
+  const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
+  for (int frame = 0; frame < 40; ++frame) {
+    const SE3 T_cw = OrbitPose(0.02 * frame, target);
+    const Box2 real = *ProjectCuboid(bottle, R_wg, T_cw, Camera());
+    std::vector<Detection> detections = {{39, real.x0, real.y0, real.Width(), real.Height(), 0.9}};
+    if (frame < 8) {  // the second box: the bottle's size, at a fixed place in the image
+      const Eigen::Vector2d centre = Camera().ProjectUndistorted(T_cw * target);
+      detections.push_back({39, centre.x() + 9 - 0.5 * real.Width(),
+                            centre.y() - 0.5 * real.Height(), real.Width(), real.Height(), 0.8});
+    }
+    const std::vector<ObjectDetection> kept = FilterDetections(detections, options, Camera());
+    ASSERT_EQ(kept.size(), detections.size()) << frame;  // both kept (below Objects.nms_iou)
+    if (kept.size() == 2) {
+      ASSERT_TRUE(BesideAMoreConfidentBoxOfItsClass(kept, 1)) << frame;
+      ASSERT_FALSE(BesideAMoreConfidentBoxOfItsClass(kept, 0)) << frame;
+    }
+    map.AddFrame(frame, frame / 30.0, T_cw, kept);
+  }
+  ASSERT_EQ(map.objects().size(), 1u);
+  EXPECT_LT((map.objects().begin()->second.cuboid.centre - bottle.centre).norm(),
+            0.15 * bottle.size.maxCoeff());
+}
+
+// The map's hygiene (Objects.min_sightings after Objects.probation_keyframes) counts the
+// boxes beside no more confident box of their class: such a box may be the neighbour's
+// (issue 18, fr3: a bottle in mid-air promoted from 8 boxes and kept by 13 beside the real
+// bottle's). Here a box stays at one place in the image, alone for 12 frames (it becomes
+// an object where its rays meet, 0.3 m in front of a bottle), then for 8 frames beside the
+// bottle's box: 20 sightings, 12 of its own. The bottle is seen for 48 frames.
+TEST(ObjectMap, HygieneCountsOnlyTheSightingsBesideNoMoreConfidentBoxOfTheClass) {
+  ObjectsOptions options;
+  options.probation_keyframes = 5;
+  ObjectMap map(options, Camera());
+  const Eigen::Vector3d target(0, 0, 0.8);
+  Cuboid bottle;
+  bottle.centre = target - 0.3 * Eigen::Vector3d(std::cos(0.033), std::sin(0.033), 0);
+  bottle.size = Eigen::Vector3d(0.08, 0.08, 0.25);
+  const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
+  int crowded_frames = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    const SE3 T_cw = OrbitPose(0.02 * frame, target);
+    const Box2 real = *ProjectCuboid(bottle, R_wg, T_cw, Camera());
+    std::vector<Detection> detections;
+    if (frame >= 12) detections.push_back({39, real.x0, real.y0, real.Width(), real.Height(), 0.9});
+    if (frame < 20) {  // the box at a fixed place in the image, the bottle's size
+      const Eigen::Vector2d centre = Camera().ProjectUndistorted(T_cw * target);
+      detections.push_back({39, centre.x() + 9 - 0.5 * real.Width(),
+                            centre.y() - 0.5 * real.Height(), real.Width(), real.Height(), 0.8});
+    }
+    const std::vector<ObjectDetection> kept = FilterDetections(detections, options, Camera());
+    ASSERT_EQ(kept.size(), detections.size()) << frame;
+    crowded_frames += kept.size() == 2 && BesideAMoreConfidentBoxOfItsClass(kept, 1) ? 1 : 0;
+    map.AddFrame(frame, frame / 30.0, T_cw, kept);
+    if (frame % 5 == 4) map.MakeKeyframeObservation(frame / 5, frame / 30.0, T_cw, nullptr);
+  }
+  EXPECT_EQ(crowded_frames, 8);
+  ASSERT_EQ(map.objects().size(), 1u);
+  EXPECT_LT((map.objects().begin()->second.cuboid.centre - bottle.centre).norm(),
+            0.15 * bottle.size.maxCoeff());
 }
 
 TEST(FilterDetections, ClassConfidenceBorderAndDuplicates) {
@@ -620,9 +737,11 @@ TEST_F(TwoObjectScene, ObjectsDetectedTogetherOnlyThroughADuplicateBoxAreMerged)
 }
 
 // A real detector's double box: with every box of the cup, a second one on its upper part
-// (IoU 0.44, so non-maximum suppression keeps both). Each box feeds its own object; both
-// are detected in every frame, so "never seen together" cannot tell them apart. Two solid
-// objects cannot share the space the smaller one takes up: they are merged.
+// (IoU 0.44, so non-maximum suppression keeps both), and in one frame of three the second
+// box alone (a candidate triangulates from boxes beside no more confident box of its
+// class). Each box feeds its own object; both are detected together in most frames, so
+// "never seen together" cannot tell them apart. Two solid objects cannot share the space
+// the smaller one takes up: they are merged.
 TEST_F(TwoObjectScene, AnObjectInsideAnotherOfItsClassIsMergedEvenIfSeenTogether) {
   const auto objects_after_hygiene = [this](double merge_overlap) {
     ObjectsOptions options;
@@ -638,6 +757,7 @@ TEST_F(TwoObjectScene, AnObjectInsideAnotherOfItsClassIsMergedEvenIfSeenTogether
       const Detection cup = detections[0];
       detections.push_back(
           {41, cup.x + 0.1 * cup.width, cup.y, 0.8 * cup.width, 0.55 * cup.height, 0.8});
+      if (frame % 3 == 0) detections.erase(detections.begin());
       map.AddFrame(frame, frame / 30.0, T_cw, FilterDetections(detections, options, Camera()));
     }
     EXPECT_EQ(map.objects().size(), 3u) << "the nested boxes made an object of their own";

@@ -63,6 +63,15 @@ std::vector<ObjectDetection> FilterDetections(const std::vector<Detection>& dete
                                               const ObjectsOptions& options,
                                               const PinholeCamera& camera);
 
+// Whether detections[index]'s box shares area with a more confident box of its class (of
+// two as confident, the earlier one wins): two objects of a class standing together or one
+// behind the other, whose boxes the detector splits its own way in every frame, or its
+// second box on one object. As in the suppression (Objects.nms_iou), the more confident
+// box is the detector's best word on that part of the image; the other may be on either
+// object.
+bool BesideAMoreConfidentBoxOfItsClass(const std::vector<ObjectDetection>& detections,
+                                       std::size_t index);
+
 // A gravity-aligned box: size along its own axes, yaw about the up direction.
 struct Cuboid {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // world

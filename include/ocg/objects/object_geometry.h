@@ -23,7 +23,7 @@ struct RayIntersection {
   std::vector<bool> inliers;
   int inlier_count = 0;
   double rms_distance = 0.0;  // of the inliers, metres
-  double parallax_deg = 0.0;  // largest angle between two inlier rays (approximately)
+  double parallax_deg = 0.0;  // largest angle between two inlier rays
 };
 
 // The point nearest to all rays in the least-squares sense, reweighted (Cauchy) so that

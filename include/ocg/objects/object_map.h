@@ -34,6 +34,12 @@ struct ObjectSighting {
   SE3 T_cw;
   Box2 box;
   bool truncated = false;
+  // The box shares area with a more confident box of its class in the frame
+  // (BesideAMoreConfidentBoxOfItsClass): its centre may be on the other object (a second
+  // box on it, or a box sliding onto it as the view changes). It neither helps a candidate
+  // become an object nor keeps an object through the hygiene (Objects.min_sightings); a
+  // map object's geometry uses it like any other. Not saved in map files.
+  bool crowded = false;
   int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
   int session = 0;   // the session (map files: 0 for the first run) that saw it
   // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
