@@ -5,10 +5,19 @@
 
 namespace ocg {
 
+namespace {
+
+// The area two boxes share (0 when apart).
+double SharedArea(const Box2& a, const Box2& b) {
+  return Box2{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
+              std::min(a.y1, b.y1)}
+      .Area();
+}
+
+}  // namespace
+
 double IntersectionOverUnion(const Box2& a, const Box2& b) {
-  const Box2 overlap{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
-                     std::min(a.y1, b.y1)};
-  const double intersection = overlap.Area();
+  const double intersection = SharedArea(a, b);
   const double united = a.Area() + b.Area() - intersection;
   return united > 0 ? intersection / united : 0.0;
 }
@@ -21,11 +30,7 @@ bool BesideAMoreConfidentBoxOfItsClass(const std::vector<ObjectDetection>& detec
     if (other == index || neighbour.class_id != detection.class_id) continue;
     const bool more_confident = neighbour.confidence > detection.confidence ||
                                 (neighbour.confidence == detection.confidence && other < index);
-    const Box2& a = detection.box;
-    const Box2& b = neighbour.box;
-    const Box2 shared{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
-                      std::min(a.y1, b.y1)};
-    if (more_confident && shared.Area() > 0) return true;
+    if (more_confident && SharedArea(detection.box, neighbour.box) > 0) return true;
   }
   return false;
 }
@@ -34,10 +39,11 @@ BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou) {
   if (IntersectionOverUnion(box, projected) >= min_iou) return BoxFit::kWhole;
   const double slack_x = kProjectionSlack * projected.Width();
   const double slack_y = kProjectionSlack * projected.Height();
-  const Box2 overlap{
-      std::max(box.x0, projected.x0 - slack_x), std::max(box.y0, projected.y0 - slack_y),
-      std::min(box.x1, projected.x1 + slack_x), std::min(box.y1, projected.y1 + slack_y)};
-  if (box.Area() <= 0 || overlap.Area() < kPartialViewInside * box.Area()) return BoxFit::kNone;
+  const Box2 with_slack{projected.x0 - slack_x, projected.y0 - slack_y, projected.x1 + slack_x,
+                        projected.y1 + slack_y};
+  if (box.Area() <= 0 || SharedArea(box, with_slack) < kPartialViewInside * box.Area()) {
+    return BoxFit::kNone;
+  }
   // Across the projection the estimate may be too large by the slack on both sides.
   const bool spans = box.Width() >= kPartialViewSpan * (projected.Width() - 2.0 * slack_x) ||
                      box.Height() >= kPartialViewSpan * (projected.Height() - 2.0 * slack_y);

@@ -191,6 +191,27 @@ TEST(BesideAMoreConfidentBoxOfItsClass, ASharedAreaWithAMoreConfidentBoxOfItsCla
   EXPECT_TRUE(BesideAMoreConfidentBoxOfItsClass(detections, 5));
 }
 
+// A bottle 0.3 m in front of target, seen from the orbit's azimuth `azimuth`.
+Cuboid BottleInFrontOf(const Eigen::Vector3d& target, double azimuth) {
+  Cuboid bottle;
+  bottle.centre = target - 0.3 * Eigen::Vector3d(std::cos(azimuth), std::sin(azimuth), 0);
+  bottle.size = Eigen::Vector3d(0.08, 0.08, 0.25);
+  return bottle;
+}
+
+// A bottle box (class 39) of `real`'s size that stays 9 pixels right of where target
+// projects, whatever the view: its rays meet near target, not at the bottle.
+Detection BoxFixedNearTarget(const SE3& T_cw, const Eigen::Vector3d& target, const Box2& real,
+                             double confidence) {
+  const Eigen::Vector2d centre = Camera().ProjectUndistorted(T_cw * target);
+  return {39,
+          centre.x() + 9 - 0.5 * real.Width(),
+          centre.y() - 0.5 * real.Height(),
+          real.Width(),
+          real.Height(),
+          confidence};
+}
+
 // Issue 18 (fr3 long_office, ground-truth poses): a detector puts a second box on a
 // bottle, or a box that slides from one bottle onto its neighbour as the view changes;
 // such a box overlaps a more confident box of its class, and its centre stays where neither
@@ -204,19 +225,14 @@ TEST(ObjectMap, ACandidateDoesNotTriangulateFromBoxesBesideAMoreConfidentOneOfIt
   ObjectsOptions options;
   ObjectMap map(options, Camera());
   const Eigen::Vector3d target(0, 0, 0.8);
-  Cuboid bottle;
-  bottle.centre = target - 0.3 * Eigen::Vector3d(std::cos(0.15), std::sin(0.15), 0);
-  bottle.size = Eigen::Vector3d(0.08, 0.08, 0.25);
+  const Cuboid bottle = BottleInFrontOf(target, 0.15);
   const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
   for (int frame = 0; frame < 40; ++frame) {
     const SE3 T_cw = OrbitPose(0.02 * frame, target);
     const Box2 real = *ProjectCuboid(bottle, R_wg, T_cw, Camera());
     std::vector<Detection> detections = {{39, real.x0, real.y0, real.Width(), real.Height(), 0.9}};
-    if (frame < 8) {  // the second box: the bottle's size, at a fixed place in the image
-      const Eigen::Vector2d centre = Camera().ProjectUndistorted(T_cw * target);
-      detections.push_back({39, centre.x() + 9 - 0.5 * real.Width(),
-                            centre.y() - 0.5 * real.Height(), real.Width(), real.Height(), 0.8});
-    }
+    // The second box: the bottle's size, at a fixed place in the image.
+    if (frame < 8) detections.push_back(BoxFixedNearTarget(T_cw, target, real, 0.8));
     const std::vector<ObjectDetection> kept = FilterDetections(detections, options, Camera());
     ASSERT_EQ(kept.size(), detections.size()) << frame;  // both kept (below Objects.nms_iou)
     if (kept.size() == 2) {
@@ -241,9 +257,7 @@ TEST(ObjectMap, HygieneCountsOnlyTheSightingsBesideNoMoreConfidentBoxOfTheClass)
   options.probation_keyframes = 5;
   ObjectMap map(options, Camera());
   const Eigen::Vector3d target(0, 0, 0.8);
-  Cuboid bottle;
-  bottle.centre = target - 0.3 * Eigen::Vector3d(std::cos(0.033), std::sin(0.033), 0);
-  bottle.size = Eigen::Vector3d(0.08, 0.08, 0.25);
+  const Cuboid bottle = BottleInFrontOf(target, 0.033);
   const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
   int crowded_frames = 0;
   for (int frame = 0; frame < 60; ++frame) {
@@ -251,11 +265,8 @@ TEST(ObjectMap, HygieneCountsOnlyTheSightingsBesideNoMoreConfidentBoxOfTheClass)
     const Box2 real = *ProjectCuboid(bottle, R_wg, T_cw, Camera());
     std::vector<Detection> detections;
     if (frame >= 12) detections.push_back({39, real.x0, real.y0, real.Width(), real.Height(), 0.9});
-    if (frame < 20) {  // the box at a fixed place in the image, the bottle's size
-      const Eigen::Vector2d centre = Camera().ProjectUndistorted(T_cw * target);
-      detections.push_back({39, centre.x() + 9 - 0.5 * real.Width(),
-                            centre.y() - 0.5 * real.Height(), real.Width(), real.Height(), 0.8});
-    }
+    // The box at a fixed place in the image, the bottle's size.
+    if (frame < 20) detections.push_back(BoxFixedNearTarget(T_cw, target, real, 0.8));
     const std::vector<ObjectDetection> kept = FilterDetections(detections, options, Camera());
     ASSERT_EQ(kept.size(), detections.size()) << frame;
     crowded_frames += kept.size() == 2 && BesideAMoreConfidentBoxOfItsClass(kept, 1) ? 1 : 0;
