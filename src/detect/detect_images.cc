@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 
+#include "ocg/core/cpu_time.h"
 #include "ocg/core/file_io.h"
 
 namespace ocg {
@@ -67,7 +68,9 @@ DetectRunSummary DetectImagesToFolder(DetectionModel& model, const std::vector<T
       throw FileError("cannot read the image '" + timed.path + "' (missing or not an image)");
     }
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = ProcessCpuSeconds();
     std::vector<Detection> detections = model.Detect(image);
+    summary.cpu_seconds += ProcessCpuSeconds() - cpu_start;
     summary.seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     WriteFileAtomically((fs::path(out_dir) / (timed.timestamp_text + ".txt")).string(),

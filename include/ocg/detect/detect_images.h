@@ -25,6 +25,7 @@ struct DetectRunSummary {
   std::size_t boxes = 0;
   std::map<int, std::size_t> boxes_per_class;  // COCO id -> boxes
   double seconds = 0.0;                        // wall time of the detections alone
+  double cpu_seconds = 0.0;  // CPU time of the detections, all threads of the process
 };
 
 // Runs the model on every image and writes out_dir/<timestamp_text>.txt (EAO text format,
