@@ -15,20 +15,6 @@
 #include "ocg/core/file_io.h"
 #include "ocg/detect/detect_images.h"
 
-namespace {
-
-// The default model: $OCG_DETECTOR_MODEL, else the one tools/get_detector.sh put in the
-// source tree, else the installed one.
-std::string DefaultModel() {
-  if (const char* env = std::getenv("OCG_DETECTOR_MODEL"); env && *env) return env;
-  for (const char* candidate : {OCG_SOURCE_DETECTOR_MODEL, OCG_INSTALLED_DETECTOR_MODEL}) {
-    if (std::filesystem::is_regular_file(candidate)) return candidate;
-  }
-  return OCG_SOURCE_DETECTOR_MODEL;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   CLI::App app{
       "ocg_detect: detects COCO-80 objects in a sequence's images with a detector network "
@@ -37,7 +23,7 @@ int main(int argc, char** argv) {
       "the top-left corner), the input of ocg_slam run --detections. The default model "
       "comes from tools/get_detector.sh (docs/detector.md).",
       "ocg_detect"};
-  const std::string default_model = DefaultModel();
+  const std::string default_model = ocg::DefaultDetectorModel();
   std::string log_level, images_path, out_dir, model_path = default_model, tile = "auto";
   ocg::DetectionModelOptions options;
   bool json = false;
@@ -72,12 +58,14 @@ int main(int argc, char** argv) {
     options.model_path = model_path;
     options.tile_mode = tile == "off" ? ocg::TileMode::kOff : ocg::TileMode::kAuto;
     if (!std::filesystem::exists(model_path)) {
-      throw ocg::FileError(
-          "no detector model at '" + model_path + "': " +
-          (model_path == default_model
-               ? "run tools/get_detector.sh once (it builds the default NanoDet model there), "
-                 "or give --model F.onnx"
-               : "give an existing .onnx file"));
+      const char* env = std::getenv("OCG_DETECTOR_MODEL");
+      std::string hint = "give an existing .onnx file";
+      if (model_path == default_model) {
+        hint = env && *env ? "it is $OCG_DETECTOR_MODEL; unset it or point it at an .onnx file"
+                           : "run tools/get_detector.sh once (it builds the default NanoDet "
+                             "model there), or give --model F.onnx";
+      }
+      throw ocg::FileError("no detector model at '" + model_path + "': " + hint);
     }
     // Every input is checked before the first image: the list, the model, the folder.
     const std::vector<ocg::TimedImage> images = ocg::ListImagesToDetect(images_path);

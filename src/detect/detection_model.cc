@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <opencv2/core.hpp>
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
@@ -91,6 +93,15 @@ bool ClipToImage(Detection* box, cv::Size image) {
 }
 
 }  // namespace
+
+std::string DefaultDetectorModel() {
+  if (const char* env = std::getenv("OCG_DETECTOR_MODEL"); env && *env) return env;
+  for (const char* candidate : {OCG_SOURCE_DETECTOR_MODEL, OCG_INSTALLED_DETECTOR_MODEL}) {
+    std::error_code error;
+    if (std::filesystem::is_regular_file(candidate, error)) return candidate;
+  }
+  return OCG_SOURCE_DETECTOR_MODEL;
+}
 
 void DetectionModelOptions::Check() const {
   if (model_path.empty()) throw std::invalid_argument("DetectionModelOptions.model_path is empty");

@@ -25,6 +25,12 @@ namespace ocg {
 
 enum class TileMode { kAuto, kOff };
 
+// Where the default model is looked for: $OCG_DETECTOR_MODEL when set, else
+// models/nanodet/nanodet.onnx of the source tree (tools/get_detector.sh puts it there),
+// else <prefix>/share/ocg/models/nanodet.onnx of an installed build. The first that
+// exists; the source-tree path when none does (so the error can name it).
+std::string DefaultDetectorModel();
+
 struct DetectionModelOptions {
   std::string model_path;  // an .onnx file
   // Boxes below this confidence are dropped. 0.4 keeps the default NanoDet model's false
