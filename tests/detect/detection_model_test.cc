@@ -11,6 +11,7 @@
 #include <fstream>
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 
 #include "ocg/core/file_io.h"
 #include "ocg/detect/detect_images.h"
@@ -58,6 +59,30 @@ TEST(OnnxInputs, RefusesAFileThatIsNotOnnxNamingIt) {
     EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
   }
   EXPECT_THROW(ReadOnnxInputs(path + ".missing"), FileError);
+}
+
+// Truncated and corrupted copies of a real ONNX file: each read either succeeds or throws
+// ParseError, never reads past its bytes (the ASan build checks that) or hangs.
+TEST(OnnxInputs, CorruptedFilesAreParseErrorsNotCrashes) {
+  const std::string path = TinyModel("yolov8");
+  REQUIRE_TINY_MODEL(path);
+  const std::string bytes = ReadTextFile(path);
+  const std::string copy = testing::MakeTempDir("corrupt_onnx") + "/model.onnx";
+  std::mt19937 random(7);
+  int refused = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string mutated = bytes.substr(0, random() % (bytes.size() + 1));
+    for (int flips = 0; flips < 4 && !mutated.empty(); ++flips) {
+      mutated[random() % mutated.size()] = static_cast<char>(random() % 256);
+    }
+    WriteFile(copy, mutated);
+    try {
+      ReadOnnxInputs(copy);
+    } catch (const ParseError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0);
 }
 
 TEST(DetectionModel, LoadsAYoloV8ExportAndMapsItsBoxBackThroughTheLetterbox) {
@@ -116,6 +141,28 @@ TEST(DetectionModel, ErrorsNameTheFile) {
   EXPECT_THROW(DetectionModel{options}, FileError);
   options.score_threshold = 1.5;
   EXPECT_THROW(DetectionModel{options}, std::invalid_argument);
+}
+
+// The SLAM loop asks one DetectionSource per frame: files read beforehand or the network.
+TEST(DetectionSource, FilesAndTheNetworkAnswerTheSameQuestion) {
+  const std::string dir = testing::MakeTempDir("detection_source");
+  WriteFile(dir + "/1.5.txt", "41 10 20 30 40 0.9\n");
+  const EaoDetectionFolder folder(dir, {"1.5", "2.5"});
+  FolderDetectionSource files(folder);
+  DetectionSource& from_files = files;
+  const cv::Mat image(256, 256, CV_8UC3, cv::Scalar(0));
+  ASSERT_EQ(from_files.DetectionsFor("1.5", image).size(), 1u);
+  EXPECT_EQ(from_files.DetectionsFor("1.5", image)[0].class_id, 41);
+  EXPECT_TRUE(from_files.DetectionsFor("2.5", image).empty());  // no file: nothing found
+
+  DetectionModelOptions options;
+  options.model_path = TinyModel("yolov8");
+  REQUIRE_TINY_MODEL(options.model_path);
+  DetectionModel model(options);
+  DetectionSource& from_network = model;
+  const std::vector<Detection> found = from_network.DetectionsFor("2.5", image);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].class_id, 5);
 }
 
 TEST(ListImagesToDetect, AFolderOfImagesGivesFileStemsInNameOrder) {
