@@ -77,7 +77,8 @@ if [ -z "${TARBALL}" ]; then
   fi
 fi
 [ -f "${TARBALL}" ] || fail "no file '${TARBALL}'"
-actual="$(sha512sum "${TARBALL}" | cut -d' ' -f1 | xxd -r -p | base64 -w0)"
+actual="$("${PYTHON}" -c 'import base64, hashlib, sys
+print(base64.b64encode(hashlib.sha512(open(sys.argv[1], "rb").read()).digest()).decode())' "${TARBALL}")"
 [ "${actual}" = "${TARBALL_SHA512}" ] ||
   fail "'${TARBALL}' is not ${PACKAGE}@${VERSION}: sha512 ${actual}, expected ${TARBALL_SHA512}"
 
