@@ -67,10 +67,10 @@ int main(int argc, char** argv) {
       }
       throw ocg::FileError("no detector model at '" + model_path + "': " + hint);
     }
-    // Every input is checked before the first image: the list, the model, the folder.
+    // Every input is checked before the first image: the list and the model here, the
+    // images and the output folder in DetectImagesToFolder.
     const std::vector<ocg::TimedImage> images = ocg::ListImagesToDetect(images_path);
     ocg::DetectionModel model(options);
-    ocg::CheckWritableFolder(out_dir);
     std::cout << "ocg_detect: " << images.size() << " images, model " << model_path << " ("
               << model.Describe() << "), score >= " << options.score_threshold << ", tiles " << tile
               << "\n";

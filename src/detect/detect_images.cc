@@ -59,6 +59,9 @@ std::vector<TimedImage> ListImagesToDetect(const std::string& path) {
 DetectRunSummary DetectImagesToFolder(DetectionModel& model, const std::vector<TimedImage>& images,
                                       const std::string& out_dir, bool write_json,
                                       const std::function<void(std::size_t)>& progress) {
+  // Every image must be there before the first is processed: a missing file fails now,
+  // not after the rest of the sequence.
+  for (const TimedImage& timed : images) RequireRegularFile(timed.path);
   CheckWritableFolder(out_dir);
   DetectRunSummary summary;
   std::vector<DetectionFrame> frames;

@@ -47,4 +47,11 @@ if "${TOOLS}/ocg_detect" --images "${WORK}/seq" --out "${WORK}/det3" --model "${
     > "${WORK}/err2" 2>&1; then fail "a broken model was accepted"; fi
 grep -q "bad.onnx" "${WORK}/err2" || fail "the error does not name the model" "${WORK}/err2"
 [ ! -e "${WORK}/det3" ] || fail "a failed run left an output folder"
+# A frame list naming a missing image fails before the first image is processed.
+cp "${WORK}/seq/rgb.txt" "${WORK}/seq/rgb_missing.txt"
+echo "1.066000 rgb/1.066000.png" >> "${WORK}/seq/rgb_missing.txt"
+if "${TOOLS}/ocg_detect" --images "${WORK}/seq/rgb_missing.txt" --out "${WORK}/det4" \
+    --model "${WORK}/tiny.onnx" > "${WORK}/err3" 2>&1; then fail "a missing image was accepted"; fi
+grep -q "1.066000.png" "${WORK}/err3" || fail "the error does not name the image" "${WORK}/err3"
+[ ! -e "${WORK}/det4" ] || fail "a run refused at start left an output folder"
 echo "ocg_detect end to end: OK"

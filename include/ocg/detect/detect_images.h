@@ -31,8 +31,9 @@ struct DetectRunSummary {
 // Runs the model on every image and writes out_dir/<timestamp_text>.txt (EAO text format,
 // one file per image, empty when nothing was found), each file written atomically; with
 // write_json also out_dir/detections.json (the JSON list format, file_name the image
-// path read). progress(done) after each image. Throws FileError naming an image that
-// cannot be read or the folder when it cannot be written (checked before the first image).
+// path read). progress(done) after each image. Throws FileError naming a missing image or
+// the folder when it cannot be written (both checked before the first image), or an
+// image that cannot be decoded.
 DetectRunSummary DetectImagesToFolder(DetectionModel& model, const std::vector<TimedImage>& images,
                                       const std::string& out_dir, bool write_json,
                                       const std::function<void(std::size_t)>& progress = {});
