@@ -19,6 +19,8 @@ void BindChangeDetector(pybind11::module_& module);
 void BindEvaluation(pybind11::module_& module);
 // ocg.ObjectSlam: SLAM, objects and the OCG fed frame by frame.
 void BindObjectSlam(pybind11::module_& module);
+// ocg.Detector, ocg.detect_images: the detector of ocg_detect.
+void BindDetector(pybind11::module_& module);
 
 using TumRows = pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>;
 // Poses as an (N, 8) array of TUM rows [timestamp, tx, ty, tz, qx, qy, qz, qw] (T_wc).

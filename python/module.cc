@@ -11,4 +11,5 @@ PYBIND11_MODULE(_ocg, module) {
   ocg::python::BindChangeDetector(module);
   ocg::python::BindEvaluation(module);
   ocg::python::BindObjectSlam(module);
+  ocg::python::BindDetector(module);
 }
