@@ -104,6 +104,27 @@ TEST(SlamMapFile, RoundTripKeepsEveryField) {
   EXPECT_EQ(Saved(loaded), bytes);
 }
 
+// Keyframes culled in the run (EraseKeyFrame releases their features) save and load.
+TEST(SlamMapFile, KeyFramesCulledInTheRunRoundTrip) {
+  Map map;
+  testing::FillRandomMap(20, 80, 5, &map);
+  std::size_t erased = 0;
+  for (const auto& [id, keyframe] : map.keyframes()) {
+    if (id % 3 == 1 && !keyframe->bad) {
+      map.EraseKeyFrame(keyframe);
+      erased += keyframe->bad ? 1 : 0;
+    }
+  }
+  ASSERT_GT(erased, 2u);
+  const std::string bytes = Saved(map);
+  std::istringstream in(bytes);
+  Map loaded;
+  LoadMap(in, &loaded, kLevels);
+  for (const auto& [id, keyframe] : map.keyframes())
+    ExpectSameKeyFrame(*keyframe, *loaded.GetKeyFrame(id));
+  EXPECT_EQ(Saved(loaded), bytes);
+}
+
 TEST(SlamMapFile, NewIdsAfterLoadingDoNotReuseSavedOnes) {
   Map map;
   testing::FillRandomMap(10, 60, 3, &map);
