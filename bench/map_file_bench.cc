@@ -36,10 +36,10 @@ void BM_LoadMapFile(benchmark::State& state) {
   const std::string& path = MapFilePath(keyframes);
   std::size_t points = 0, bytes = 0;
   for (auto _ : state) {
-    ocg::PayloadStream in(ocg::ReadMapFile(path, "bench", 1));
-    bytes = in.payload().size();
+    ocg::MapFileReader file(path, "bench", 1);
+    bytes = file.payload_size();
     ocg::Map map;
-    ocg::LoadMap(in, &map);
+    ocg::LoadMap(file.payload(), &map, 8);
     ocg::BowDatabase database(100000);
     for (const auto& [id, keyframe] : map.keyframes()) {
       if (!keyframe->bad) database.Add(static_cast<int>(id), keyframe->bow);

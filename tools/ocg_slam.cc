@@ -2,9 +2,14 @@
 // trajectories (TUM format) and run.json (docs/slam.md). `ocg_slam objects` builds the
 // object map from a given trajectory and detections alone (docs/objects.md).
 
+#include <signal.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <any>
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -17,6 +22,7 @@
 #include "ocg/app/live_feed.h"
 #include "ocg/app/object_slam.h"
 #include "ocg/app/pose_given.h"
+#include "ocg/app/run_stop.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/logging.h"
@@ -28,6 +34,68 @@
 #include "ocg/viewer/snapshots.h"
 
 namespace {
+
+// The signal that stopped the run (0: none); the exit code is 128 + it.
+volatile sig_atomic_t stop_signal = 0;
+
+// SIGINT, SIGTERM: the first asks the run to stop after the frame in hand and write
+// everything (RunStop); a second exits at once. Only async-signal-safe calls.
+extern "C" void OnStopSignal(int signal) {
+  const auto say = [](const char* text, std::size_t length) {
+    if (::write(STDERR_FILENO, text, length) < 0) return;
+  };
+  if (ocg::ProcessRunStop().Request() > 1) {
+    static const char kNow[] = "\nocg_slam: second signal: exiting at once, outputs not written\n";
+    say(kNow, sizeof kNow - 1);
+    ::_exit(128 + signal);
+  }
+  stop_signal = signal;
+  static const char kStop[] =
+      "\nocg_slam: stopping after the frame in hand, then writing every output and the map "
+      "(a second signal exits at once)\n";
+  say(kStop, sizeof kStop - 1);
+}
+
+void StopOnSignals() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+// Long runs show their growth: on a terminal in the progress line, elsewhere (logs, a
+// soak) as a log line every `seconds`.
+std::string DescribeStatus(const ocg::RunStatus& status) {
+  char text[160];
+  std::snprintf(text, sizeof text, "%zu keyframes, %zu map points, %zu objects, RSS %.0f MB",
+                status.keyframes, status.map_points, status.objects,
+                static_cast<double>(status.resident_bytes) / 1e6);
+  return text;
+}
+
+class StatusLines {
+ public:
+  StatusLines(double seconds, bool terminal) : seconds_(terminal ? 0.0 : seconds) {}
+  void Update(std::size_t done, std::size_t total, const ocg::ObjectSlam& slam) {
+    if (seconds_ <= 0.0) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_) return;
+    if (done == 1) start_ = now;
+    next_ = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                      std::chrono::duration<double>(seconds_));
+    if (done == 1) return;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const ocg::RunStatus status = slam.Status();
+    spdlog::info("progress: {:.0f} s, frame {}/{}, {:.1f} fps, {}", status.seconds, done, total,
+                 elapsed > 0.0 ? static_cast<double>(done - 1) / elapsed : 0.0,
+                 DescribeStatus(status));
+  }
+
+ private:
+  double seconds_;
+  std::chrono::steady_clock::time_point start_, next_;
+};
 
 // EuRoC names images by nanoseconds; trajectories are written in seconds (TUM format),
 // with every digit kept: "1403715273262142976" -> "1403715273.262142976".
@@ -139,9 +207,10 @@ void RunObjects(const ObjectsCommand& command) {
   for (std::size_t i = 0; i < frames.size(); ++i)
     pose_given.push_back({frames[i].first, frames[i].second, poses[i]});
   ocg::ProgressLine progress("frames", frames.size());
-  nlohmann::json report =
-      ocg::MapObjectsAlongTrajectory(settings, pose_given, detections, command.output,
-                                     [&progress](std::size_t done) { progress.Update(done); });
+  StopOnSignals();
+  nlohmann::json report = ocg::MapObjectsAlongTrajectory(
+      settings, pose_given, detections, command.output,
+      [&progress](std::size_t done) { progress.Update(done); }, &ocg::ProcessRunStop());
   progress.Finish();
   report.update({{"command", "objects"},
                  {"trajectory", command.trajectory},
@@ -223,6 +292,12 @@ int main(int argc, char** argv) {
                   "it is due, on the tracking thread); default: 4 when the run may use two "
                   "cores or more, else 0")
       ->check(CLI::NonNegativeNumber);
+  double progress_seconds = 10.0;
+  run->add_option("--progress-seconds", progress_seconds,
+                  "when stdout is not a terminal, log the progress (frames, keyframes, map "
+                  "points, objects, resident memory) every this many seconds (0: never)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   run->add_flag(
       "--realtime", realtime,
       "feed images at the pace of their timestamps, as a live camera: an image replaced by "
@@ -266,7 +341,7 @@ int main(int argc, char** argv) {
   objects->add_flag("--lenient", objects_command.lenient,
                     "skip malformed detection lines with a warning instead of failing");
 
-  return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
+  const int code = ocg::tools::RunTool(app, argc, argv, log_level, [&] {
     if (objects->parsed()) {
       RunObjects(objects_command);
       return;
@@ -330,6 +405,7 @@ int main(int argc, char** argv) {
     options.vocabulary_path = vocabulary_path;
     options.load_map = load_map;
     options.map_objects = detection_folder.has_value();
+    options.stop = &ocg::ProcessRunStop();
     if (!snapshots.empty()) {
       options.snapshots = ocg::ParseSnapshotPolicy(snapshots);
     } else {
@@ -351,6 +427,7 @@ int main(int argc, char** argv) {
               << (slam.Sequential() ? "sequential" : "threaded") << " mode\n";
     const std::vector<ocg::Detection> no_detections;
     ocg::ProgressLine progress("frames", frames);
+    StatusLines status_lines(progress_seconds, progress.enabled());
     std::vector<std::string> image_paths;
     image_paths.reserve(frames);
     for (std::size_t i = 0; i < frames; ++i) image_paths.push_back(sequence.images[i].path);
@@ -390,12 +467,18 @@ int main(int argc, char** argv) {
           frame.image, image.timestamp,
           detection_folder ? detection_folder->ForFrame(image.timestamp_text) : no_detections,
           source);
-      progress.Update(i + 1);
+      progress.Update(i + 1, [&slam] { return DescribeStatus(slam.Status()); });
+      status_lines.Update(i + 1, frames, slam);
     };
+    // From the first frame on, a signal stops the run cleanly (RunStop): no frame after
+    // the one in hand, then everything is written as at the end.
+    StopOnSignals();
     if (live) {
       images.WaitForNext();  // the camera starts once the system has its first image
       std::size_t images_taken = 0;
-      while (const std::optional<std::size_t> due = live->Next()) {
+      while (!slam.StopRequested()) {
+        const std::optional<std::size_t> due = live->Next();
+        if (!due) break;
         // Images the live camera replaced before tracking was ready are lost (and were
         // not decoded, unless read ahead before the camera replaced them).
         for (; images_taken < *due; ++images_taken) images.Next();
@@ -403,9 +486,13 @@ int main(int argc, char** argv) {
         ++images_taken;
       }
     } else {
-      for (std::size_t i = 0; i < frames; ++i) track(i);
+      for (std::size_t i = 0; i < frames && !slam.StopRequested(); ++i) track(i);
     }
     progress.Finish();
+    if (slam.StopRequested()) {
+      std::cout << "stopped by a signal after " << slam.FramesGiven() << " of " << frames
+                << " frames: finishing the map, then writing every output\n";
+    }
     if (live) {
       std::cout << "real time: " << live->Dropped().size() << " of " << frames
                 << " frames dropped (a live camera had replaced them before tracking was "
@@ -460,5 +547,9 @@ int main(int argc, char** argv) {
     if (!save_map.empty()) std::cout << "wrote the map file " << save_map << "\n";
     if (report["initialization"].contains("message"))
       spdlog::warn("{}", report["initialization"]["message"].get<std::string>());
+    if (stop_signal != 0)
+      std::cout << "the run was stopped by a signal: run.json says interrupted\n";
   });
+  // A stopped run wrote everything, but did not see all its frames: scripts must know.
+  return code == 0 && stop_signal != 0 ? 128 + stop_signal : code;
 }

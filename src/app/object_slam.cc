@@ -19,6 +19,7 @@
 #include "ocg/io/point_cloud.h"
 #include "ocg/slam/initialization_report.h"
 #include "ocg/slam/system.h"
+#include "run_progress.h"
 #include "run_snapshots.h"
 #include "session_file.h"
 
@@ -79,7 +80,8 @@ class ObjectSlam::Impl {
         config_(MakeSystemConfig(settings_)),
         system_(config_, vocabulary_),
         objects_(settings_, options.map_objects, options.snapshots.Enabled()),
-        snapshots_(settings_, options.snapshots, options.snapshot_folder, options.groundtruth) {
+        snapshots_(settings_, options.snapshots, options.snapshot_folder, options.groundtruth),
+        stop_(options.stop) {
     for (const auto& [mode, folder] : options.also_modes) {
       auto settings_of_mode = std::make_unique<Settings>(settings_);
       settings_of_mode->ocg.mode = mode;
@@ -106,15 +108,29 @@ class ObjectSlam::Impl {
     snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
     ++frames_;
     pose_ = result.T_cw;
+    if (progress_.Due(SecondsSince(start_))) progress_.Add(Status());
     return result.T_cw;
   }
 
   void Shutdown() {
+    interrupted_ = stop_ != nullptr && stop_->Requested();
     system_.Shutdown();
     std::vector<app_detail::ObjectLayer*> layers = {&objects_};
     for (AlsoMode& also : also_) layers.push_back(also.objects.get());
     app_detail::ObjectLayer::Finish(system_, layers);
     wall_seconds_ = started_ ? SecondsSince(start_) : 0.0;
+    if (started_) progress_.Add(Status());
+  }
+
+  RunStatus Status() const {
+    RunStatus status;
+    status.seconds = started_ ? SecondsSince(start_) : 0.0;
+    status.frames = static_cast<std::size_t>(frames_);
+    status.keyframes = system_.KeyFrameCount();
+    status.map_points = system_.MapPointCount();
+    status.objects = objects_.Views().size();
+    status.resident_bytes = app_detail::ResidentMemoryBytes();
+    return status;
   }
 
   nlohmann::json Save(const std::string& folder, const RunDescription& description,
@@ -160,6 +176,7 @@ class ObjectSlam::Impl {
     frame_offset_ = record.frames;
     loaded_map_ = path;
     loaded_keyframes_ = system_.KeyFrameCount();
+    app_detail::CheckNotEmpty(loaded_keyframes_, path);  // files before version 4
     if (record.has_objects && objects_.Enabled()) {
       ReadMapPart(path, "object map", [&] {
         objects_.LoadState(in, session_, frame_offset_, file_version);
@@ -177,6 +194,12 @@ class ObjectSlam::Impl {
   }
 
   void SaveMap(const std::string& path, const std::string& vocabulary_file) {
+    // A map without a keyframe holds no place a later session could relocalize in.
+    if (system_.KeyFrameCount() == 0) {
+      throw MapFileError("not writing the map file '" + path +
+                         "': the map is empty (no keyframe: the run never initialized, see "
+                         "run.json's initialization)");
+    }
     app_detail::SessionRecord record;
     record.settings_source = settings_.source;
     try {
@@ -187,6 +210,9 @@ class ObjectSlam::Impl {
     record.camera = settings_.camera.model;
     record.vocabulary_words = vocabulary_.WordCount();
     record.vocabulary_file = vocabulary_file;
+    record.orb = settings_.orb;
+    record.vocabulary_fingerprint = app_detail::VocabularyFingerprint(vocabulary_);
+    record.keyframes = system_.KeyFrameCount();
     record.sessions = session_ + 1;
     record.frames = frame_offset_ + frames_;
     record.has_objects = objects_.Enabled();
@@ -222,6 +248,9 @@ class ObjectSlam::Impl {
   bool started_ = false;
   Clock::time_point start_;
   double wall_seconds_ = 0.0;
+  const RunStop* stop_;
+  bool interrupted_ = false;  // the stop was requested before Shutdown()
+  app_detail::ProgressSeries progress_;
 
  private:
   nlohmann::json Report(const RunDescription& description, const std::string& vocabulary_file) {
@@ -249,6 +278,7 @@ class ObjectSlam::Impl {
                              {"vocabulary", vocabulary_file},
                              {"mode", config_.sequential ? "sequential" : "threaded"},
                              {"frames", static_cast<std::size_t>(frames_)},
+                             {"interrupted", interrupted_},
                              {"frames_tracked", tracked},
                              {"frames_lost", lost},
                              {"frames_before_initialization", uninitialized},
@@ -322,6 +352,7 @@ class ObjectSlam::Impl {
     if (!never_initialized.empty()) report["initialization"]["message"] = never_initialized;
     report["loop_closing"] = LoopClosingSection(settings_, system_.LoopStats());
     report["session"] = SessionSection();
+    report["progress"] = progress_.Json();
     return report;
   }
 
@@ -366,18 +397,21 @@ ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
         "more than one OCG mode in one run cannot continue a map file (--load-map): the map "
         "file holds one object layer");
   }
-  // The map file before the vocabulary: a wrong file fails now, not seconds later.
-  std::unique_ptr<PayloadStream> map_stream;
+  // The map file before the vocabulary: a wrong file fails now, not seconds later. It is
+  // streamed from the file: only its header is read before it is known to be a map file.
+  std::unique_ptr<MapFileReader> map_file;
   std::optional<app_detail::SessionRecord> record;
-  std::uint32_t file_version = 0;
   const std::string& map_path = options.load_map;
   if (!map_path.empty()) {
-    map_stream = std::make_unique<PayloadStream>(
-        ReadMapFile(map_path, app_detail::kMapFileKind, app_detail::kMapFileVersion,
-                    app_detail::kOldestMapFileVersion, &file_version));
-    record = ReadMapPart(map_path, "session record",
-                         [&] { return app_detail::LoadSessionRecord(*map_stream); });
+    map_file = std::make_unique<MapFileReader>(map_path, app_detail::kMapFileKind,
+                                               app_detail::kMapFileVersion,
+                                               app_detail::kOldestMapFileVersion);
+    record = ReadMapPart(map_path, "session record", [&] {
+      return app_detail::LoadSessionRecord(map_file->payload(), map_file->version());
+    });
     app_detail::CheckSameCamera(*record, settings, map_path);
+    app_detail::CheckSameOrbPyramid(*record, settings, map_path);
+    if (map_file->version() >= 4) app_detail::CheckNotEmpty(record->keyframes, map_path);
   }
   VocabularyOptions vocabulary = settings.vocabulary;
   if (!options.vocabulary_path.empty()) vocabulary.path = options.vocabulary_path;
@@ -385,15 +419,9 @@ ObjectSlam::ObjectSlam(const Settings& settings, ObjectSlamOptions options) {
   const auto start = Clock::now();
   Vocabulary loaded = Vocabulary::Load(vocabulary_file_);
   vocabulary_seconds_ = SecondsSince(start);
-  if (record && record->vocabulary_words != loaded.WordCount()) {
-    throw MapFileError("map file '" + map_path + "' was made with a vocabulary of " +
-                       std::to_string(record->vocabulary_words) + " words ('" +
-                       record->vocabulary_file + "'), but '" + vocabulary_file_ + "' has " +
-                       std::to_string(loaded.WordCount()) +
-                       ": its BoW vectors need the vocabulary they were made with");
-  }
+  if (record) app_detail::CheckSameVocabulary(*record, loaded, vocabulary_file_, map_path);
   impl_ = std::make_unique<Impl>(settings, std::move(loaded), options);
-  if (record) impl_->ContinueMap(*map_stream, *record, map_path, file_version);
+  if (record) impl_->ContinueMap(map_file->payload(), *record, map_path, map_file->version());
 }
 
 ObjectSlam::~ObjectSlam() {
@@ -433,6 +461,10 @@ void ObjectSlam::Shutdown() {
   impl_->Shutdown();
 }
 
+bool ObjectSlam::StopRequested() const {
+  return impl_->stop_ != nullptr && impl_->stop_->Requested();
+}
+RunStatus ObjectSlam::Status() const { return impl_->Status(); }
 std::optional<SE3> ObjectSlam::Pose() const { return impl_->pose_; }
 std::string ObjectSlam::Objects() const { return impl_->objects_.Objects(); }
 std::string ObjectSlam::Changes() const { return impl_->objects_.Changes(); }

@@ -12,13 +12,19 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
                                          const EaoDetectionFolder& detections,
                                          const std::string& folder,
-                                         const std::function<void(std::size_t)>& progress) {
+                                         const std::function<void(std::size_t)>& progress,
+                                         const RunStop* stop) {
   ObjectMapper mapper(settings.objects, settings.ocg, settings.camera.model, true);
   mapper.RecordObservations();
   const auto start = std::chrono::steady_clock::now();
   std::int64_t used = 0, without_pose = 0, keyframes = 0;
   std::vector<double> frame_seconds;
+  bool interrupted = false;
   for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (stop != nullptr && stop->Requested()) {
+      interrupted = true;
+      break;
+    }
     const PoseGivenFrame& frame = frames[i];
     if (!frame.T_cw) {
       ++without_pose;
@@ -37,6 +43,7 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json report = {{"frames", frames.size()},
+                           {"interrupted", interrupted},
                            {"frames_used", used},
                            {"frames_without_pose", without_pose},
                            {"keyframes", keyframes},

@@ -68,14 +68,18 @@ std::string ProgressLine::Format(std::size_t done, double elapsed_seconds) const
   return buffer;
 }
 
-void ProgressLine::Update(std::size_t done) {
+void ProgressLine::Update(std::size_t done) { Update(done, {}); }
+
+void ProgressLine::Update(std::size_t done, const std::function<std::string()>& detail) {
   if (!enabled_) return;
   const Clock::time_point now = Clock::now();
   if (drawn_ && done != total_ && now - last_draw_ < kRedrawInterval) return;
   last_draw_ = now;
   drawn_ = true;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
-  std::fprintf(stdout, "\r\033[K%s", Format(done, elapsed).c_str());
+  std::string line = Format(done, elapsed);
+  if (detail) line += "  " + detail();
+  std::fprintf(stdout, "\r\033[K%s", line.c_str());
   std::fflush(stdout);
 }
 

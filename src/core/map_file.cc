@@ -1,10 +1,12 @@
 #include "ocg/core/map_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
 #include <utility>
+#include <vector>
 
 namespace ocg {
 namespace {
@@ -20,24 +22,18 @@ bool NextLine(const std::string& text, std::size_t* position, std::string* line,
   return true;
 }
 
-// The whole file in one read into a string of its size (a stream copy took 250 ms of a
-// 70 MB map's load).
-std::string ReadBinaryFile(const std::string& path) {
-  RequireRegularFile(path);
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
-  std::string content;
-  if (std::fseek(file, 0, SEEK_END) == 0) {
-    const long size = std::ftell(file);
-    if (size > 0) content.resize(static_cast<std::size_t>(size));
-    std::rewind(file);
+constexpr std::size_t kHeaderLimit = 1024;  // 4 lines of at most 200 bytes
+constexpr std::size_t kBlock = 1 << 20;     // bytes per read while checking and loading
+
+std::uint64_t WordAt(const char* bytes) {
+  std::uint64_t word = 0;
+  for (int b = 7; b >= 0; --b) {  // little-endian on every machine; compilers fuse it
+    word = (word << 8) | static_cast<unsigned char>(bytes[b]);
   }
-  const std::size_t read = std::fread(content.data(), 1, content.size(), file);
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
-  if (failed || read != content.size()) throw FileError("error while reading '" + path + "'");
-  return content;
+  return word;
 }
+
+constexpr std::uint64_t kFnvPrime = 0x100000001b3ull;
 
 std::string Printable(const std::string& text) {
   std::string shown;
@@ -48,18 +44,29 @@ std::string Printable(const std::string& text) {
 }  // namespace
 
 std::uint64_t PayloadChecksum(const std::string& bytes) {
-  constexpr std::uint64_t kPrime = 0x100000001b3ull;
-  std::uint64_t hash = 0xcbf29ce484222325ull;
-  const std::size_t words = bytes.size() / 8;
-  for (std::size_t i = 0; i < words; ++i) {
-    std::uint64_t word = 0;
-    for (int b = 7; b >= 0; --b) {  // little-endian on every machine; compilers fuse it
-      word = (word << 8) | static_cast<unsigned char>(bytes[8 * i + static_cast<std::size_t>(b)]);
-    }
-    hash = (hash ^ word) * kPrime;
+  PayloadChecksummer checksum;
+  checksum.Add(bytes.data(), bytes.size());
+  return checksum.Value();
+}
+
+void PayloadChecksummer::Add(const char* bytes, std::size_t size) {
+  while (pending_size_ > 0 && pending_size_ < 8 && size > 0) {
+    pending_[pending_size_++] = *bytes++;
+    --size;
   }
-  for (std::size_t i = 8 * words; i < bytes.size(); ++i)
-    hash = (hash ^ static_cast<unsigned char>(bytes[i])) * kPrime;
+  if (pending_size_ == 8) {
+    hash_ = (hash_ ^ WordAt(pending_)) * kFnvPrime;
+    pending_size_ = 0;
+  }
+  const std::size_t words = size / 8;
+  for (std::size_t i = 0; i < words; ++i) hash_ = (hash_ ^ WordAt(bytes + 8 * i)) * kFnvPrime;
+  for (std::size_t i = 8 * words; i < size; ++i) pending_[pending_size_++] = bytes[i];
+}
+
+std::uint64_t PayloadChecksummer::Value() const {
+  std::uint64_t hash = hash_;
+  for (std::size_t i = 0; i < pending_size_; ++i)
+    hash = (hash ^ static_cast<unsigned char>(pending_[i])) * kFnvPrime;
   return hash;
 }
 
@@ -93,31 +100,44 @@ void WriteMapFile(const std::string& path, const std::string& kind, std::uint32_
   WriteFileAtomically(path, content);
 }
 
-std::string ReadMapFile(const std::string& path, const std::string& kind, std::uint32_t version,
-                        std::uint32_t oldest_version, std::uint32_t* read_version) {
+MapFileReader::MapFileReader(const std::string& path, const std::string& kind,
+                             std::uint32_t version, std::uint32_t oldest_version) {
   if (oldest_version == 0) oldest_version = version;
-  std::string content = ReadBinaryFile(path);
+  RequireRegularFile(path);
+  buffer_ = std::make_unique<char[]>(kBlock);
+  file_ = std::make_unique<std::ifstream>();
+  file_->rdbuf()->pubsetbuf(buffer_.get(), kBlock);
+  file_->open(path, std::ios::binary);
+  if (!*file_) throw FileError("cannot open '" + path + "': " + std::strerror(errno));
+  file_->seekg(0, std::ios::end);
+  const std::uint64_t file_size = static_cast<std::uint64_t>(file_->tellg());
+  file_->seekg(0);
+  // The header alone, at most its limit: what a file is shows in its first bytes.
+  std::string header(static_cast<std::size_t>(std::min<std::uint64_t>(file_size, kHeaderLimit)),
+                     '\0');
+  if (!file_->read(header.data(), static_cast<std::streamsize>(header.size())))
+    throw FileError("error while reading '" + path + "'");
   const std::string where = "map file '" + path + "': ";
   std::size_t position = 0;
   std::string line;
-  if (content.empty()) {
+  if (header.empty()) {
     throw MapFileError("'" + path +
                        "' is empty, not an OCG-SLAM map file (an interrupted copy?); give a file "
                        "written by ocg_slam run --save-map");
   }
-  if (!NextLine(content, &position, &line) || line != kMapFileMagic) {
+  if (!NextLine(header, &position, &line) || line != kMapFileMagic) {
     throw MapFileError("'" + path + "' is not an OCG-SLAM map file (it does not start with '" +
-                       kMapFileMagic + "' but with '" + Printable(content) +
+                       kMapFileMagic + "' but with '" + Printable(header) +
                        "'); give a file written by ocg_slam run --save-map");
   }
-  if (!NextLine(content, &position, &line) || line.rfind("kind ", 0) != 0) {
+  if (!NextLine(header, &position, &line) || line.rfind("kind ", 0) != 0) {
     throw MapFileError(where + "damaged header: line 2 should be 'kind <kind>'");
   }
   if (line.substr(5) != kind) {
     throw MapFileError(where + "it holds a '" + line.substr(5) + "', not a '" + kind + "'");
   }
   unsigned long long file_version = 0;
-  if (!NextLine(content, &position, &line) ||
+  if (!NextLine(header, &position, &line) ||
       std::sscanf(line.c_str(), "version %llu", &file_version) != 1) {
     throw MapFileError(where + "damaged header: line 3 should be 'version <number>'");
   }
@@ -132,15 +152,15 @@ std::string ReadMapFile(const std::string& path, const std::string& kind, std::u
                                                : "written by an older build: remake the map") +
                        ")");
   }
-  if (read_version != nullptr) *read_version = static_cast<std::uint32_t>(file_version);
+  version_ = static_cast<std::uint32_t>(file_version);
   unsigned long long size = 0;
   std::uint64_t checksum = 0;
-  if (!NextLine(content, &position, &line) ||
+  if (!NextLine(header, &position, &line) ||
       std::sscanf(line.c_str(), "payload %llu checksum %" SCNx64, &size, &checksum) != 2) {
     throw MapFileError(where +
                        "damaged header: line 4 should be 'payload <bytes> checksum <checksum>'");
   }
-  const std::size_t present = content.size() - position;
+  const std::uint64_t present = file_size - position;
   if (present < size) {
     throw MapFileError(where + "truncated: " + std::to_string(present) + " of " +
                        std::to_string(size) +
@@ -150,13 +170,34 @@ std::string ReadMapFile(const std::string& path, const std::string& kind, std::u
     throw MapFileError(where + "damaged: " + std::to_string(present - size) +
                        " bytes more than the header announces");
   }
-  content.erase(0, position);  // the payload, in place: maps run to tens of megabytes
-  if (PayloadChecksum(content) != checksum) {
+  payload_size_ = size;
+  // The checksum before any of the payload is parsed, so damage is named as such.
+  file_->seekg(static_cast<std::streamoff>(position));
+  PayloadChecksummer sum;
+  std::vector<char> block(kBlock);
+  for (std::uint64_t left = size; left > 0;) {
+    const std::size_t count = static_cast<std::size_t>(std::min<std::uint64_t>(left, kBlock));
+    if (!file_->read(block.data(), static_cast<std::streamsize>(count)))
+      throw FileError("error while reading '" + path + "'");
+    sum.Add(block.data(), count);
+    left -= count;
+  }
+  if (sum.Value() != checksum) {
     throw MapFileError(where +
                        "damaged: the payload's checksum does not match its header (a copy of the "
                        "file made before the damage, or a new map, is needed)");
   }
-  return content;
+  file_->seekg(static_cast<std::streamoff>(position));
+}
+
+std::string ReadMapFile(const std::string& path, const std::string& kind, std::uint32_t version,
+                        std::uint32_t oldest_version, std::uint32_t* read_version) {
+  MapFileReader reader(path, kind, version, oldest_version);
+  if (read_version != nullptr) *read_version = reader.version();
+  std::string payload(static_cast<std::size_t>(reader.payload_size()), '\0');
+  if (!reader.payload().read(payload.data(), static_cast<std::streamsize>(payload.size())))
+    throw FileError("error while reading '" + path + "'");
+  return payload;
 }
 
 }  // namespace ocg

@@ -72,7 +72,8 @@ void SaveKeyFrame(cereal::BinaryOutputArchive& archive, const KeyFrame& keyframe
           keyframe.children, keyframe.loop_edges, keyframe.bad, keyframe.T_c_parent);
 }
 
-void LoadKeyFrame(cereal::BinaryInputArchive& archive, KeyFrame* keyframe, const Map& map) {
+void LoadKeyFrame(cereal::BinaryInputArchive& archive, KeyFrame* keyframe, const Map& map,
+                  int pyramid_levels) {
   archive(keyframe->id, keyframe->frame_id, keyframe->timestamp, keyframe->timestamp_text,
           keyframe->T_cw);
   ExtractedFeatures& features = keyframe->features;
@@ -83,6 +84,15 @@ void LoadKeyFrame(cereal::BinaryInputArchive& archive, KeyFrame* keyframe, const
       features.descriptors.size() != features.keypoints.size()) {
     throw std::runtime_error("keyframe " + std::to_string(keyframe->id) +
                              ": keypoints, positions and descriptors differ in number");
+  }
+  for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
+    const int level = features.keypoints[i].octave;
+    if (level < 0 || level >= pyramid_levels) {
+      throw std::runtime_error("keyframe " + std::to_string(keyframe->id) + ": keypoint " +
+                               std::to_string(i) + " lies on pyramid level " +
+                               std::to_string(level) + ", but the pyramid has " +
+                               std::to_string(pyramid_levels) + " levels");
+    }
   }
   ImageBounds bounds;
   int columns = 0, rows = 0;
@@ -123,7 +133,7 @@ void SaveMap(const Map& map, std::ostream& out) {
   for (const auto& [id, keyframe] : map.keyframes()) SaveKeyFrame(archive, *keyframe, map);
 }
 
-void LoadMap(std::istream& in, Map* map) {
+void LoadMap(std::istream& in, Map* map, int pyramid_levels) {
   std::lock_guard<std::mutex> lock(map->mutex());
   if (!map->keyframes().empty() || !map->points().empty()) {
     throw std::logic_error("LoadMap: the map must be empty");
@@ -143,7 +153,7 @@ void LoadMap(std::istream& in, Map* map) {
     archive(cereal::make_size_tag(count));
     for (cereal::size_type i = 0; i < count; ++i) {
       auto keyframe = std::make_shared<KeyFrame>();
-      LoadKeyFrame(archive, keyframe.get(), *map);
+      LoadKeyFrame(archive, keyframe.get(), *map, pyramid_levels);
       map->Add(keyframe);
     }
     for (const auto& [id, point] : map->points()) {

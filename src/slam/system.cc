@@ -241,7 +241,7 @@ void System::LoadMap(std::istream& in, std::uint64_t frames_before) {
   if (!frames_.empty()) {
     throw std::logic_error("System::LoadMap: a map can only be loaded before the first frame");
   }
-  ocg::LoadMap(in, &map_);
+  ocg::LoadMap(in, &map_, tracking_->pyramid().levels());
   std::uint64_t first_frame_id = frames_before;
   {
     std::lock_guard<std::mutex> lock(map_.mutex());

@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -19,6 +20,7 @@
 #include "ocg/sim/generator.h"
 #include "ocg/sim/presets.h"
 #include "ocg/slam/map_file.h"
+#include "run_progress.h"  // src/app: run.json's progress series
 #include "session_file.h"  // src/app: the map file's session record
 #include "test_support.h"
 
@@ -217,6 +219,7 @@ TEST(ObjectSlam, MissingVocabularyIsAFileError) {
 std::pair<app_detail::SessionRecord, std::string> ReadSessionMap(const std::string& path) {
   PayloadStream in(ReadMapFile(path, app_detail::kMapFileKind, app_detail::kMapFileVersion));
   const app_detail::SessionRecord record = app_detail::LoadSessionRecord(in);
+  EXPECT_EQ(record.orb.levels, SmokeSettings().orb.levels);
   return {record, in.payload().substr(static_cast<std::size_t>(in.tellg()))};
 }
 
@@ -292,7 +295,7 @@ TEST(ObjectSlamMapFile, ALaterSessionsKeyframesCountFramesOverAllSessions) {
   const auto keyframes_of = [](const std::string& path) {
     PayloadStream in(ReadSessionMap(path).second);
     Map map;
-    LoadMap(in, &map);
+    LoadMap(in, &map, SmokeSettings().orb.levels);
     std::map<KeyFrameId, std::pair<std::uint64_t, double>> frames;
     for (const auto& [id, keyframe] : map.keyframes())
       frames[id] = {keyframe->frame_id, keyframe->timestamp};
@@ -334,21 +337,230 @@ TEST(ObjectSlamMapFile, SoundEnvelopeWithUnreadablePayloadIsDamaged) {
   EXPECT_NE(message.find("cannot read its session record"), std::string::npos) << message;
 }
 
+// A map of the smoke sequence's 60 frames (with objects), saved once for every test.
+const std::string& SmokeMap() {
+  static const std::string path = [] {
+    const std::string out = testing::MakeTempDir("object_slam_smoke_map") + "/smoke.ocgmap";
+    ObjectSlamOptions options;
+    options.snapshots = ParseSnapshotPolicy("none");
+    ObjectSlam slam(SmokeSettings(), options);
+    RunSequence(slam, false);
+    slam.Shutdown();
+    slam.SaveMap(out);
+    return out;
+  }();
+  return path;
+}
+
+// The smoke map written again as format version `version`: its session record without
+// the fields later versions added, the rest of the payload as it was.
+std::string SmokeMapAsVersion(std::uint32_t version, const std::string& name,
+                              const std::function<void(app_detail::SessionRecord*)>& edit = {}) {
+  auto [record, rest] = ReadSessionMap(SmokeMap());
+  if (edit) edit(&record);
+  std::ostringstream payload;
+  app_detail::SaveSessionRecord(record, payload, version);
+  const std::string path = testing::MakeTempDir("object_slam_map") + "/" + name;
+  WriteMapFile(path, app_detail::kMapFileKind, version, payload.str() + rest);
+  return path;
+}
+
 TEST(ObjectSlamMapFile, AnotherCameraIsRefused) {
+  Settings other = SmokeSettings();
+  other.camera.model.fx += 1.0;
+  ObjectSlamOptions options;
+  options.load_map = SmokeMap();
+  const std::string message = MapFileErrorOf(other, options);
+  EXPECT_NE(message.find("was made with the camera"), std::string::npos) << message;
+}
+
+// Keypoints carry their pyramid level and map points their scale distances from it: a map
+// continued with another pyramid read past the end of the pyramid's tables. Refused before
+// the vocabulary is read, naming the key and both values.
+TEST(ObjectSlamMapFile, AnotherOrbPyramidIsRefusedNamingTheKeyAndBothValues) {
+  ObjectSlamOptions options;
+  options.load_map = SmokeMap();
+  options.vocabulary_path = testing::MakeTempDir("object_slam_map") + "/none.ocgvoc";
+  const Settings made_with = SmokeSettings();
+  ASSERT_EQ(made_with.orb.levels, 8);
+  struct Case {
+    int levels;
+    double scale_factor;
+    std::string expected;
+  };
+  for (const Case& c :
+       {Case{3, 1.2, "ORBextractor.nLevels: 8 ('"}, Case{12, 1.2, "ORBextractor.nLevels: 8 ('"},
+        Case{8, 1.5, "ORBextractor.scaleFactor: 1.2 ('"}}) {
+    Settings other = made_with;
+    other.orb.levels = c.levels;
+    other.orb.scale_factor = c.scale_factor;
+    const std::string message = MapFileErrorOf(other, options);
+    EXPECT_NE(message.find("map file '" + SmokeMap() + "' was made with " + c.expected),
+              std::string::npos)
+        << message;
+    const std::string given = c.levels != 8 ? "ORBextractor.nLevels: " + std::to_string(c.levels)
+                                            : "ORBextractor.scaleFactor: 1.5";
+    EXPECT_NE(message.find("gives " + given), std::string::npos) << message;
+  }
+}
+
+// A vocabulary of the same size with other words would make the map's BoW vectors
+// meaningless (no relocalization, no loop): named as the cause.
+TEST(ObjectSlamMapFile, AVocabularyOfTheSameSizeWithOtherWordsIsNamed) {
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  options.load_map = SmokeMap();
+  const Vocabulary original = Vocabulary::Load(SmokeSettings().vocabulary.Resolve());
+  std::vector<NodeId> parents;
+  std::vector<Descriptor> descriptors;
+  std::vector<double> weights;
+  std::vector<bool> leaves;
+  for (NodeId node = 0; node < original.NodeCount(); ++node) {
+    parents.push_back(original.Parent(node));
+    descriptors.push_back(original.NodeDescriptor(node));
+    weights.push_back(original.Weight(node));
+    leaves.push_back(original.IsLeaf(node));
+  }
+  descriptors[original.WordNode(17)][0] ^= 1;  // one bit of one word
+  options.vocabulary_path = testing::MakeTempDir("object_slam_map") + "/other.ocgvoc";
+  Vocabulary::FromNodes(original.branching(), original.depth(), parents, descriptors, weights,
+                        leaves)
+      .SaveBinary(options.vocabulary_path);
+  const std::string message = MapFileErrorOf(SmokeSettings(), options);
+  EXPECT_NE(message.find("was made with another vocabulary"), std::string::npos) << message;
+  EXPECT_NE(message.find("'" + options.vocabulary_path + "' has other words"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("the same count " + std::to_string(original.WordCount())),
+            std::string::npos)
+      << message;
+  // The vocabulary it was made with loads it.
+  options.vocabulary_path.clear();
+  ObjectSlam slam(SmokeSettings(), options);
+  EXPECT_EQ(slam.Session(), 1);
+}
+
+// Files of the previous format (version 3) did not record the ORB pyramid: it is read
+// from the settings text they saved, so they load with their own settings and are refused
+// with another pyramid like new files.
+TEST(ObjectSlamMapFile, OlderFilesTakeTheirPyramidFromTheSettingsTheySaved) {
+  const std::string path = SmokeMapAsVersion(3, "v3.ocgmap");
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  options.load_map = path;
+  {
+    ObjectSlam slam(SmokeSettings(), options);
+    EXPECT_EQ(slam.Session(), 1);
+    EXPECT_GT(slam.KeyFrameTrajectory().size(), 2u);
+  }
+  Settings other = SmokeSettings();
+  other.orb.levels = 3;
+  const std::string message = MapFileErrorOf(other, options);
+  EXPECT_NE(message.find("ORBextractor.nLevels: 8"), std::string::npos) << message;
+  // Without settings text (made in code): the defaults, ORB-SLAM2's 8 levels of 1.2.
+  options.load_map = SmokeMapAsVersion(3, "v3_no_text.ocgmap",
+                                       [](app_detail::SessionRecord* r) { r->settings_text = ""; });
+  EXPECT_NE(MapFileErrorOf(other, options).find("ORBextractor.nLevels: 8"), std::string::npos);
+}
+
+// A map with no keyframe holds nothing a later session could relocalize in: not written
+// (the run's other outputs are), and said to be empty on load (files of older builds).
+TEST(ObjectSlamMapFile, AnEmptyMapIsNotSavedAndIsNamedEmptyOnLoad) {
   const std::string folder = testing::MakeTempDir("object_slam_map");
   ObjectSlamOptions options;
   options.snapshots = ParseSnapshotPolicy("none");
-  options.map_objects = false;
   {
     ObjectSlam slam(SmokeSettings(), options);
     slam.Shutdown();
-    slam.SaveMap(folder + "/empty.ocgmap");
+    try {
+      slam.SaveMap(folder + "/empty.ocgmap");
+      ADD_FAILURE() << "an empty map was saved";
+    } catch (const MapFileError& error) {
+      EXPECT_NE(std::string(error.what()).find("the map is empty"), std::string::npos)
+          << error.what();
+    }
+    EXPECT_FALSE(std::ifstream(folder + "/empty.ocgmap").good());
+    EXPECT_NO_THROW(slam.Save(folder, {}));
   }
-  Settings other = SmokeSettings();
-  other.camera.model.fx += 1.0;
-  options.load_map = folder + "/empty.ocgmap";
-  const std::string message = MapFileErrorOf(other, options);
-  EXPECT_NE(message.find("was made with the camera"), std::string::npos) << message;
+  // As older builds wrote it: a record, an empty SLAM map, no objects.
+  for (const std::uint32_t version : {3u, app_detail::kMapFileVersion}) {
+    app_detail::SessionRecord record = ReadSessionMap(SmokeMap()).first;
+    record.keyframes = 0;
+    record.has_objects = false;
+    std::ostringstream payload;
+    app_detail::SaveSessionRecord(record, payload, version);
+    Map empty;
+    SaveMap(empty, payload);
+    options.load_map = folder + "/empty_v" + std::to_string(version) + ".ocgmap";
+    WriteMapFile(options.load_map, app_detail::kMapFileKind, version, payload.str());
+    const std::string message = MapFileErrorOf(SmokeSettings(), options);
+    EXPECT_NE(message.find("map file '" + options.load_map + "': the map is empty"),
+              std::string::npos)
+        << message;
+  }
+}
+
+// Long runs show their growth: Status() now, and run.json's "progress" over the run.
+TEST(ObjectSlam, StatusCountsTheRunAndRunJsonKeepsItsSeries) {
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam slam(SmokeSettings(), options);
+  RunSequence(slam, false);
+  const RunStatus status = slam.Status();
+  EXPECT_EQ(status.frames, static_cast<std::size_t>(kFrames));
+  EXPECT_GT(status.keyframes, 2u);
+  EXPECT_GT(status.map_points, 100u);
+  EXPECT_GT(status.objects, 0u);
+  EXPECT_GT(status.resident_bytes, 10'000'000u);
+  slam.Shutdown();
+  const nlohmann::json report = slam.Save(testing::MakeTempDir("object_slam_status"), {});
+  EXPECT_EQ(report["interrupted"], false);
+  ASSERT_FALSE(report["progress"].empty());
+  const nlohmann::json& last = report["progress"].back();
+  EXPECT_EQ(last["frames"], kFrames);
+  EXPECT_EQ(last["keyframes"], report["keyframes"]);
+  EXPECT_EQ(last["map_points"], report["map_points"]);
+  EXPECT_GT(last["resident_mb"].get<double>(), 10.0);
+}
+
+// A stop requested between frames: the caller's loop sees it, and run.json says the run
+// was interrupted (the rest of the outputs are those of a run of the frames given).
+TEST(ObjectSlam, AStopRequestedBeforeShutdownMarksTheRunInterrupted) {
+  RunStop stop;
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  options.stop = &stop;
+  ObjectSlam slam(SmokeSettings(), options);
+  EXPECT_FALSE(slam.StopRequested());
+  EXPECT_EQ(stop.Request(), 1);
+  EXPECT_TRUE(slam.StopRequested());
+  EXPECT_EQ(stop.Request(), 2);  // the caller's to read as "now"
+  slam.Shutdown();
+  EXPECT_EQ(slam.Save(testing::MakeTempDir("object_slam_stop"), {})["interrupted"], true);
+}
+
+// However long the run, the series stays short and spans it: first and last kept.
+TEST(ProgressSeries, StaysShortAndSpansTheWholeRun) {
+  app_detail::ProgressSeries series(10.0, 8);
+  std::size_t added = 0;
+  for (int second = 0; second <= 36000; ++second) {
+    if (!series.Due(second)) continue;
+    RunStatus status;
+    status.seconds = second;
+    status.frames = static_cast<std::size_t>(second) * 30;
+    series.Add(status);
+    ++added;
+  }
+  RunStatus end;
+  end.seconds = 36000.5;
+  series.Add(end);
+  const nlohmann::json json = series.Json();
+  EXPECT_GT(added, 20u);
+  EXPECT_LE(json.size(), 8u);
+  EXPECT_GE(json.size(), 4u);
+  EXPECT_EQ(json.front()["seconds"], 0.0);
+  EXPECT_EQ(json.back()["seconds"], 36000.5);
+  for (std::size_t i = 1; i < json.size(); ++i)
+    EXPECT_GT(json[i]["seconds"].get<double>(), json[i - 1]["seconds"].get<double>());
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 #include "ocg/core/map_file.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 
 #include "test_support.h"
@@ -138,6 +141,69 @@ TEST(MapFileEnvelope, PayloadStreamReadsWithoutCopyAndTellsItsPosition) {
   in.read(rest.data(), 990);
   EXPECT_EQ(rest, BinaryPayload().substr(10));
   EXPECT_FALSE(in.read(first, 1));  // the end
+}
+
+TEST(MapFileEnvelope, ChecksumOfPiecesIsTheChecksumOfTheWhole) {
+  const std::string bytes = BinaryPayload();
+  for (const std::size_t piece : {1u, 3u, 7u, 8u, 13u, 64u, 999u}) {
+    PayloadChecksummer sum;
+    for (std::size_t at = 0; at < bytes.size(); at += piece)
+      sum.Add(bytes.data() + at, std::min(piece, bytes.size() - at));
+    EXPECT_EQ(sum.Value(), PayloadChecksum(bytes)) << "pieces of " << piece;
+  }
+}
+
+TEST(MapFileEnvelope, ReaderStreamsThePayloadFromTheFile) {
+  const std::string path = testing::MakeTempDir("map_file") + "/s.ocgmap";
+  WriteMapFile(path, "test-map", 3, BinaryPayload());
+  MapFileReader reader(path, "test-map", 3);
+  EXPECT_EQ(reader.version(), 3u);
+  EXPECT_EQ(reader.payload_size(), BinaryPayload().size());
+  std::string payload(BinaryPayload().size(), '\0');
+  ASSERT_TRUE(reader.payload().read(payload.data(), static_cast<std::streamsize>(payload.size())));
+  EXPECT_EQ(payload, BinaryPayload());
+  char beyond = 0;
+  EXPECT_FALSE(reader.payload().read(&beyond, 1));
+}
+
+// The process's resident memory in bytes (Linux).
+std::size_t ResidentBytes() {
+  std::ifstream statm("/proc/self/statm");
+  std::size_t pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return resident * static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+}
+
+// A large file that is not a map (a rosbag given by mistake) is refused from its first
+// bytes: it was read whole first (2.2 GB resident for a 2 GB file, std::bad_alloc for
+// 7 GB). A sparse file costs no disk.
+TEST(MapFileEnvelope, ALargeFileThatIsNotAMapIsRefusedWithoutReadingIt) {
+  const std::string path = testing::MakeTempDir("map_file") + "/large.bag";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "#ROSBAG V2.0\n";
+  }
+  std::filesystem::resize_file(path, std::uintmax_t{8} << 30);  // 8 GiB, sparse
+  const std::size_t before = ResidentBytes();
+  const std::string message = ReadError(path);
+  EXPECT_NE(message.find("is not an OCG-SLAM map file"), std::string::npos) << message;
+  EXPECT_NE(message.find("#ROSBAG V2.0"), std::string::npos) << message;
+  EXPECT_LT(ResidentBytes(), before + (64u << 20));
+}
+
+// A map file's payload is checked (size, checksum) and read in blocks: a damaged
+// 192 MiB payload is found damaged without holding it.
+TEST(MapFileEnvelope, ALargePayloadIsCheckedWithoutHoldingIt) {
+  const std::string path = testing::MakeTempDir("map_file") + "/large.ocgmap";
+  const std::uint64_t size = std::uint64_t{192} << 20;
+  const std::string header = std::string(kMapFileMagic) + "\nkind test-map\nversion 3\npayload " +
+                             std::to_string(size) + " checksum 0123456789abcdef\n";
+  WriteRaw(path, header);
+  std::filesystem::resize_file(path, header.size() + size);  // sparse zeros
+  const std::size_t before = ResidentBytes();
+  const std::string message = ReadError(path);
+  EXPECT_NE(message.find("damaged: the payload's checksum"), std::string::npos) << message;
+  EXPECT_LT(ResidentBytes(), before + (64u << 20));
 }
 
 }  // namespace

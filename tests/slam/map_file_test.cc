@@ -65,6 +65,8 @@ void ExpectSameKeyFrame(const KeyFrame& a, const KeyFrame& b) {
   ExpectSamePose(a.T_c_parent, b.T_c_parent, what);
 }
 
+constexpr int kLevels = 8;  // FillRandomMap's keypoints lie on levels 0 to 7
+
 std::string Saved(const Map& map) {
   std::ostringstream out;
   SaveMap(map, out);
@@ -78,7 +80,7 @@ TEST(SlamMapFile, RoundTripKeepsEveryField) {
   const std::string bytes = Saved(map);
   Map loaded;
   std::istringstream in(bytes);
-  LoadMap(in, &loaded);
+  LoadMap(in, &loaded, kLevels);
   EXPECT_EQ(loaded.next_keyframe_id(), map.next_keyframe_id());
   EXPECT_EQ(loaded.next_map_point_id(), map.next_map_point_id());
   ASSERT_EQ(loaded.points().size(), map.points().size());
@@ -102,12 +104,33 @@ TEST(SlamMapFile, RoundTripKeepsEveryField) {
   EXPECT_EQ(Saved(loaded), bytes);
 }
 
+// Keyframes culled in the run (EraseKeyFrame releases their features) save and load.
+TEST(SlamMapFile, KeyFramesCulledInTheRunRoundTrip) {
+  Map map;
+  testing::FillRandomMap(20, 80, 5, &map);
+  std::size_t erased = 0;
+  for (const auto& [id, keyframe] : map.keyframes()) {
+    if (id % 3 == 1 && !keyframe->bad) {
+      map.EraseKeyFrame(keyframe);
+      erased += keyframe->bad ? 1 : 0;
+    }
+  }
+  ASSERT_GT(erased, 2u);
+  const std::string bytes = Saved(map);
+  std::istringstream in(bytes);
+  Map loaded;
+  LoadMap(in, &loaded, kLevels);
+  for (const auto& [id, keyframe] : map.keyframes())
+    ExpectSameKeyFrame(*keyframe, *loaded.GetKeyFrame(id));
+  EXPECT_EQ(Saved(loaded), bytes);
+}
+
 TEST(SlamMapFile, NewIdsAfterLoadingDoNotReuseSavedOnes) {
   Map map;
   testing::FillRandomMap(10, 60, 3, &map);
   std::istringstream in(Saved(map));
   Map loaded;
-  LoadMap(in, &loaded);
+  LoadMap(in, &loaded, kLevels);
   EXPECT_EQ(loaded.NextKeyFrameId(), 10u);
   EXPECT_EQ(loaded.NextMapPointId(), map.next_map_point_id());
 }
@@ -119,7 +142,7 @@ TEST(SlamMapFile, TruncatedStreamThrowsAndLeavesTheMapEmpty) {
   for (const std::size_t size : {std::size_t{4}, bytes.size() / 2, bytes.size() - 1}) {
     std::istringstream in(bytes.substr(0, size));
     Map loaded;
-    EXPECT_THROW(LoadMap(in, &loaded), std::runtime_error) << size << " bytes";
+    EXPECT_THROW(LoadMap(in, &loaded, kLevels), std::runtime_error) << size << " bytes";
     EXPECT_TRUE(loaded.keyframes().empty() && loaded.points().empty());
   }
 }
@@ -128,7 +151,34 @@ TEST(SlamMapFile, LoadingIntoAMapThatHoldsSomethingIsRefused) {
   Map map;
   testing::FillRandomMap(3, 30, 1, &map);
   std::istringstream in(Saved(map));
-  EXPECT_THROW(LoadMap(in, &map), std::logic_error);
+  EXPECT_THROW(LoadMap(in, &map, kLevels), std::logic_error);
+}
+
+// A map made with a deeper pyramid than the one it is loaded for would index the
+// pyramid's per-level tables past their end (scale distances, sigma2): refused at load,
+// naming the keyframe, the level and the pyramid's size.
+TEST(SlamMapFile, KeypointsBeyondThePyramidAreRefusedAtLoad) {
+  Map map;
+  testing::FillRandomMap(10, 60, 3, &map);
+  const std::string bytes = Saved(map);
+  for (const int levels : {3, 7}) {
+    std::istringstream in(bytes);
+    Map loaded;
+    try {
+      LoadMap(in, &loaded, levels);
+      ADD_FAILURE() << "a map with keypoints on level 7 loaded for " << levels << " levels";
+    } catch (const std::runtime_error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("lies on pyramid level"), std::string::npos) << message;
+      EXPECT_NE(message.find("but the pyramid has " + std::to_string(levels) + " levels"),
+                std::string::npos)
+          << message;
+    }
+    EXPECT_TRUE(loaded.keyframes().empty() && loaded.points().empty());
+  }
+  std::istringstream in(bytes);
+  Map loaded;
+  EXPECT_NO_THROW(LoadMap(in, &loaded, 8));
 }
 
 }  // namespace

@@ -142,6 +142,37 @@ TEST(Map, ErasingAKeyFrameHandsItsChildrenToItsParent) {
   EXPECT_FALSE(a->bad);
 }
 
+// A culled keyframe stays for the frames placed relative to it, but its features, BoW
+// vectors and point slots (most of its memory) go: a long run revisiting places makes and
+// culls keyframes there without end, and kept them whole.
+TEST(Map, AnErasedKeyFrameKeepsOnlyWhatPosesRelativeToItNeed) {
+  Map map;
+  const KeyFramePtr a = AddKeyFrame(map, 60);
+  const KeyFramePtr b = AddKeyFrame(map, 60);
+  for (int i = 0; i < 20; ++i) AddPoint(map, {{a, i}, {b, i}});
+  map.UpdateConnections(a);
+  map.UpdateConnections(b);
+  b->bow.entries = {{3, 0.5}, {7, 0.5}};
+  b->feature_vector[2] = {0, 1};
+  b->T_cw = SE3(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY())),
+                Eigen::Vector3d(0.1, 0.0, -0.2));
+  const SE3 T_c_b(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 0.05, 0.0));
+  const Eigen::Matrix4d before = PoseFromReference(map, b->id, T_c_b)->Matrix();
+  map.EraseKeyFrame(b);
+  ASSERT_TRUE(b->bad);
+  EXPECT_EQ(b->features.size(), 0u);
+  EXPECT_EQ(b->features.descriptors.capacity(), 0u);
+  EXPECT_EQ(b->features.undistorted.capacity(), 0u);
+  EXPECT_TRUE(b->bow.empty());
+  EXPECT_TRUE(b->feature_vector.empty());
+  EXPECT_EQ(b->points.capacity(), 0u);
+  // Frames placed relative to it still find their pose, and follow its parent.
+  ASSERT_TRUE(PoseFromReference(map, b->id, T_c_b));
+  EXPECT_TRUE(PoseFromReference(map, b->id, T_c_b)->Matrix().isApprox(before, 1e-12));
+  a->T_cw = SE3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(1.0, 0.0, 0.0)) * a->T_cw;
+  EXPECT_FALSE(PoseFromReference(map, b->id, T_c_b)->Matrix().isApprox(before, 1e-6));
+}
+
 TEST(Map, DistinctiveDescriptorHasTheLeastMedianDistance) {
   Map map;
   std::vector<KeyFramePtr> keyframes;

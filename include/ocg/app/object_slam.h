@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "ocg/app/run_stop.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/lie.h"
 #include "ocg/features/orb_extractor.h"
@@ -59,6 +60,20 @@ struct ObjectSlamOptions {
   // run. Save() writes each folder like its own (without snapshots). Only with
   // map_objects and in sequential mode (the constructor throws SettingsError otherwise).
   std::vector<std::pair<std::string, std::string>> also_modes;
+  // A request to end the run early (a signal), which the caller's frame loop asks through
+  // StopRequested(); Save() marks run.json "interrupted": true when it was requested
+  // before Shutdown(). Null: none. Not owned; must outlive the ObjectSlam.
+  const RunStop* stop = nullptr;
+};
+
+// What a long run shows of its growth (Status(), run.json's "progress").
+struct RunStatus {
+  double seconds = 0.0;            // wall time since the first frame
+  std::size_t frames = 0;          // given to Track()
+  std::size_t keyframes = 0;       // live in the SLAM map
+  std::size_t map_points = 0;      // in the SLAM map
+  std::size_t objects = 0;         // live in the object map
+  std::size_t resident_bytes = 0;  // the process's resident memory (0 where unknown)
 };
 
 // What Track() is told about a frame besides its pixels (all optional).
@@ -113,6 +128,12 @@ class ObjectSlam {
   // Idempotent; rethrows a failure of a worker thread.
   void Shutdown();
   bool IsShutDown() const { return shut_down_; }
+  // Whether options.stop was requested: the caller's frame loop then gives no more frames
+  // and goes on to Shutdown(), Save() and SaveMap() as at the end of its frames.
+  bool StopRequested() const;
+  // The counts of the run so far; between Track() calls, from the tracking thread (it
+  // takes the map's lock, so a few times a second at most).
+  RunStatus Status() const;
 
   // The last tracked frame's pose (T_cw), if any frame was tracked since the last reset.
   std::optional<SE3> Pose() const;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ocg/app/run_stop.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/lie.h"
 #include "ocg/io/detections.h"
@@ -25,12 +26,15 @@ struct PoseGivenFrame {
 // frame with a pose is an OCG keyframe), writes objects.json, changes.json, ocg.json and
 // ocg_observations.jsonl into folder and returns the counts and timings run.json reports
 // (frames, frames_used, frames_without_pose, keyframes, wall_seconds, timing and the
-// object map's counts). progress(frames done) after each frame, when given. Throws
-// FileError when a file cannot be written.
+// object map's counts). progress(frames done) after each frame, when given. A stop
+// requested (RunStop) ends the frames early: the object map of the frames done is written
+// all the same, with "interrupted": true in the report. Throws FileError when a file
+// cannot be written.
 nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
                                          const EaoDetectionFolder& detections,
                                          const std::string& folder,
-                                         const std::function<void(std::size_t)>& progress = {});
+                                         const std::function<void(std::size_t)>& progress = {},
+                                         const RunStop* stop = nullptr);
 
 }  // namespace ocg

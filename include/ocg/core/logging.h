@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <functional>
 #include <string>
 
 namespace ocg {
@@ -25,6 +26,9 @@ class ProgressLine {
 
   // Redraws at most every 100 ms, and always at done == total.
   void Update(std::size_t done);
+  // The same, with detail after the rate ("45 keyframes, 3120 points"): detail is asked
+  // for only when the line is redrawn.
+  void Update(std::size_t done, const std::function<std::string()>& detail);
   // Ends the line so later output starts on a new one.
   void Finish();
   bool enabled() const { return enabled_; }

@@ -11,7 +11,9 @@
 //   <payload>
 
 #include <cstdint>
+#include <fstream>
 #include <istream>
+#include <memory>
 #include <streambuf>
 #include <string>
 
@@ -51,10 +53,45 @@ class PayloadStream : public std::istream {
   Buffer buffer_;
 };
 
+// Sums a payload handed over in pieces: the same value as PayloadChecksum of the pieces
+// joined, without holding them.
+class PayloadChecksummer {
+ public:
+  void Add(const char* bytes, std::size_t size);
+  std::uint64_t Value() const;  // of everything added so far
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ull;
+  char pending_[8] = {};  // the bytes of the last, incomplete word
+  std::size_t pending_size_ = 0;
+};
+
 // Writes header and payload atomically (temporary file, then rename). Throws FileError
 // naming the path.
 void WriteMapFile(const std::string& path, const std::string& kind, std::uint32_t version,
                   const std::string& payload);
+
+// A map file opened for reading, checked as it is opened without reading it whole: the
+// header first (a foreign file is refused after its first kilobyte, whatever its size),
+// then the payload's size against the file's, then the checksum in one pass over the
+// payload in blocks. payload() then streams the payload from the file. Throws as
+// ReadMapFile.
+class MapFileReader {
+ public:
+  MapFileReader(const std::string& path, const std::string& kind, std::uint32_t version,
+                std::uint32_t oldest_version = 0);
+  std::uint32_t version() const { return version_; }
+  std::uint64_t payload_size() const { return payload_size_; }
+  // The payload from its first byte, read forward once; tellg() counts from the file's
+  // start.
+  std::istream& payload() { return *file_; }
+
+ private:
+  std::unique_ptr<char[]> buffer_;  // the stream's, larger than the default for cereal's blocks
+  std::unique_ptr<std::ifstream> file_;
+  std::uint32_t version_ = 0;
+  std::uint64_t payload_size_ = 0;
+};
 
 // The payload of a map file of this kind and of a version from oldest_version (0: version
 // alone) to version; the file's version goes to *read_version when given. Throws

@@ -163,8 +163,9 @@ class Map {
   // gives a new keyframe its spanning-tree parent.
   void UpdateConnections(const KeyFramePtr& keyframe);
   std::vector<KeyFramePtr> BestCovisible(const KeyFramePtr& keyframe, std::size_t count) const;
-  // Marks the keyframe bad, removes its observations and edges, and hands its children
-  // to its parent.
+  // Marks the keyframe bad, removes its observations and edges, hands its children to
+  // its parent, and releases its features, BoW vectors and point slots (a culled keyframe
+  // keeps only what PoseFromReference needs).
   void EraseKeyFrame(const KeyFramePtr& keyframe);
   // Loop corrections and global bundle adjustments move the whole map; a tracker whose
   // last frame was placed before the count changed re-anchors it on its keyframe.

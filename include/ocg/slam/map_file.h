@@ -15,10 +15,12 @@ namespace ocg {
 void SaveMap(const Map& map, std::ostream& out);
 
 // Reads what SaveMap wrote into map, which must be empty (locks it while it reads). The
-// keyframes' feature grids are rebuilt from the saved grid geometry. Throws
-// std::runtime_error (cereal::Exception is one) when the stream ends early or the data
-// contradict themselves (a link to a point or keyframe that is not there); the map is
-// left empty then.
-void LoadMap(std::istream& in, Map* map);
+// keyframes' feature grids are rebuilt from the saved grid geometry. pyramid_levels: the
+// levels of the scale pyramid the map will be used with; everything that indexes the
+// pyramid by a keypoint's level (octave) relies on this check. Throws std::runtime_error
+// (cereal::Exception is one) when the stream ends early or the data contradict themselves
+// (a link to a point or keyframe that is not there) or a keypoint lies outside
+// [0, pyramid_levels); the map is left empty then.
+void LoadMap(std::istream& in, Map* map, int pyramid_levels);
 
 }  // namespace ocg
