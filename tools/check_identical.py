@@ -3,8 +3,8 @@
 
 Usage:
   tools/check_identical.py record  BUILD_DIR OUT [--cache DIR] [--only RUN,...] [--frames N]
-  tools/check_identical.py compare BUILD_DIR OUT [--work DIR] [--only RUN,...]
-  tools/check_identical.py diff    BEFORE_DIR AFTER_DIR
+  tools/check_identical.py compare BUILD_DIR OUT [--work DIR] [--only RUN,...] [--ignore GLOB]
+  tools/check_identical.py diff    BEFORE_DIR AFTER_DIR [--ignore GLOB]
   tools/check_identical.py list
 
 A refactoring must not change what a run writes. `record` runs a fixed set of runs with
@@ -40,6 +40,7 @@ Exit status: 0 every compared file identical, 1 some differ (or a run failed in 
 """
 import argparse
 import datetime
+import fnmatch
 import hashlib
 import json
 import os
@@ -388,13 +389,16 @@ def how_files_differ(before, after):
     return how
 
 
-def compare_folders(before, after, names_before=None, names_after=None):
-    """Compares two run folders; returns (lines to print, number of differing files)."""
+def compare_folders(before, after, names_before=None, names_after=None, ignore=()):
+    """Compares two run folders; returns (lines to print, number of differing files).
+    Files whose path matches a glob of `ignore` are listed as ignored."""
     names_before = names_before if names_before is not None else output_checksums(before)
     names_after = names_after if names_after is not None else output_checksums(after)
     lines, differing = [], 0
     for name in sorted(set(names_before) | set(names_after)):
-        if name not in names_after:
+        if any(fnmatch.fnmatch(name, pattern) for pattern in ignore):
+            lines.append("  %-44s ignored (--ignore)" % name)
+        elif name not in names_after:
             lines.append("  %-44s missing after" % name)
             differing += 1
         elif name not in names_before:
@@ -525,7 +529,8 @@ def command_compare(args):
             continue
         lines, differing = compare_folders(os.path.join(out, "before", run),
                                            os.path.join(work, run),
-                                           manifest["runs"][run]["files"], result["files"])
+                                           manifest["runs"][run]["files"], result["files"],
+                                           args.ignore or ())
         report.append("%s: %s" % (run, "identical" if differing == 0 else
                                   "%d file(s) differ" % differing))
         report += lines
@@ -542,7 +547,7 @@ def command_diff(args):
     for folder in (args.before, args.after):
         if not os.path.isdir(folder):
             raise UsageError("%s is not a folder" % folder)
-    lines, differing = compare_folders(args.before, args.after)
+    lines, differing = compare_folders(args.before, args.after, ignore=args.ignore or ())
     log("\n".join(lines))
     log("ALL IDENTICAL" if differing == 0 else "%d file(s) differ" % differing)
     return 1 if differing else 0
@@ -581,6 +586,11 @@ def main():
     diff = commands.add_parser("diff", help="compare two run folders already written")
     diff.add_argument("before", metavar="BEFORE_DIR")
     diff.add_argument("after", metavar="AFTER_DIR")
+    for command in (compare, diff):
+        command.add_argument("--ignore", action="append", metavar="GLOB",
+                             help="leave files whose path in the run folder matches GLOB out "
+                             "of the verdict (repeatable), e.g. '*.ocgmap' while map files "
+                             "are known not to repeat")
     commands.add_parser("list", help="print the names of the runs")
     args = parser.parse_args()
     if not args.command:

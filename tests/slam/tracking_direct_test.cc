@@ -20,7 +20,7 @@
 namespace ocg {
 namespace {
 
-constexpr int kFrames = 60;
+constexpr int kFrames = 40;
 
 const Vocabulary& DefaultVocabulary() {
   static const Vocabulary vocabulary =
@@ -75,26 +75,31 @@ TEST_F(TrackingDirect, FollowsTheTrueCameraUpToTheMapsSimilarity) {
       EXPECT_FALSE(first_tracked.has_value()) << "lost at frame " << frame;
       continue;
     }
+    const bool initializing = !first_tracked;
     if (!first_tracked) first_tracked = frame;
     ASSERT_TRUE(result.T_cw.has_value());
     keyframe_results += result.new_keyframe ? 1 : 0;
-    // Tracked frames report the map points they matched, where the map holds them.
-    EXPECT_GE(result.inliers, TrackingOptions{}.min_local_map_inliers) << "frame " << frame;
-    EXPECT_EQ(static_cast<int>(result.points.size()), result.inliers) << "frame " << frame;
-    if (!result.points.empty()) {
-      const auto point = map_.points().find(result.points.front().id);
-      ASSERT_NE(point, map_.points().end());
-      EXPECT_LT((point->second->position - result.points.front().position).norm(), 1e-9);
+    // Tracked frames report the map points they matched (the inliers; the initializing
+    // frame the initial map's points), each in the map: local mapping, run on a new
+    // keyframe before the result is made, may have culled a few of the inliers.
+    if (!initializing) {
+      EXPECT_GE(result.inliers, TrackingOptions{}.min_local_map_inliers) << "frame " << frame;
+      EXPECT_LE(static_cast<int>(result.points.size()), result.inliers) << "frame " << frame;
     }
+    EXPECT_GE(static_cast<int>(result.points.size()), TrackingOptions{}.min_local_map_inliers)
+        << "frame " << frame;
+    for (const TrackedPoint& point : result.points)
+      ASSERT_EQ(map_.points().count(point.id), 1u) << "frame " << frame << " point " << point.id;
     estimated.push_back(result.T_cw->Inverse().translation());
     truth.push_back(sim::CameraPoseAt(scene_, frame / scene_.fps).Inverse().translation());
   }
   ASSERT_TRUE(first_tracked.has_value());
   EXPECT_LE(*first_tracked, 10);
   EXPECT_EQ(tracking_.state(), TrackingState::kOk);
-  // Every keyframe reported went to the sink, and the initial map's two are there too.
+  // Every keyframe reported went to the sink, and the initial map's first one too (its
+  // second is the initializing frame's).
   EXPECT_GE(keyframe_results, 2);
-  EXPECT_EQ(keyframes_handed_, keyframe_results);
+  EXPECT_EQ(keyframes_handed_, keyframe_results + 1);
   EXPECT_GE(map_.keyframes().size(), static_cast<std::size_t>(keyframe_results));
   const AlignmentResult fit = AlignPoints(estimated, truth, true);
   std::printf(
@@ -105,40 +110,40 @@ TEST_F(TrackingDirect, FollowsTheTrueCameraUpToTheMapsSimilarity) {
 }
 
 TEST_F(TrackingDirect, ALostCameraRelocalizesWhereItHadBeen) {
-  std::optional<SE3> pose_at_20;
-  for (int frame = 0; frame < 40; ++frame) {
+  std::optional<SE3> pose_at_12;
+  for (int frame = 0; frame < 30; ++frame) {
     const TrackingResult result = Track(frame, Image(frame));
-    if (frame == 20) pose_at_20 = result.T_cw;
+    if (frame == 12) pose_at_12 = result.T_cw;
   }
-  ASSERT_TRUE(pose_at_20.has_value());
+  ASSERT_TRUE(pose_at_12.has_value());
   ASSERT_EQ(tracking_.state(), TrackingState::kOk);
   const std::size_t keyframes = map_.keyframes().size();
   // A blank image: nothing to track.
   const cv::Mat blank(scene_.camera.height, scene_.camera.width, CV_8UC3, cv::Scalar(90, 90, 90));
-  const TrackingResult lost = Track(40, blank);
+  const TrackingResult lost = Track(30, blank);
   EXPECT_EQ(lost.state, TrackingState::kLost);
   EXPECT_FALSE(lost.T_cw.has_value());
   EXPECT_FALSE(lost.reset);  // the map is large enough to keep
-  // Frame 20's view again, well behind where the camera was lost: found by place
+  // Frame 12's view again, well behind where the camera was lost: found by place
   // recognition in the keyframe database, placed where the map had it.
-  const TrackingResult found = Track(41, Image(20));
+  const TrackingResult found = Track(31, Image(12));
   ASSERT_EQ(found.state, TrackingState::kOk);
   EXPECT_TRUE(found.relocalized);
   ASSERT_TRUE(found.T_cw.has_value());
-  EXPECT_LT((found.T_cw->Inverse().translation() - pose_at_20->Inverse().translation()).norm(),
+  EXPECT_LT((found.T_cw->Inverse().translation() - pose_at_12->Inverse().translation()).norm(),
             0.02);
   EXPECT_GE(map_.keyframes().size(), keyframes);
 }
 
 TEST_F(TrackingDirect, ResetForgetsTheMapAndInitializesAgain) {
-  for (int frame = 0; frame < 20; ++frame) Track(frame, Image(frame));
+  for (int frame = 0; frame < 12; ++frame) Track(frame, Image(frame));
   ASSERT_EQ(tracking_.state(), TrackingState::kOk);
   tracking_.Reset();
   EXPECT_TRUE(map_.keyframes().empty());
   EXPECT_TRUE(map_.points().empty());
   EXPECT_EQ(database_.size(), 0u);
   std::optional<int> again;
-  for (int frame = 20; frame < 40 && !again; ++frame) {
+  for (int frame = 12; frame < 30 && !again; ++frame) {
     if (Track(frame, Image(frame)).state == TrackingState::kOk) again = frame;
   }
   EXPECT_TRUE(again.has_value());
