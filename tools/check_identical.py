@@ -3,6 +3,7 @@
 
 Usage:
   tools/check_identical.py record  BUILD_DIR OUT [--cache DIR] [--only RUN,...] [--frames N]
+                                   [--resume]
   tools/check_identical.py compare BUILD_DIR OUT [--work DIR] [--only RUN,...] [--ignore GLOB]
   tools/check_identical.py diff    BEFORE_DIR AFTER_DIR [--ignore GLOB]
   tools/check_identical.py list
@@ -34,7 +35,9 @@ checksums are checked): the generator is not what is compared. Real data comes f
 vocabulary is copied into the cache and given to every run through $OCG_VOCABULARY: a map
 file records the vocabulary's path, which would otherwise differ between worktrees.
 
-The whole set runs about an hour on a loaded 2-core machine; run it under `nice -n 10`.
+The whole set (about 19,000 frames of SLAM) takes one to three hours on a shared 2-core
+machine; run it under `nice -n 10`. The manifest is written after every run, shortest
+first: an interrupted recording keeps what it finished and `record --resume` goes on.
 Exit status: 0 every compared file identical, 1 some differ (or a run failed in compare),
 2 a usage or input error.
 """
@@ -56,7 +59,9 @@ MANIFEST_VERSION = 1
 PRESETS = ["smoke", "straight_1", "straight_2", "round_1", "round_2", "desk_static"]
 PRESET_MODES = "paper,improved"
 POSE_GIVEN_MODES = ["paper", "improved"]
-RUNS = ["preset_" + p for p in PRESETS] + ["kitti_07", "fr3_pose_given", "session_pair"]
+# Shortest first, so that an interrupted recording (resumed with --resume) keeps the most.
+RUNS = ["preset_smoke", "kitti_07", "fr3_pose_given", "session_pair", "preset_desk_static",
+        "preset_round_1", "preset_straight_1", "preset_straight_2", "preset_round_2"]
 # Written by a run but not compared: timings and host details, and our own logs.
 NOT_COMPARED = {"run.json", "log.txt"}
 VOCABULARY_FILE = "ocg_orb_vocabulary.ocgvoc"
@@ -94,7 +99,7 @@ class Inputs:
     """Where the runs' inputs are: the cache of generated sequences, real data, tools."""
 
     def __init__(self, build_dir, cache_dir, data_dir, frames):
-        self.build_dir = os.path.realpath(build_dir)
+        self.build_dir = os.path.realpath(build_dir)  # names match the manifest's keys
         self.cache = os.path.realpath(cache_dir)
         self.data = os.path.realpath(data_dir) if data_dir else None
         self.frames = frames
@@ -296,9 +301,9 @@ def run_environment(inputs):
     return env
 
 
-def run_all(runs, inputs, folder, stop_on_error):
+def run_all(runs, inputs, folder, stop_on_error, on_done=None):
     """Runs `runs` into folder/<run>; returns {run: {"files", "inputs", "seconds"} or
-    {"error"}}."""
+    {"error"}}; on_done(run, result) after each run that succeeded."""
     env = run_environment(inputs)
     results = {}
     total_started = time.time()
@@ -320,6 +325,8 @@ def run_all(runs, inputs, folder, stop_on_error):
         results[run] = {"files": files, "seconds": round(seconds, 1),
                         "inputs": {name: input_checksums(path) for name, path in used.items()}}
         log("  done in %.0f s, %d files" % (seconds, len(files)))
+        if on_done:
+            on_done(run, results[run])
     return results
 
 
@@ -442,9 +449,10 @@ def default_data_dir():
 
 def command_record(args):
     out = os.path.realpath(args.out)
-    if os.path.exists(os.path.join(out, "manifest.json")) and not args.overwrite:
+    manifest_path = os.path.join(out, "manifest.json")
+    if os.path.exists(manifest_path) and not (args.overwrite or args.resume):
         raise UsageError("%s already holds a recorded baseline (manifest.json): give another "
-                         "OUT or --overwrite" % out)
+                         "OUT, --resume or --overwrite" % out)
     if args.frames < 0:
         raise UsageError("--frames must be 0 (all) or positive, got %d" % args.frames)
     runs = parse_only(args.only)
@@ -456,21 +464,41 @@ def command_record(args):
             inputs.real("kitti_07_first160")
         if run == "fr3_pose_given":
             inputs.real("tum_fr3_long_office")
-    os.makedirs(out, exist_ok=True)
-    if os.path.exists(os.path.join(out, "manifest.json")):
-        os.remove(os.path.join(out, "manifest.json"))
-    log("recording %d run(s) with %s into %s (inputs: %s)" % (len(runs), inputs.build_dir,
-                                                                out, inputs.cache))
-    results = run_all(runs, inputs, os.path.join(out, "before"), stop_on_error=True)
     source = source_dir_of_build(inputs.build_dir)
     manifest = {
         "format": MANIFEST_FORMAT, "version": MANIFEST_VERSION,
         "recorded": datetime.datetime.now().isoformat(timespec="seconds"),
         "build_dir": inputs.build_dir, "source_dir": source, "commit": commit_of(source),
         "cache": inputs.cache, "data": inputs.data, "frames": inputs.frames,
-        "vocabulary_sha256": sha256(inputs.vocabulary()), "runs": results}
-    write_json_atomically(os.path.join(out, "manifest.json"), manifest)
-    log("recorded: %s/manifest.json (commit %s)" % (out, manifest["commit"]))
+        "vocabulary_sha256": None, "runs": {}, "complete": False}
+    if args.resume and os.path.exists(manifest_path):
+        manifest = read_manifest(out)
+        for key in ("build_dir", "cache", "frames"):
+            if manifest[key] != getattr(inputs, key):
+                raise UsageError("--resume: %s was recorded with %s %s, not %s"
+                                 % (manifest_path, key, manifest[key], getattr(inputs, key)))
+        if commit_of(source) != manifest["commit"]:
+            log("warning: the build's source is at %s, the baseline's manifest says %s"
+                % (commit_of(source), manifest["commit"]))
+        inputs.data = manifest["data"]
+    elif os.path.exists(manifest_path):
+        os.remove(manifest_path)
+    os.makedirs(out, exist_ok=True)
+    left = [run for run in runs if run not in manifest["runs"]]
+    log("recording %d run(s) with %s into %s (inputs: %s)%s"
+        % (len(left), inputs.build_dir, out, inputs.cache,
+           "; %d kept from before" % (len(runs) - len(left)) if len(left) < len(runs) else ""))
+
+    def keep(run, result):  # the manifest after every run: an interrupted recording resumes
+        manifest["runs"][run] = result
+        manifest["vocabulary_sha256"] = sha256(inputs.vocabulary())
+        manifest["complete"] = all(r in manifest["runs"] for r in RUNS)
+        write_json_atomically(manifest_path, manifest)
+
+    run_all(left, inputs, os.path.join(out, "before"), stop_on_error=True, on_done=keep)
+    log("recorded: %s (commit %s), %d of %d runs%s"
+        % (manifest_path, manifest["commit"], len(manifest["runs"]), len(RUNS),
+           "" if manifest.get("complete") else "; the rest with `record ... --resume`"))
     log("compare a build with:\n  nice -n 10 %s compare BUILD_DIR %s"
         % (os.path.relpath(os.path.realpath(__file__)), out))
     return 0
@@ -517,8 +545,10 @@ def command_compare(args):
                 raise UsageError("input %s of run %s changed since the recording: record again"
                                  % (folder, run))
     work = os.path.realpath(args.work) if args.work else os.path.join(out, "after")
-    log("comparing %d run(s) of %s with %s (baseline commit %s)"
-        % (len(runs), inputs.build_dir, out, manifest.get("commit")))
+    log("comparing %d run(s) of %s with %s (baseline commit %s%s)"
+        % (len(runs), inputs.build_dir, out, manifest.get("commit"),
+           "" if manifest.get("complete") else
+           "; the baseline holds %d of the %d runs" % (len(recorded), len(RUNS))))
     results = run_all(runs, inputs, work, stop_on_error=False)
     report, status = [], 0
     for run in runs:
@@ -577,6 +607,9 @@ def main():
                         help="only the first N frames of every sequence (0: all; for quick "
                         "checks, not the baseline)")
     record.add_argument("--overwrite", action="store_true", help="replace a recorded baseline")
+    record.add_argument("--resume", action="store_true",
+                        help="keep the runs OUT's manifest already holds (same build, commit "
+                        "and cache) and record the others")
     compare = commands.add_parser("compare", help="run the set with another build and compare")
     compare.add_argument("build_dir", metavar="BUILD_DIR", help="a build folder (tools/ inside)")
     compare.add_argument("out", metavar="OUT", help="a folder `record` wrote")
