@@ -76,19 +76,20 @@ Settings PaperSettings() {
 
 TEST(PoseGiven, WritesTheObjectMapAndCountsFramesAndKeyframes) {
   const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects());
-  // Frames 20-29 have no pose: skipped, their person boxes unused.
-  const PoseGivenRun run = MapScene(scene, PaperSettings(), "pose_given_counts", 20, 30);
+  // Frames 20-26 have no pose: skipped, their person boxes unused. Seven of them, so
+  // that counting keyframes over every frame instead of those used gives another count.
+  const PoseGivenRun run = MapScene(scene, PaperSettings(), "pose_given_counts", 20, 27);
   EXPECT_EQ(run.report["frames"], 120);
-  EXPECT_EQ(run.report["frames_used"], 110);
-  EXPECT_EQ(run.report["frames_without_pose"], 10);
-  // Every 5th frame used is a keyframe: 110 / 5.
-  EXPECT_EQ(run.report["keyframes"], 22);
+  EXPECT_EQ(run.report["frames_used"], 113);
+  EXPECT_EQ(run.report["frames_without_pose"], 7);
+  // Every 5th frame used is a keyframe: used frames 0, 5, ..., 110.
+  EXPECT_EQ(run.report["keyframes"], 23);
   for (const char* file : {"objects.json", "changes.json", "ocg.json", "ocg_observations.jsonl"})
     EXPECT_TRUE(std::filesystem::is_regular_file(run.folder + "/" + file)) << file;
   std::ifstream observations(run.folder + "/ocg_observations.jsonl");
   int lines = 0;
   for (std::string line; std::getline(observations, line);) ++lines;
-  EXPECT_EQ(lines, 22);
+  EXPECT_EQ(lines, 23);
 
   const nlohmann::json objects = run.Read("objects.json")["objects"];
   ASSERT_EQ(objects.size(), 4u);
