@@ -1,0 +1,172 @@
+// ObjectMapper, the object layer as one unit (detections in, an object map kept up to date
+// by the OCG out), on a synthetic table scene with known objects: what it maps, what it
+// removes and when, what it records for the OCG, and how it follows a SLAM map.
+
+#include "ocg/objects/object_mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "synthetic_scene.h"
+#include "test_support.h"
+
+namespace ocg {
+namespace {
+
+constexpr int kKeyframeInterval = 5;
+
+OcgOptions Paper() { return testing::PaperOptions(); }
+
+// Every frame of the scene into the mapper (a keyframe every kKeyframeInterval frames);
+// returns the ids of the keyframes.
+int Feed(const testing::SyntheticScene& scene, ObjectMapper* mapper, int first = 0, int last = -1) {
+  if (last < 0) last = scene.options.frames;
+  int keyframes = 0;
+  for (int frame = first; frame < last; ++frame) {
+    const auto f = static_cast<std::size_t>(frame);
+    mapper->AddFrame(frame, scene.timestamps[f], scene.T_cw[f], scene.detections[f]);
+    if (frame % kKeyframeInterval == 0) {
+      mapper->AddKeyframe(frame / kKeyframeInterval, scene.timestamps[f], scene.T_cw[f]);
+      ++keyframes;
+    }
+  }
+  return keyframes;
+}
+
+// The live objects of objects.json by class.
+std::map<int, nlohmann::json> LiveByClass(const ObjectMapper& mapper) {
+  std::map<int, nlohmann::json> by_class;
+  const nlohmann::json objects = nlohmann::json::parse(mapper.ObjectsJson());
+  for (const nlohmann::json& object : objects["objects"])
+    by_class[object["class_id"].get<int>()] = object;
+  return by_class;
+}
+
+Eigen::Vector3d Centre(const nlohmann::json& cuboid) {
+  const auto& c = cuboid["centre"];
+  return {c[0].get<double>(), c[1].get<double>(), c[2].get<double>()};
+}
+
+TEST(ObjectMapper, MapsEachObjectOnceAtItsPlaceAndKeepsAStaticSceneWhole) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects());
+  ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, true);
+  Feed(scene, &mapper);
+  mapper.Finish();
+  const auto live = LiveByClass(mapper);
+  ASSERT_EQ(live.size(), scene.options.objects.size());
+  EXPECT_EQ(mapper.LiveObjectCount(), scene.options.objects.size());
+  for (const testing::SyntheticObject& truth : scene.options.objects) {
+    ASSERT_EQ(live.count(truth.class_id), 1u) << truth.class_id;
+    EXPECT_LT((Centre(live.at(truth.class_id)["cuboid"]) - truth.centre).norm(),
+              0.15 * truth.size.maxCoeff())
+        << truth.class_id;
+  }
+  EXPECT_TRUE(nlohmann::json::parse(mapper.ChangesJson())["changes"].empty());
+  const ObjectLayerStats stats = mapper.Stats();
+  EXPECT_EQ(stats.frames, scene.options.frames);
+  EXPECT_EQ(stats.keyframes, scene.options.frames / kKeyframeInterval);
+  EXPECT_EQ(stats.objects_created, 4);
+  EXPECT_EQ(stats.objects_removed, 0);
+}
+
+// The cup is taken away while the camera looks away (frames 60-69). Back at the table,
+// its neighbours are seen and it is not: suspicious, its doubt grows; when the camera
+// leaves again (frames 100-109) the OCG removes it, and the map follows. A keyframe
+// reports what was detected since the previous one: the first without any object is the
+// one at frame 105.
+TEST(ObjectMapper, AnObjectTakenAwayIsRemovedWhenTheCameraLeavesItsNeighbours) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects(60));
+  for (const bool sequential : {true, false}) {
+    SCOPED_TRACE(sequential ? "sequential" : "threaded");
+    ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, sequential);
+    Feed(scene, &mapper, 0, 100);
+    mapper.Finish();  // lets the threaded OCG finish; nothing is removed before leaving
+    EXPECT_EQ(mapper.LiveObjectCount(), 4u);
+    ObjectMapper again(ObjectsOptions{}, Paper(), scene.options.camera, sequential);
+    Feed(scene, &again);
+    again.Finish();
+    const auto live = LiveByClass(again);
+    EXPECT_EQ(live.size(), 3u);
+    EXPECT_EQ(live.count(41), 0u);
+    const nlohmann::json changes = nlohmann::json::parse(again.ChangesJson())["changes"];
+    ASSERT_EQ(changes.size(), 1u);
+    EXPECT_EQ(changes[0]["type"], "removed");
+    EXPECT_EQ(changes[0]["class_id"], 41);
+    EXPECT_EQ(changes[0]["keyframe"], 105 / kKeyframeInterval);  // on leaving
+    EXPECT_LT(
+        (Centre(changes[0]["cuboid"]) - scene.options.objects[testing::kTableCup].centre).norm(),
+        0.02);
+    EXPECT_EQ(again.Stats().objects_removed, 1);
+    // Viewers see the removal as a removed object at its last place.
+    int removed_views = 0;
+    for (const ObjectView& view : again.Views()) removed_views += view.removed ? 1 : 0;
+    EXPECT_EQ(removed_views, 1);
+  }
+}
+
+TEST(ObjectMapper, RecordsTheOcgInputOfEveryKeyframe) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects(60));
+  ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, true);
+  mapper.RecordObservations();
+  const int keyframes = Feed(scene, &mapper);
+  mapper.Finish();
+  std::istringstream lines(mapper.ObservationsJsonl());
+  std::string line;
+  int count = 0;
+  while (std::getline(lines, line)) {
+    const nlohmann::json observation = nlohmann::json::parse(line);
+    const int frame = count * kKeyframeInterval;
+    const auto observed = observation["observed"].get<std::vector<ObjectId>>();
+    if (frame == 65 || frame == 105) {
+      EXPECT_TRUE(observed.empty()) << "keyframe at frame " << frame;
+    }
+    // The last keyframe before the cup went sees every object, those after it on the
+    // table the three left.
+    if (frame == 55) {
+      EXPECT_EQ(observed.size(), 4u);
+    }
+    if (frame >= 70 && frame <= 100) {
+      EXPECT_EQ(observed.size(), 3u) << "keyframe at frame " << frame;
+    }
+    ++count;
+  }
+  EXPECT_EQ(count, keyframes);
+}
+
+// Bundle adjustment moved the whole map (a turn about up and a shift): the objects follow
+// their sightings' cameras to the same place in the new frame.
+TEST(ObjectMapper, FollowsTheSlamMapWhenItsFrameMoves) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects());
+  ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, true);
+  Feed(scene, &mapper, 0, 60);
+  const auto before = LiveByClass(mapper);
+  ASSERT_EQ(before.size(), 4u);
+  const double yaw = 0.4;
+  Eigen::Matrix3d R;
+  R << std::cos(yaw), -std::sin(yaw), 0, std::sin(yaw), std::cos(yaw), 0, 0, 0, 1;
+  const SE3 moved(R, Eigen::Vector3d(0.5, -0.3, 0.1));  // new world from old world
+  SlamMapView view;
+  for (int frame = 0; frame < 60; ++frame)
+    view.frame_poses.push_back(scene.T_cw[static_cast<std::size_t>(frame)] * moved.Inverse());
+  // The map points of the table (points far off it would sway the supporting plane).
+  for (int i = 0; i < scene.options.points_on_table; ++i) {
+    view.map_points.push_back(moved * scene.points[static_cast<std::size_t>(i)]);
+    view.map_point_ids.push_back(static_cast<std::uint64_t>(i));
+  }
+  for (const std::optional<SE3>& T_cw : view.frame_poses)
+    view.camera_rotations.push_back(T_cw->Inverse().rotation());
+  mapper.FollowSlamMap(view, 1);
+  EXPECT_LT((mapper.Up() - Eigen::Vector3d::UnitZ()).norm(), 0.02);
+  const auto after = LiveByClass(mapper);
+  ASSERT_EQ(after.size(), 4u);
+  for (const auto& [class_id, object] : before) {
+    EXPECT_LT((Centre(after.at(class_id)["cuboid"]) - moved * Centre(object["cuboid"])).norm(),
+              0.01)
+        << class_id;
+  }
+}
+
+}  // namespace
+}  // namespace ocg
