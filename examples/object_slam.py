@@ -45,11 +45,14 @@ def main():
     for index, (timestamp, image, detections) in enumerate(read_frames(args.sequence)):
         if args.max_frames and index >= args.max_frames:
             break
-        T_cw = slam.track(ocg.read_image(image), timestamp, detections)
-        if T_cw is None:
-            print("%.6f  not tracked" % timestamp)
+        # Grey pixels as `ocg_slam run` decodes them (the same files, byte for byte); the file
+        # gives the objects' colour signatures at shutdown(). A BGR image would give them too.
+        result = slam.track(ocg.read_image(image), timestamp, detections, image_path=image)
+        if result.pose is None:
+            print("%.6f  not tracked (%s)" % (timestamp, result.state))
             continue
         tracked += 1
+        T_cw = result.pose
         camera_centre = -T_cw[:3, :3].T @ T_cw[:3, 3]  # world frame, map units
         boxes = 0 if detections is None else len(detections)
         print("%.6f  camera at %s, %d boxes" % (timestamp, np.round(camera_centre, 3), boxes))

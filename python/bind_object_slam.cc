@@ -14,6 +14,8 @@
 #include "ocg/app/object_slam.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/io/detections.h"
+#include "ocg/io/text_lines.h"
 
 namespace py = pybind11;
 
@@ -38,31 +40,21 @@ std::vector<Detection> ToDetections(const py::object& given) {
   if (!rows) throw py::value_error("detections: expected an (N, 6) numeric array");
   if (rows.size() == 0) return detections;
   if (rows.ndim() != 2 || rows.shape(1) != 6) {
+    std::string shape;
+    for (py::ssize_t i = 0; i < rows.ndim(); ++i)
+      shape += (i > 0 ? ", " : "") + std::to_string(rows.shape(i));
     throw py::value_error(
         "detections: expected an (N, 6) array [class, x, y, w, h, score] (pixels, x y the "
-        "top-left corner), got " +
-        std::to_string(rows.ndim()) + " dimension(s)");
+        "top-left corner), got shape (" +
+        shape + (rows.ndim() == 1 ? "," : "") + ")" +
+        (rows.ndim() == 2 ? ": " + std::to_string(rows.shape(1)) + " columns"
+                          : ": " + std::to_string(rows.ndim()) + " dimension(s)"));
   }
   const auto in = rows.unchecked<2>();
   for (py::ssize_t i = 0; i < rows.shape(0); ++i) {
-    Detection detection;
-    detection.class_id = static_cast<int>(in(i, 0));
-    if (detection.class_id != in(i, 0) || detection.class_id < 0) {
-      throw py::value_error("detections: row " + std::to_string(i) +
-                            ": the class must be a COCO-80 index (a whole number >= 0)");
-    }
-    detection.x = in(i, 1), detection.y = in(i, 2);
-    detection.width = in(i, 3), detection.height = in(i, 4);
-    detection.confidence = in(i, 5);
-    if (!(detection.width > 0.0 && detection.height > 0.0)) {
-      throw py::value_error("detections: row " + std::to_string(i) +
-                            ": width and height must be > 0 pixels");
-    }
-    if (!(detection.confidence >= 0.0 && detection.confidence <= 1.0)) {
-      throw py::value_error("detections: row " + std::to_string(i) +
-                            ": the score must be in [0, 1]");
-    }
-    detections.push_back(detection);
+    const double row[6] = {in(i, 0), in(i, 1), in(i, 2), in(i, 3), in(i, 4), in(i, 5)};
+    // The text reader's check (io/detections.h): Python refuses what files may not hold.
+    detections.push_back(DetectionFromRow(row, "detections: row " + std::to_string(i)));
   }
   return detections;
 }
@@ -89,9 +81,8 @@ class PyObjectSlam {
     slam_ = std::make_unique<ObjectSlam>(settings, options);
   }
 
-  std::optional<Matrix4> Track(const py::array& image, double timestamp,
-                               const py::object& detections,
-                               const std::optional<std::string>& image_path) {
+  FrameReport Track(const py::array& image, double timestamp, const py::object& detections,
+                    const std::optional<std::string>& image_path) {
     if (!image.dtype().is(py::dtype::of<std::uint8_t>())) {
       throw py::value_error("image: expected a uint8 array (HxW grey or HxWx3 BGR), got dtype " +
                             std::string(py::str(image.dtype())));
@@ -109,16 +100,12 @@ class PyObjectSlam {
     const cv::Mat mat(static_cast<int>(pixels.shape(0)), static_cast<int>(pixels.shape(1)),
                       image.ndim() == 2 ? CV_8UC1 : CV_8UC3,
                       const_cast<std::uint8_t*>(pixels.data()));
-    std::optional<SE3> T_cw;
-    {
-      py::gil_scoped_release release;
-      const std::lock_guard<std::mutex> lock(mutex_);
-      FrameSource source;
-      if (image_path) source.image_path = *image_path;
-      T_cw = slam_->Track(mat, timestamp, boxes, source);
-    }
-    if (!T_cw) return std::nullopt;
-    return ToMatrix(*T_cw);
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    FrameSource source;
+    if (image_path) source.image_path = *image_path;
+    slam_->Track(mat, timestamp, boxes, source);
+    return slam_->LastFrame();
   }
 
   template <typename Result, typename Body>
@@ -165,6 +152,19 @@ TumRows Trajectory(PyObjectSlam& self) {
       self.Locked<std::vector<StampedPose>>([](ObjectSlam& slam) { return (slam.*Reader)(); }));
 }
 
+std::string StateName(TrackingState state) {
+  switch (state) {
+    case TrackingState::kNoImages:
+    case TrackingState::kNotInitialized:
+      return "not_initialized";
+    case TrackingState::kOk:
+      return "ok";
+    case TrackingState::kLost:
+      return "lost";
+  }
+  return "not_initialized";
+}
+
 py::object ParseJson(const std::string& text) {
   if (text.empty()) return py::none();
   return py::module_::import("json").attr("loads")(text);
@@ -182,6 +182,28 @@ void BindObjectSlam(py::module_& module) {
       "An image file (PNG, JPEG, ...) decoded as `ocg_slam run` decodes it (OpenCV): mode "
       "'grey' gives an (H, W) uint8 array, 'bgr' an (H, W, 3) one. Raises ocg.FileError "
       "when the file is missing or not an image, ValueError for another mode.");
+  py::class_<FrameReport>(module, "TrackResult",
+                          "What track() made of a frame: state, pose, keyframe, relocalized, "
+                          "inliers.")
+      .def_property_readonly(
+          "state", [](const FrameReport& report) { return StateName(report.state); },
+          "'not_initialized' (before the map is initialized), 'ok' (tracked) or 'lost'.")
+      .def_property_readonly(
+          "pose",
+          [](const FrameReport& report) -> std::optional<Matrix4> {
+            if (!report.T_cw) return std::nullopt;
+            return ToMatrix(*report.T_cw);
+          },
+          "The (4, 4) float64 T_cw (world to camera) when tracked, else None.")
+      .def_readonly("keyframe", &FrameReport::new_keyframe, "The frame became a keyframe.")
+      .def_readonly("relocalized", &FrameReport::relocalized,
+                    "Tracked again after being lost (or in a loaded map).")
+      .def_readonly("inliers", &FrameReport::inliers, "Map points matched in the frame.")
+      .def("__repr__", [](const FrameReport& report) {
+        return "TrackResult(state='" + StateName(report.state) +
+               "', keyframe=" + (report.new_keyframe ? "True" : "False") +
+               ", inliers=" + std::to_string(report.inliers) + ")";
+      });
   py::class_<PyObjectSlam>(
       module, "ObjectSlam",
       "The whole system: monocular SLAM, the cuboid object map from the detections given "
@@ -208,16 +230,21 @@ void BindObjectSlam(py::module_& module) {
       .def("track", &PyObjectSlam::Track, py::arg("image"), py::arg("timestamp"),
            py::arg("detections") = py::none(), py::arg("image_path") = py::none(),
            "One frame. image: (H, W) grey or (H, W, 3) BGR uint8 array of the camera in the "
-           "settings. timestamp: seconds, increasing. detections: (N, 6) array, one row per "
-           "box [class, x, y, w, h, score]: COCO-80 class index, top-left corner and size in "
-           "pixels, score in [0, 1]; None or (0, 6) when there is none. image_path: the frame's "
-           "image file, read again in colour at shutdown() if the frame became a keyframe, "
-           "for the objects' colour signatures that pair moved objects between sessions; "
-           "None: this frame's sightings get none.\n"
-           "Returns the (4, 4) float64 pose T_cw (world to camera; camera x right, y down, z "
-           "forward; map units, monocular: arbitrary scale) when the frame was tracked, else "
-           "None (before initialization, or lost).\n"
-           "Raises ValueError for another dtype or shape, a malformed detection row; "
+           "settings; a BGR image gives the objects their colour signatures (which pair moved "
+           "objects between sessions), a grey one none. timestamp: seconds, finite, strictly "
+           "increasing. detections: (N, 6) array, one row per box [class, x, y, w, h, score]: "
+           "COCO-80 class index, top-left corner and size in pixels, score in [0, 1] (the "
+           "rules of detection files); None or (0, 6) when there is none. image_path: "
+           "optional, the frame's image file, read again in colour at shutdown() if the frame "
+           "became a keyframe, instead of keeping the BGR image given.\n"
+           "Returns a TrackResult: state ('not_initialized', 'ok', 'lost'), pose (the (4, 4) "
+           "float64 T_cw, world to camera; camera x right, y down, z forward; map units, "
+           "monocular: arbitrary scale; None when not tracked), keyframe, relocalized, "
+           "inliers.\n"
+           "Raises ValueError for another dtype or shape (naming the detections' columns), a "
+           "timestamp not finite or not later than the last frame's; ocg.ParseError (a "
+           "ValueError) for a detection row a detection file may not hold (class outside "
+           "0..79, a coordinate not finite, width or height <= 0, score outside [0, 1]); "
            "RuntimeError after shutdown().")
       .def(
           "pose",

@@ -6,6 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include <optional>
+#include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "ate_plot.h"
 #include "cli_common.h"
@@ -32,18 +35,23 @@ void PrintStatistics(const ocg::ErrorStatistics& stats, const char* unit) {
 
 // The options ate and rpe share.
 struct TrajectoryPair {
-  std::string gt, est, align = "sim3";
+  std::string gt, est, times, align = "sim3";
   double max_dt = 0.02;
   bool json = false;
 };
 
 void AddTrajectoryPairOptions(CLI::App* command, TrajectoryPair* pair,
                               const std::string& align_help) {
-  command->add_option("--gt", pair->gt, "ground-truth trajectory (TUM format)")
+  command->add_option("--gt", pair->gt, "ground-truth trajectory (TUM or KITTI format)")
       ->required()
       ->check(CLI::ExistingFile);
-  command->add_option("--est", pair->est, "estimated trajectory (TUM format)")
+  command->add_option("--est", pair->est, "estimated trajectory (TUM or KITTI format)")
       ->required()
+      ->check(CLI::ExistingFile);
+  command
+      ->add_option("--times", pair->times,
+                   "KITTI times.txt: the times of a KITTI file's rows, needed when only one "
+                   "of the two files is KITTI (two KITTI files pair row by row)")
       ->check(CLI::ExistingFile);
   command->add_option("--align", pair->align, align_help)
       ->capture_default_str()
@@ -52,6 +60,81 @@ void AddTrajectoryPairOptions(CLI::App* command, TrajectoryPair* pair,
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   command->add_flag("--json", pair->json, "print JSON instead of text");
+}
+
+// Both files, each in its format (TUM or KITTI, by content). Two KITTI files pair row by
+// row (evo_ape kitti) and must hold as many poses; a KITTI file beside a TUM one needs the
+// times of its rows.
+std::pair<std::vector<ocg::StampedPose>, std::vector<ocg::StampedPose>> ReadPair(
+    const TrajectoryPair& pair) {
+  const bool gt_kitti = ocg::DetectTrajectoryFormat(pair.gt) == ocg::TrajectoryFormat::kKitti;
+  const bool est_kitti = ocg::DetectTrajectoryFormat(pair.est) == ocg::TrajectoryFormat::kKitti;
+  if (gt_kitti != est_kitti && pair.times.empty()) {
+    throw std::invalid_argument(
+        "'" + (gt_kitti ? pair.gt : pair.est) + "' holds KITTI poses (no times) and '" +
+        (gt_kitti ? pair.est : pair.gt) +
+        "' TUM poses: give the KITTI rows' times with --times (the sequence's times.txt)");
+  }
+  const std::string times = gt_kitti && est_kitti ? "" : pair.times;
+  auto poses = std::make_pair(ocg::ReadTrajectory(pair.gt, gt_kitti ? times : ""),
+                              ocg::ReadTrajectory(pair.est, est_kitti ? times : ""));
+  if (gt_kitti && est_kitti && poses.first.size() != poses.second.size()) {
+    throw std::invalid_argument("two KITTI files pair row by row, but '" + pair.gt + "' holds " +
+                                std::to_string(poses.first.size()) + " poses and '" + pair.est +
+                                "' " + std::to_string(poses.second.size()));
+  }
+  return poses;
+}
+
+struct ConvertInput {
+  std::string input, output, to, times;
+};
+
+// TUM to KITTI (one row per pose, or with --times one row per frame of times.txt, the pose
+// at its time) and KITTI to TUM (with --times: the rows' times).
+void Convert(const ConvertInput& input) {
+  const bool kitti_in = ocg::DetectTrajectoryFormat(input.input) == ocg::TrajectoryFormat::kKitti;
+  if (input.to == "tum") {
+    if (kitti_in && input.times.empty()) {
+      throw std::invalid_argument("'" + input.input +
+                                  "' holds KITTI poses, which have no times: give them with "
+                                  "--times (the sequence's times.txt)");
+    }
+    const std::vector<ocg::StampedPose> poses = ocg::ReadTrajectory(input.input, input.times);
+    ocg::WriteTumTrajectory(input.output, poses);
+    std::printf("wrote %zu poses to %s (TUM)\n", poses.size(), input.output.c_str());
+    return;
+  }
+  const std::vector<ocg::StampedPose> poses = ocg::ReadTrajectory(input.input);
+  std::vector<ocg::StampedPose> rows;
+  if (input.times.empty() || kitti_in) {
+    rows = poses;
+  } else {
+    // One row per frame, as KITTI's ground truth: a frame without a pose (before
+    // initialization, lost) leaves no row to give, so the file would pair wrongly.
+    const ocg::KittiTimes times = ocg::ReadKittiTimes(input.times);
+    std::size_t missing = 0;
+    std::string first_missing;
+    for (std::size_t i = 0; i < times.seconds.size(); ++i) {
+      const std::optional<ocg::SE3> T_cw = ocg::PoseAtTime(poses, times.seconds[i], 0.0, 1e-6);
+      if (!T_cw) {
+        if (missing++ == 0)
+          first_missing = times.texts[i] + " (line " + std::to_string(i + 1) + ")";
+        continue;
+      }
+      rows.push_back({times.seconds[i], times.texts[i], T_cw->Inverse()});
+    }
+    if (missing > 0) {
+      throw std::invalid_argument(
+          std::to_string(missing) + " of the " + std::to_string(times.seconds.size()) +
+          " frames of '" + input.times + "' have no pose in '" + input.input +
+          "' (first: " + first_missing +
+          "): KITTI rows are one per frame; compare the TUM file instead (evo_ape tum, "
+          "ocg_eval ate), or leave out --times for one row per pose");
+    }
+  }
+  ocg::WriteKittiTrajectory(input.output, rows);
+  std::printf("wrote %zu poses to %s (KITTI)\n", rows.size(), input.output.c_str());
 }
 
 struct ObjectsInput {
@@ -134,8 +217,10 @@ void EvaluateObjects(const ObjectsInput& input) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ocg_eval: trajectory error metrics (TUM format files, camera-to-world poses)",
-               "ocg_eval"};
+  CLI::App app{
+      "ocg_eval: trajectory error metrics (TUM or KITTI format files, camera-to-world "
+      "poses)",
+      "ocg_eval"};
   app.require_subcommand(1);
   std::string log_level;
   ocg::tools::AddLogLevelOption(app, &log_level);
@@ -158,6 +243,22 @@ int main(int argc, char** argv) {
   ate->add_option("--plot", ate_plot,
                   "also draw the aligned trajectories (top view) and the per-axis error over "
                   "time into this PNG (matplotlib: python3-matplotlib)");
+
+  ConvertInput convert_input;
+  CLI::App* convert = app.add_subcommand(
+      "convert", "write a trajectory in the other format: TUM to KITTI poses, KITTI to TUM");
+  convert->add_option("--in", convert_input.input, "trajectory (TUM or KITTI, by content)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  convert->add_option("--out", convert_input.output, "file to write")->required();
+  convert->add_option("--to", convert_input.to, "kitti or tum")
+      ->required()
+      ->check(CLI::IsMember({"kitti", "tum"}));
+  convert
+      ->add_option("--times", convert_input.times,
+                   "the sequence's KITTI times.txt: to kitti, one row per frame (the pose at "
+                   "its time; every frame needs one); to tum, the KITTI rows' times")
+      ->check(CLI::ExistingFile);
 
   ObjectsInput objects_input;
   CLI::App* objects = app.add_subcommand(
@@ -194,12 +295,15 @@ int main(int argc, char** argv) {
       EvaluateObjects(objects_input);
       return;
     }
+    if (convert->parsed()) {
+      Convert(convert_input);
+      return;
+    }
     if (ate->parsed()) {
       ocg::AteOptions options;
       options.alignment = ocg::ParseAlignmentMode(ate_input.align);
       options.max_dt = ate_input.max_dt;
-      const std::vector<ocg::StampedPose> reference = ocg::ReadTumTrajectory(ate_input.gt);
-      const std::vector<ocg::StampedPose> estimate = ocg::ReadTumTrajectory(ate_input.est);
+      const auto [reference, estimate] = ReadPair(ate_input);
       const ocg::AteResult result = ocg::ComputeAte(reference, estimate, options);
       // The plot first: when it cannot be drawn the run fails before printing a result.
       if (!ate_plot.empty()) {
@@ -223,8 +327,8 @@ int main(int argc, char** argv) {
       options.max_dt = rpe_input.max_dt;
       options.delta = rpe_delta;
       options.delta_in_seconds = rpe_unit == "seconds";
-      const ocg::RpeResult result = ocg::ComputeRpe(ocg::ReadTumTrajectory(rpe_input.gt),
-                                                    ocg::ReadTumTrajectory(rpe_input.est), options);
+      const auto [reference, estimate] = ReadPair(rpe_input);
+      const ocg::RpeResult result = ocg::ComputeRpe(reference, estimate, options);
       if (rpe_input.json) {
         std::cout << nlohmann::json({{"pairs", result.associated},
                                      {"scale", result.scale},

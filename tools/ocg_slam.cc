@@ -260,9 +260,10 @@ int main(int argc, char** argv) {
   run->add_option("--sequence", sequence_path, "sequence folder")
       ->required()
       ->check(CLI::ExistingDirectory);
-  run->add_option("--format", format, "tum or euroc")
+  run->add_option("--format", format,
+                  "tum (rgb.txt), euroc (mav0/) or kitti (image_0/, times.txt, calib.txt)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"tum", "euroc"}));
+      ->check(CLI::IsMember({"tum", "euroc", "kitti"}));
   run->add_option("--detections", detections,
                   "folder of <timestamp>.txt detection files (EAO format): maps objects too, "
                   "writes objects.json, changes.json, ocg.json")
@@ -377,8 +378,7 @@ int main(int argc, char** argv) {
     // Every input is read and checked before the first frame (the detections of every
     // frame to process included), and the output folder is tried for writing, so no bad
     // input ends a run after the whole sequence.
-    const ocg::ImageSequence sequence = format == "tum" ? ocg::ReadTumSequence(sequence_path)
-                                                        : ocg::ReadEurocSequence(sequence_path);
+    const ocg::ImageSequence sequence = ocg::ReadSequence(sequence_path, format);
     std::size_t frames = sequence.images.size();
     if (max_frames > 0) frames = std::min(frames, static_cast<std::size_t>(max_frames));
     if (frames == 0) {

@@ -1,7 +1,8 @@
 """OCG-SLAM from Python (docs/python.md).
 
 - ObjectSlam: the whole system (SLAM, cuboid objects, OCG) fed frame by frame: track(image,
-  timestamp, detections) -> T_cw or None; read_image gives the pixels ocg_slam run uses.
+  timestamp, detections) -> TrackResult (state, pose T_cw or None, keyframe, ...);
+  read_image gives the pixels ocg_slam run uses.
 - ChangeDetector: the Object Covisibility Graph change detector, fed once per keyframe by
   any SLAM system (pose T_cw, camera, observed object ids, centroids).
 - read_tum_trajectory, ate, object_metrics: the numbers of `ocg_eval`.
@@ -9,7 +10,19 @@
 Errors from the library keep their message (file, line, key): ocg.FileError (an OSError),
 ocg.ParseError, ocg.SettingsError and ocg.ReplayFormatError (ValueErrors), ValueError.
 """
-from ._ocg import *  # noqa: F401,F403  (the native module defines __all__-free names)
-from ._ocg import __doc__ as _native_doc  # noqa: F401
+import sys as _sys
+
+# The native module is built for one interpreter (the one CMake found, named at configure
+# time): another Python (pyenv, a venv, another version) cannot load it.
+BUILT_FOR_PYTHON = "@Python3_EXECUTABLE@ (Python @Python3_VERSION_MAJOR@.@Python3_VERSION_MINOR@)"
+try:
+    from ._ocg import *  # noqa: F401,F403  (the native module defines __all__-free names)
+    from ._ocg import __doc__ as _native_doc  # noqa: F401
+except ImportError as _error:
+    raise ImportError(
+        "ocg's native module was built for " + BUILT_FOR_PYTHON + ", but this is "
+        + _sys.executable + " (Python %d.%d): run it with that interpreter, or rebuild with "
+        "cmake -DPython3_EXECUTABLE=%s (docs/python.md). Cause: %s"
+        % (_sys.version_info[0], _sys.version_info[1], _sys.executable, _error)) from _error
 
 __version__ = "@PROJECT_VERSION@"

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 #include <utility>
 
 #include "object_map_file.h"
@@ -70,7 +71,7 @@ ObjectLayer::ObjectLayer(const Settings& settings, bool enabled, bool keep_first
 
 void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
                            double timestamp, const std::vector<Detection>& detections,
-                           const std::string& image_path) {
+                           const std::string& image_path, const cv::Mat& image) {
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
   if (!session_start_) session_start_ = timestamp;
@@ -82,6 +83,13 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
   }
   if (!result.T_cw) return;
   if (!detections.empty() && !image_path.empty()) image_paths_[frame_offset_ + frame] = image_path;
+  if (!detections.empty() && image_path.empty() && result.new_keyframe && image.type() == CV_8UC3) {
+    std::vector<std::uint8_t> png;
+    cv::imencode(".png", image, png);
+    colour_pngs_[frame_offset_ + frame] = std::move(png);
+    // Culled keyframes' images go, so memory follows the map's keyframes, not the run's.
+    if (colour_pngs_.size() > 2 * colour_pngs_after_pruning_ + 16) PruneColourImages(system);
+  }
   std::vector<PointObservation> points;
   points.reserve(result.points.size());
   for (const TrackedPoint& point : result.points)
@@ -162,19 +170,23 @@ void ObjectLayer::Finish(const System& system, const std::vector<ObjectLayer*>& 
   for (const KeyFramePtr& keyframe : system.KeyFrames()) {
     const auto frame = static_cast<std::int64_t>(keyframe->frame_id);
     std::string path;
+    cv::Mat bgr;
     for (const ObjectLayer* layer : enabled) {
       const auto found = layer->image_paths_.find(frame);
       if (found != layer->image_paths_.end()) path = found->second;
+      if (bgr.empty()) bgr = layer->ColourImageOf(frame);
     }
-    if (path.empty()) continue;
-    const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
-    if (bgr.empty()) {
-      spdlog::warn("cannot read '{}' again for the objects' colours: its keyframe gives none",
-                   path);
-      continue;
+    if (!path.empty()) {
+      bgr = cv::imread(path, cv::IMREAD_COLOR);
+      if (bgr.empty()) {
+        spdlog::warn("cannot read '{}' again for the objects' colours: its keyframe gives none",
+                     path);
+        continue;
+      }
     }
+    if (bgr.empty()) continue;
     for (ObjectLayer* layer : enabled) {
-      if (layer->image_paths_.count(frame) == 0) continue;
+      if (layer->image_paths_.count(frame) == 0 && layer->colour_pngs_.count(frame) == 0) continue;
       ++layer->colour_images_;
       layer->colour_signatures_ +=
           layer->mapper_->SetSightingColours(frame, bgr, ColourSignatureOptions{});
@@ -183,7 +195,26 @@ void ObjectLayer::Finish(const System& system, const std::vector<ObjectLayer*>& 
   spdlog::debug("objects' colours of {} layer(s) from the keyframe images in {:.2f} s",
                 enabled.size(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  for (ObjectLayer* layer : enabled) layer->FinishAppearances(system);
+  for (ObjectLayer* layer : enabled) {
+    layer->colour_pngs_.clear();
+    layer->colour_pngs_after_pruning_ = 0;
+    layer->FinishAppearances(system);
+  }
+}
+
+void ObjectLayer::PruneColourImages(const System& system) {
+  std::set<std::int64_t> keyframes;
+  for (const KeyFramePtr& keyframe : system.KeyFrames())
+    keyframes.insert(static_cast<std::int64_t>(keyframe->frame_id));
+  for (auto it = colour_pngs_.begin(); it != colour_pngs_.end();)
+    it = keyframes.count(it->first) > 0 ? std::next(it) : colour_pngs_.erase(it);
+  colour_pngs_after_pruning_ = colour_pngs_.size();
+}
+
+cv::Mat ObjectLayer::ColourImageOf(std::int64_t frame) const {
+  const auto found = colour_pngs_.find(frame);
+  if (found == colour_pngs_.end()) return cv::Mat();
+  return cv::imdecode(found->second, cv::IMREAD_COLOR);
 }
 
 std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }

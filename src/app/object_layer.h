@@ -14,6 +14,7 @@
 #include <iosfwd>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/mat.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,10 +45,13 @@ class ObjectLayer {
   bool Enabled() const { return enabled_; }
 
   // image_path: the frame's image file ("" when there is none), read again in colour at
-  // Finish() if the frame ends as a keyframe (the objects' colour signatures).
+  // Finish() if the frame ends as a keyframe (the objects' colour signatures). Without a
+  // file, a BGR image (the pixels given) of a new keyframe with detections is kept for
+  // them instead, compressed losslessly (PNG in memory: the colours a file of the same
+  // pixels gives), until Finish() or the keyframe is culled.
   void AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
                 double timestamp, const std::vector<Detection>& detections,
-                const std::string& image_path);
+                const std::string& image_path, const cv::Mat& image = cv::Mat());
   // The objects for the viewer (none without detections) and their up direction.
   std::vector<ObjectView> Views() const;
   std::optional<Eigen::Vector3d> Up() const;
@@ -112,6 +116,13 @@ class ObjectLayer {
   std::map<ObjectId, std::vector<Descriptor>> box_appearance_;
   // This session's image files of frames with detections, by frame (over all sessions).
   std::map<std::int64_t, std::string> image_paths_;
+  // Frames without a file: their BGR pixels as PNG bytes, for new keyframes with detections.
+  std::map<std::int64_t, std::vector<std::uint8_t>> colour_pngs_;
+  std::size_t colour_pngs_after_pruning_ = 0;
+  // Drops the kept images of frames that are no longer keyframes (culled).
+  void PruneColourImages(const System& system);
+  // The colour image of a keyframe for its sightings' signatures; empty when none.
+  cv::Mat ColourImageOf(std::int64_t frame) const;
   // Finish(): keyframe images read again, sightings given a colour signature.
   int colour_images_ = 0;
   int colour_signatures_ = 0;

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -101,13 +103,17 @@ class ObjectSlam::Impl {
     if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     const TrackingResult result =
         system_.TrackImage(gray, timestamp, source.timestamp_text, source.features.get());
-    objects_.AddFrame(system_, result, frames_, timestamp, detections, source.image_path);
+    objects_.AddFrame(system_, result, frames_, timestamp, detections, source.image_path, image);
     if (result.T_cw && !first_tracked_) first_tracked_ = frames_;
     for (AlsoMode& also : also_)
-      also.objects->AddFrame(system_, result, frames_, timestamp, detections, source.image_path);
+      also.objects->AddFrame(system_, result, frames_, timestamp, detections, source.image_path,
+                             image);
     snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
     ++frames_;
     pose_ = result.T_cw;
+    last_timestamp_ = timestamp;
+    last_frame_ = {result.state, result.T_cw, result.new_keyframe, result.relocalized,
+                   result.inliers};
     if (progress_.Due(SecondsSince(start_))) progress_.Add(Status());
     return result.T_cw;
   }
@@ -245,6 +251,8 @@ class ObjectSlam::Impl {
   std::string loaded_map_, saved_map_;
   std::size_t loaded_keyframes_ = 0;
   std::optional<SE3> pose_;
+  double last_timestamp_ = 0.0;  // of the last frame given (frames_ > 0)
+  FrameReport last_frame_;
   bool started_ = false;
   Clock::time_point start_;
   double wall_seconds_ = 0.0;
@@ -448,8 +456,27 @@ std::optional<SE3> ObjectSlam::Track(const cv::Mat& image, double timestamp,
         std::to_string(image.channels()) + " channel(s) of depth code " +
         std::to_string(image.depth()));
   }
+  // The rule the frame lists' readers apply (io/time_order.h), for every caller: a time
+  // that is not a number, or not later than the last frame's, gives the trajectories a
+  // step back in time and one time two poses.
+  if (!std::isfinite(timestamp)) {
+    throw std::invalid_argument(
+        "ObjectSlam::Track: the timestamp must be a finite number of "
+        "seconds, got " +
+        std::to_string(timestamp));
+  }
+  if (impl_->frames_ > 0 && !(timestamp > impl_->last_timestamp_)) {
+    char message[200];
+    std::snprintf(message, sizeof(message),
+                  "ObjectSlam::Track: frame times must increase strictly: %.9g is not later than "
+                  "the last frame's %.9g",
+                  timestamp, impl_->last_timestamp_);
+    throw std::invalid_argument(message);
+  }
   return impl_->Track(image, timestamp, detections, source);
 }
+
+FrameReport ObjectSlam::LastFrame() const { return impl_->last_frame_; }
 
 std::function<ExtractedFeatures(const cv::Mat&)> ObjectSlam::FeatureExtractor() const {
   return impl_->system_.MakeFeatureExtractor();

@@ -23,41 +23,21 @@ namespace fs = std::filesystem;
 
 constexpr int kCocoClasses = 80;
 
-// Throws ParseError with what is wrong with the detection, if anything.
-void ValidateDetection(const Detection& detection, const std::string& where) {
-  auto fail = [&](const std::string& message) { throw ParseError(where + ": " + message); };
-  if (detection.class_id < 0 || detection.class_id >= kCocoClasses) {
-    fail("class_id must be a COCO-80 index in [0, 79], got " + std::to_string(detection.class_id));
-  }
-  if (!(detection.width > 0) || !(detection.height > 0)) {
-    fail("box width and height must be positive, got " + std::to_string(detection.width) + " x " +
-         std::to_string(detection.height));
-  }
-  if (!(detection.confidence >= 0.0 && detection.confidence <= 1.0)) {
-    fail("confidence must be in [0, 1], got " + std::to_string(detection.confidence));
-  }
-}
-
 Detection ParseEaoLine(const std::vector<std::string>& fields, const std::string& path, int line) {
   if (fields.size() != 6) {
     ThrowParseError(
         path, line,
         "expected 6 fields 'class_id x y w h confidence', got " + std::to_string(fields.size()));
   }
-  Detection detection;
+  // The class as text must be an integer ("39", not "39.0"); the rest is DetectionFromRow's.
   const long long class_id = ParseIntegerField(fields[0], "class_id", path, line);
-  // Checked before narrowing: 4294967297 must not wrap to the valid class 1.
-  if (class_id < 0 || class_id >= kCocoClasses) {
-    ThrowParseError(path, line, "class_id must be a COCO-80 index in [0, 79], got " + fields[0]);
-  }
-  detection.class_id = static_cast<int>(class_id);
-  detection.x = ParseNumberField(fields[1], "x", path, line);
-  detection.y = ParseNumberField(fields[2], "y", path, line);
-  detection.width = ParseNumberField(fields[3], "w", path, line);
-  detection.height = ParseNumberField(fields[4], "h", path, line);
-  detection.confidence = ParseNumberField(fields[5], "confidence", path, line);
-  ValidateDetection(detection, FileLocation(path, line));
-  return detection;
+  const double row[6] = {static_cast<double>(class_id),
+                         ParseNumberField(fields[1], "x", path, line),
+                         ParseNumberField(fields[2], "y", path, line),
+                         ParseNumberField(fields[3], "w", path, line),
+                         ParseNumberField(fields[4], "h", path, line),
+                         ParseNumberField(fields[5], "confidence", path, line)};
+  return DetectionFromRow(row, FileLocation(path, line));
 }
 
 std::string FormatNumber(double value) {
@@ -127,6 +107,44 @@ bool Exists(const fs::path& path) {
   return fs::exists(fs::symlink_status(path, error));
 }
 }  // namespace
+
+void CheckDetection(const Detection& detection, const std::string& where) {
+  auto fail = [&](const std::string& message) { throw ParseError(where + ": " + message); };
+  if (detection.class_id < 0 || detection.class_id >= kCocoClasses) {
+    fail("class_id must be a COCO-80 index in [0, 79], got " + std::to_string(detection.class_id));
+  }
+  if (!std::isfinite(detection.x) || !std::isfinite(detection.y)) {
+    fail("box corner x y must be finite numbers (pixels), got " + FormatNumber(detection.x) + " " +
+         FormatNumber(detection.y));
+  }
+  if (!(detection.width > 0) || !(detection.height > 0) || !std::isfinite(detection.width) ||
+      !std::isfinite(detection.height)) {
+    fail("box width and height must be positive, got " + std::to_string(detection.width) + " x " +
+         std::to_string(detection.height));
+  }
+  if (!(detection.confidence >= 0.0 && detection.confidence <= 1.0)) {
+    fail("confidence must be in [0, 1], got " + std::to_string(detection.confidence));
+  }
+}
+
+Detection DetectionFromRow(const double (&row)[6], const std::string& where) {
+  // Checked before narrowing: 4294967297 must not wrap to the valid class 1.
+  const std::optional<int> class_id = WholeNumberAs<int>(row[0]);
+  if (!class_id || *class_id < 0 || *class_id >= kCocoClasses) {
+    char given[32];
+    std::snprintf(given, sizeof(given), "%.15g", row[0]);  // every digit of 4294967297
+    throw ParseError(where + ": class_id must be a COCO-80 index in [0, 79], got " + given);
+  }
+  Detection detection;
+  detection.class_id = *class_id;
+  detection.x = row[1];
+  detection.y = row[2];
+  detection.width = row[3];
+  detection.height = row[4];
+  detection.confidence = row[5];
+  CheckDetection(detection, where);
+  return detection;
+}
 
 std::vector<Detection> ReadEaoDetectionFile(const std::string& path,
                                             const DetectionReadOptions& options) {
@@ -297,8 +315,8 @@ std::vector<DetectionFrame> ReadJsonDetections(const std::string& path,
         detection.y = box[1];
         detection.width = box[2] - box[0];
         detection.height = box[3] - box[1];
-        ValidateDetection(detection,
-                          where + " ('" + frame.file_name + "') detection #" + std::to_string(j));
+        CheckDetection(detection,
+                       where + " ('" + frame.file_name + "') detection #" + std::to_string(j));
         frame.detections.push_back(detection);
       }
       frames.push_back(std::move(frame));

@@ -1,7 +1,10 @@
 #include "ocg/io/sequence.h"
 
+#include <cstdio>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <optional>
+#include <stdexcept>
 
 #include "ocg/core/file_io.h"
 #include "ocg/core/options.h"
@@ -91,7 +94,7 @@ void ReadEurocSensor(const std::string& path, ImageSequence* sequence) {
 
 std::vector<StampedPose> ReadEurocGroundtruth(const std::string& path) {
   std::vector<StampedPose> poses;
-  TimeOrderCheck order(path, "pose");
+  std::vector<int> lines;
   ForEachDataLine(path, true, [&](int line, const std::vector<std::string>& fields) {
     if (fields.size() < 8) {
       ThrowParseError(path, line, "expected at least 8 fields 'timestamp px py pz qw qx qy qz'");
@@ -101,12 +104,13 @@ std::vector<StampedPose> ReadEurocGroundtruth(const std::string& path) {
     StampedPose pose;
     pose.timestamp = NanosecondsToSeconds(fields[0], path, line);
     pose.timestamp_text = SecondsText(fields[0]);
-    order.Add(pose.timestamp, fields[0], line);
     pose.T_wc = SE3(Eigen::Quaterniond(values[3], values[4], values[5], values[6]),
                     Eigen::Vector3d(values[0], values[1], values[2]));
     poses.push_back(pose);
+    lines.push_back(line);
   });
-  return poses;
+  // Ground truth is reference data: read as the field's tools read it (io/time_order.h).
+  return InReferenceOrder(path, poses, lines);
 }
 
 }  // namespace
@@ -174,6 +178,92 @@ ImageSequence ReadEurocSequence(const std::string& root) {
     }
   }
   return sequence;
+}
+
+namespace {
+
+// calib.txt's "P0: p00 p01 ... p23" (3x4 projection of the left grey camera, row-major).
+PinholeCamera ReadKittiCalibration(const std::string& path) {
+  std::optional<PinholeCamera> camera;
+  ForEachDataLine(path, false, [&](int line, const std::vector<std::string>& fields) {
+    if (fields.empty() || fields[0] != "P0:") return;
+    if (fields.size() != 13) {
+      ThrowParseError(path, line,
+                      "P0 must hold the 12 numbers of a 3x4 projection matrix, got " +
+                          std::to_string(fields.size() - 1));
+    }
+    PinholeCamera read;
+    read.fx = ParseNumberField(fields[1], "P0 fx", path, line);
+    read.cx = ParseNumberField(fields[3], "P0 cx", path, line);
+    read.fy = ParseNumberField(fields[6], "P0 fy", path, line);
+    read.cy = ParseNumberField(fields[7], "P0 cy", path, line);
+    camera = read;
+  });
+  if (!camera) throw FileError("'" + path + "' has no P0 line (the left grey camera)");
+  return *camera;
+}
+
+}  // namespace
+
+ImageSequence ReadKittiSequence(const std::string& root) {
+  const std::string images = JoinPath(root, "image_0");
+  const std::string times = JoinPath(root, "times.txt");
+  for (const std::string& needed : {images, times, JoinPath(root, "calib.txt")}) {
+    if (!fs::exists(needed)) {
+      throw FileError("'" + root + "' is not a KITTI odometry sequence folder: '" + needed +
+                      "' is missing");
+    }
+  }
+  ImageSequence sequence;
+  sequence.root = root;
+  sequence.list = times;
+  const KittiTimes frame_times = ReadKittiTimes(times);
+  std::size_t image_files = 0;
+  for (const auto& entry : fs::directory_iterator(images))
+    image_files += entry.path().extension() == ".png" ? 1 : 0;
+  if (frame_times.seconds.size() > image_files) {
+    throw FileError("'" + times + "' lists " + std::to_string(frame_times.seconds.size()) +
+                    " times, but '" + images + "' holds " + std::to_string(image_files) +
+                    " PNG images: one time per image");
+  }
+  for (std::size_t i = 0; i < frame_times.seconds.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "%06zu.png", i);
+    sequence.images.push_back(
+        {frame_times.texts[i], frame_times.seconds[i], JoinPath(images, name)});
+  }
+  PinholeCamera camera = ReadKittiCalibration(JoinPath(root, "calib.txt"));
+  if (!sequence.images.empty()) {
+    const cv::Mat first = cv::imread(sequence.images.front().path, cv::IMREAD_UNCHANGED);
+    if (first.empty()) {
+      throw FileError("cannot read the first image '" + sequence.images.front().path + "'");
+    }
+    camera.width = first.cols;
+    camera.height = first.rows;
+    sequence.camera = camera;
+  }
+  return sequence;
+}
+
+ImageSequence ReadSequence(const std::string& root, const std::string& format) {
+  std::string chosen = format;
+  if (format == "auto") {
+    if (fs::exists(JoinPath(root, "rgb.txt"))) {
+      chosen = "tum";
+    } else if (fs::exists(JoinPath(root, "mav0/cam0/data.csv"))) {
+      chosen = "euroc";
+    } else if (fs::exists(JoinPath(root, "times.txt")) && fs::exists(JoinPath(root, "image_0"))) {
+      chosen = "kitti";
+    } else {
+      throw FileError("'" + root +
+                      "' is no sequence folder: it holds no rgb.txt (TUM), no "
+                      "mav0/cam0/data.csv (EuRoC), no times.txt with image_0/ (KITTI)");
+    }
+  }
+  if (chosen == "tum") return ReadTumSequence(root);
+  if (chosen == "euroc") return ReadEurocSequence(root);
+  if (chosen == "kitti") return ReadKittiSequence(root);
+  throw std::invalid_argument("sequence format '" + format + "': use tum, euroc, kitti or auto");
 }
 
 std::vector<StampedPose> BodyToCameraPoses(const std::vector<StampedPose>& body_poses,

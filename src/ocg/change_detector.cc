@@ -204,9 +204,21 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   result.keyframe_id = keyframe;
   for (ObjectId id : outliers) {
     result.removed.push_back(MakeRemoval(id, keyframe, observation.timestamp));
+    KeepGeometryForReentry(id);
     RemoveObject(id, modes_.restore);
   }
   return result;
+}
+
+void ObjectChangeDetector::KeepGeometryForReentry(ObjectId id) {
+  // SPEC 3.1: an id observed again after its removal re-enters with its last centroid. A
+  // feeding system sends a centroid only when it is new or changed, so without it an
+  // object falsely removed and seen again at its old place could never be judged again.
+  const Record& record = records_.at(id);
+  ObjectGeometryUpdate& kept = pending_[id];
+  kept.centroid = record.geometry.centroid;
+  kept.size = record.geometry.size;
+  if (record.class_id >= 0) kept.class_id = record.class_id;
 }
 
 std::uint64_t ObjectChangeDetector::InViewNeighbourWeight(
@@ -289,6 +301,7 @@ KeyframeResult ObjectChangeDetector::EndSession() {
            << event.doubt << " > tau_doubt " << options_.tau_doubt;
     event.reason = reason.str();
     result.removed.push_back(event);
+    KeepGeometryForReentry(id);
     RemoveObject(id);
   }
   return result;
@@ -326,6 +339,12 @@ bool ObjectChangeDetector::Restore(ObjectId id) {
     UpdateIsolation(edge.neighbour);
   }
   removed_.erase(it);
+  // Its kept geometry, or a newer one sent while it was out of the graph.
+  const auto pending = pending_.find(id);
+  if (pending != pending_.end()) {
+    ApplyUpdate(record, pending->second);
+    pending_.erase(pending);
+  }
   record.rate = 0.0;
   record.rate_keyframe = -1;
   record.judged_by_geometry = false;

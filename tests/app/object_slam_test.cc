@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -206,6 +207,25 @@ TEST(ObjectSlam, RefusesImagesItCannotTrack) {
   EXPECT_THROW(slam.Track(cv::Mat(480, 640, CV_8UC4, cv::Scalar(1, 2, 3, 4)), 0.0, {}),
                std::invalid_argument);
   EXPECT_EQ(slam.FramesGiven(), 0u);
+}
+
+// The rule of the frame lists' readers, for every caller (Python feeds Track directly).
+TEST(ObjectSlam, RefusesTimesThatAreNotFiniteOrNotLater) {
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam slam(SmokeSettings(), options);
+  const cv::Mat frame(480, 640, CV_8UC1, cv::Scalar(128));
+  EXPECT_EQ(slam.LastFrame().state, TrackingState::kNoImages);
+  EXPECT_THROW(slam.Track(frame, std::nan(""), {}), std::invalid_argument);
+  EXPECT_THROW(slam.Track(frame, HUGE_VAL, {}), std::invalid_argument);
+  slam.Track(frame, 1.0, {});
+  EXPECT_EQ(slam.LastFrame().state, TrackingState::kNotInitialized);
+  EXPECT_FALSE(slam.LastFrame().T_cw.has_value());
+  EXPECT_THROW(slam.Track(frame, 1.0, {}), std::invalid_argument);
+  EXPECT_THROW(slam.Track(frame, 0.5, {}), std::invalid_argument);
+  EXPECT_EQ(slam.FramesGiven(), 1u);
+  slam.Track(frame, 1.5, {});
+  EXPECT_EQ(slam.FramesGiven(), 2u);
 }
 
 TEST(ObjectSlam, MissingVocabularyIsAFileError) {

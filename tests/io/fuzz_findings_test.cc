@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "error_of.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/io/detections.h"
@@ -15,17 +16,7 @@
 namespace ocg {
 namespace {
 
-// The message of the exception of type Error that call throws; fails the test otherwise.
-template <typename Error, typename Call>
-std::string ErrorOf(Call call) {
-  try {
-    call();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "no error of the expected type";
-  return {};
-}
+using testing::ErrorOf;
 
 TEST(FuzzFindings, PlyVertexCountTheFileCannotHoldIsAParseErrorNotAnAllocation) {
   const std::string dir = testing::MakeTempDir("fuzz_ply");

@@ -2,6 +2,8 @@
 #include <sys/stat.h>
 
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
 
 #include "ocg/core/file_io.h"
 #include "ocg/io/sequence.h"
@@ -98,6 +100,56 @@ TEST(Sequence, MissingFolderOrBadListNamesTheFile) {
   } catch (const ParseError& error) {
     EXPECT_NE(std::string(error.what()).find("rgb.txt:3"), std::string::npos) << error.what();
   }
+}
+
+// A KITTI odometry folder as the dataset ships it: image_0/, times.txt, calib.txt.
+TEST(KittiSequence, ReadsImagesTimesAndTheCameraOfP0) {
+  const std::string root = testing::MakeTempDir("kitti_sequence");
+  fs::create_directories(root + "/image_0");
+  for (const char* name : {"000000.png", "000001.png", "000002.png"})
+    cv::imwrite(root + "/image_0/" + name, cv::Mat(37, 122, CV_8UC1, cv::Scalar(90)));
+  WriteFileAtomically(root + "/times.txt", "0.000000e+00\n1.038752e-01\n2.078941e-01\n");
+  WriteFileAtomically(root + "/calib.txt",
+                      "P0: 7.070912e+02 0 6.018873e+02 0 0 7.070912e+02 1.831104e+02 0 0 0 1 0\n"
+                      "P1: 7.070912e+02 0 6.018873e+02 -3.798145e+02 0 7.070912e+02 "
+                      "1.831104e+02 0 0 0 1 0\n");
+  for (const char* format : {"kitti", "auto"}) {
+    const ImageSequence sequence = ReadSequence(root, format);
+    ASSERT_EQ(sequence.images.size(), 3u);
+    EXPECT_EQ(sequence.images[1].timestamp_text, "0.103875");
+    EXPECT_DOUBLE_EQ(sequence.images[1].timestamp, 0.1038752);
+    EXPECT_EQ(sequence.images[2].path, root + "/image_0/000002.png");
+    ASSERT_TRUE(sequence.camera.has_value());
+    EXPECT_EQ(sequence.camera->fx, 707.0912);
+    EXPECT_EQ(sequence.camera->cy, 183.1104);
+    EXPECT_EQ(sequence.camera->width, 122);
+    EXPECT_EQ(sequence.camera->height, 37);
+  }
+  // More times than images, a missing calib.txt: named.
+  WriteFileAtomically(root + "/times.txt", "0\n0.1\n0.2\n0.3\n");
+  try {
+    ReadKittiSequence(root);
+    ADD_FAILURE() << "accepted 4 times for 3 images";
+  } catch (const FileError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("lists 4 times, but '" + root + "/image_0' holds 3 PNG images"),
+              std::string::npos)
+        << error.what();
+  }
+  fs::remove(root + "/calib.txt");
+  EXPECT_THROW(ReadKittiSequence(root), FileError);
+  EXPECT_THROW(ReadSequence(root, "kitty"), std::invalid_argument);
+}
+
+TEST(KittiSequence, ReadsTheRealFolder) {
+  const auto data = testing::SharedDataDir();
+  if (!data) GTEST_SKIP() << testing::SharedDataSkipMessage();
+  const ImageSequence sequence = ReadKittiSequence(*data + "/kitti_07_first160");
+  ASSERT_EQ(sequence.images.size(), 160u);
+  EXPECT_EQ(sequence.images.back().timestamp_text, "16.533760");
+  EXPECT_EQ(sequence.camera->width, 1226);
+  EXPECT_EQ(sequence.camera->height, 370);
+  EXPECT_EQ(sequence.camera->fx, 707.0912);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "error_of.h"
 #include "ocg/core/file_io.h"
 #include "ocg/io/text_lines.h"
 #include "ocg/io/trajectory.h"
@@ -51,6 +52,80 @@ TEST(TumTrajectory, MalformedLinesNameFileAndLine) {
     }
   }
   EXPECT_THROW(ReadTumTrajectory("/nonexistent/traj.txt"), FileError);
+}
+
+// The message of the ParseError read throws; fails the test when none is thrown.
+template <typename Read>
+std::string ParseErrorOf(Read read) {
+  return testing::ErrorOf<ParseError>(read);
+}
+
+TEST(KittiTrajectory, RoundTripRowByRowWithTheRowIndexAsTime) {
+  std::vector<StampedPose> poses(3);
+  for (int i = 0; i < 3; ++i) {
+    poses[i].timestamp = 10.0 + i;
+    poses[i].T_wc = SE3::Exp((Vector6d() << i, 2, -3, 0.1 * i, 0.2, 0.3).finished());
+  }
+  const std::string path = WriteFixture("");
+  WriteKittiTrajectory(path, poses);
+  EXPECT_EQ(DetectTrajectoryFormat(path), TrajectoryFormat::kKitti);
+  const std::vector<StampedPose> read = ReadKittiTrajectory(path);
+  ASSERT_EQ(read.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(read[i].timestamp, i);
+    EXPECT_EQ(read[i].timestamp_text, std::to_string(i));
+    EXPECT_TRUE(read[i].T_wc.Matrix().isApprox(poses[i].T_wc.Matrix(), 1e-8)) << i;
+  }
+  // TUM lines are detected as such.
+  WriteTumTrajectory(path, poses);
+  EXPECT_EQ(DetectTrajectoryFormat(path), TrajectoryFormat::kTum);
+  EXPECT_EQ(ReadTrajectory(path)[2].timestamp, 12.0);
+}
+
+TEST(KittiTrajectory, MalformedLinesAndTimesNameFileAndLine) {
+  EXPECT_NE(ParseErrorOf([] {
+              ReadKittiTrajectory(WriteFixture("1 0 0 0 0 1 0 0 0 0 1\n"));
+            }).find(":1: expected the 12 numbers of a KITTI pose"),
+            std::string::npos);
+  EXPECT_NE(
+      ParseErrorOf([] {
+        ReadKittiTrajectory(WriteFixture("1 0 0 0 0 1 0 0 0 0 1 0\n2 0 0 0 0 1 0 0 0 0 1 0\n"));
+      }).find(":2: the 3x3 part is not a rotation"),
+      std::string::npos);
+  const std::string dir = testing::MakeTempDir("kitti_times");
+  WriteFileAtomically(dir + "/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n");
+  WriteFileAtomically(dir + "/times.txt", "0.000000e+00\n1.038752e-01\n2.078941e-01\n");
+  EXPECT_NE(ParseErrorOf([&] {
+              ReadTrajectory(dir + "/poses.txt", dir + "/times.txt");
+            }).find("2 KITTI poses, but '" + dir + "/times.txt' lists 3 times"),
+            std::string::npos);
+  WriteFileAtomically(dir + "/times.txt", "0.000000e+00\n1.038752e-01\n");
+  const std::vector<StampedPose> timed = ReadTrajectory(dir + "/poses.txt", dir + "/times.txt");
+  EXPECT_EQ(timed[1].timestamp_text, "0.103875");
+  EXPECT_DOUBLE_EQ(timed[1].timestamp, 0.1038752);
+  // times.txt is the frames' list: strict.
+  WriteFileAtomically(dir + "/times.txt", "0.2\n0.1\n");
+  EXPECT_NE(ParseErrorOf([&] {
+              ReadKittiTimes(dir + "/times.txt");
+            }).find("times.txt:2: frame time 0.1 is earlier than line 1"),
+            std::string::npos);
+  EXPECT_THROW(DetectTrajectoryFormat(WriteFixture("# nothing\n")), ParseError);
+}
+
+TEST(KittiTrajectory, RealGroundTruthEqualsItsTumConversion) {
+  const auto data = testing::SharedDataDir();
+  if (!data) GTEST_SKIP() << testing::SharedDataSkipMessage();
+  const std::string root = *data + "/kitti_07_first160";
+  const std::vector<StampedPose> kitti =
+      ReadTrajectory(root + "/poses_kitti.txt", root + "/times.txt");
+  const std::vector<StampedPose> tum = ReadTumTrajectory(root + "/groundtruth.txt");
+  ASSERT_EQ(kitti.size(), 160u);
+  ASSERT_EQ(tum.size(), 160u);
+  for (std::size_t i = 0; i < kitti.size(); ++i) {
+    EXPECT_EQ(kitti[i].timestamp_text, tum[i].timestamp_text) << i;
+    EXPECT_LT((kitti[i].T_wc.translation() - tum[i].T_wc.translation()).norm(), 1e-5) << i;
+    EXPECT_LT(kitti[i].T_wc.quaternion().angularDistance(tum[i].T_wc.quaternion()), 1e-5) << i;
+  }
 }
 
 }  // namespace

@@ -973,5 +973,60 @@ TEST(Points, PresenceByPointsClearsTheDoubtAndAddsNoEdge) {
   EXPECT_EQ(detector.Status(1)->geometry.detected_keyframes, 1u);
 }
 
+// SPEC 3.1: an id observed after its removal re-enters as a new node and keeps its last
+// centroid. A feeding system sends a centroid only when it is new or changed, so an object
+// falsely removed and seen again at its old place must be able to gather doubt again.
+// Identity pose, fx = fy = 500, cx 320, cy 240, 640x480; object 1 at (0, 0, 2) in view.
+TEST(Reentry, ARemovedObjectSeenAgainKeepsItsCentroidAndGathersDoubtAgain) {
+  ObjectChangeDetector detector(testing::PaperOptions());
+  const std::vector<std::vector<ObjectId>> seen = {{1, 2}, {2},    {3}, {2}, {2},
+                                                   {3},    {1, 2}, {3}, {2}};
+  struct Expected {
+    S state;
+    double doubt;
+  };
+  const std::vector<Expected> object_1 = {
+      {S::kObserved, 0},    {S::kRecentlyObserved, 0}, {S::kUnknown, 0},
+      {S::kSuspicious, 30}, {S::kSuspicious, 60},      {S::kOutlier, 0},
+      {S::kObserved, 0},    {S::kUnknown, 0},          {S::kSuspicious, 30}};
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    KeyframeObservation observation =
+        testing::MakeObservation(static_cast<std::int64_t>(k), SE3(), seen[k]);
+    if (k == 0) observation.updates[1].centroid = Eigen::Vector3d(0, 0, 2);
+    const KeyframeResult result = detector.Process(observation);
+    if (k == 5) {
+      ASSERT_EQ(result.removed.size(), 1u);
+      EXPECT_EQ(result.removed[0].object_id, 1);
+      EXPECT_FALSE(detector.Status(1).has_value()) << "removed at keyframe 5";
+      continue;
+    }
+    ASSERT_TRUE(detector.Status(1).has_value()) << "keyframe " << k;
+    EXPECT_EQ(detector.Status(1)->state, object_1[k].state) << "keyframe " << k;
+    EXPECT_EQ(detector.Status(1)->doubt, object_1[k].doubt) << "keyframe " << k;
+  }
+  EXPECT_EQ(detector.Status(1)->active_edge_rate, 1.0);
+  ASSERT_TRUE(detector.Status(1)->geometry.centroid.has_value());
+  EXPECT_EQ(*detector.Status(1)->geometry.centroid, Eigen::Vector3d(0, 0, 2));
+  EXPECT_EQ(detector.Status(1)->first_keyframe, 6) << "a new node";
+}
+
+// A centroid sent while the object is out of the graph is newer than the one it had.
+TEST(Reentry, ACentroidSentAfterTheRemovalWinsOverTheLastOne) {
+  ObjectChangeDetector detector(testing::PaperOptions());
+  const std::vector<std::vector<ObjectId>> seen = {{1, 2}, {2}, {3}, {2}, {2}, {3}};
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    KeyframeObservation observation =
+        testing::MakeObservation(static_cast<std::int64_t>(k), SE3(), seen[k]);
+    if (k == 0) observation.updates[1].centroid = Eigen::Vector3d(0, 0, 2);
+    detector.Process(observation);
+  }
+  ASSERT_FALSE(detector.Status(1).has_value());
+  KeyframeObservation moved = testing::MakeObservation(6, SE3(), {2});
+  moved.updates[1].centroid = Eigen::Vector3d(5, 0, 2);
+  detector.Process(moved);
+  detector.Process(testing::MakeObservation(7, SE3(), {1, 2}));
+  EXPECT_EQ(*detector.Status(1)->geometry.centroid, Eigen::Vector3d(5, 0, 2));
+}
+
 }  // namespace
 }  // namespace ocg

@@ -49,6 +49,29 @@ def test_replay_example_matches_ocg_replay(tools, source_dir, tmp_path, mode):
     assert [(c["state"], c["doubt"]) for c in cup[5:7]] == [(4, 30.0), (4, 60.0)]
 
 
+def test_a_removed_object_seen_again_keeps_its_centroid(tools, tmp_path):
+    """SPEC 3.1's nine keyframes: object 1's centroid (0, 0, 2) is sent once, at keyframe 0;
+    removed at keyframe 5 and seen again at 6, it is suspicious again at 8 (doubt 30), as
+    ocg_replay says."""
+    seen = [[1, 2], [2], [3], [2], [2], [3], [1, 2], [3], [2]]
+    camera = {"fx": 500, "fy": 500, "cx": 320, "cy": 240, "width": 640, "height": 480}
+    stream = tmp_path / "reentry.jsonl"
+    with open(stream, "w") as out:
+        for k, observed in enumerate(seen):
+            out.write(json.dumps({"keyframe": k, "timestamp": float(k),
+                                  "T_cw": np.eye(4).ravel().tolist(), "camera": camera,
+                                  "observed": observed,
+                                  "centroids": {"1": [0, 0, 2]} if k == 0 else {}}) + "\n")
+    got = replay_through_bindings(stream, ocg.OcgOptions(mode="paper"))
+    run_tool(tools, "ocg_replay", "--input", str(stream), "--out", str(tmp_path / "out"),
+             "--mode", "paper", "--log-level", "warn")
+    assert got == [json.loads(line) for line in open(tmp_path / "out" / "states.jsonl")]
+    assert got[5]["removed"] == [1]
+    object_1 = [next(((o["state"], o["doubt"]) for o in line["objects"] if o["id"] == 1), None)
+                for line in got]
+    assert object_1 == [(1, 0), (2, 0), (3, 0), (4, 30), (4, 60), None, (1, 0), (3, 0), (4, 30)]
+
+
 def test_restored_object_comes_back_with_its_history(source_dir):
     # The example's cup (object 1) is removed at keyframe 7; found again at its place, the
     # object map says so ("restored"): with restore (part of improved) it is back in state 1

@@ -88,6 +88,19 @@ def test_read_tum_trajectory_errors_name_the_file(tmp_path):
         ocg.ate(helix(), helix(), align="affine")
 
 
+def test_read_tum_trajectory_reads_reference_files_as_the_fields_tools_do(tmp_path):
+    """A time listed twice (TUM's fr2_desk ground truth) keeps its first pose; lines out of
+    order are sorted; commas separate fields as in associate.py."""
+    path = tmp_path / "groundtruth.txt"
+    path.write_text("# timestamp tx ty tz qx qy qz qw\n"
+                    "1311868229.5760,1,0,0,0,0,0,1\n"
+                    "1311868229.5760 2 0 0 0 0 0 1\n"
+                    "1311868229.5660 3 0 0 0 0 0 1\n")
+    rows = ocg.read_tum_trajectory(path)
+    np.testing.assert_array_equal(rows[:, 0], [1311868229.5660, 1311868229.5760])
+    np.testing.assert_array_equal(rows[:, 1], [3, 1])
+
+
 def write_json(path, value):
     with open(path, "w") as handle:
         json.dump(value, handle)

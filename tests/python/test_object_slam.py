@@ -46,14 +46,19 @@ def test_smoke_sequence_gives_the_tools_trajectory(smoke, tmp_path):
     sequence, tool_out = smoke
     slam = ocg.ObjectSlam(sequence + "/camera.yaml")
     poses = []
+    states = set()
     for timestamp, image, detections in frames(sequence):
-        T_cw = slam.track(ocg.read_image(image), timestamp, detections, image_path=image)
+        result = slam.track(ocg.read_image(image), timestamp, detections, image_path=image)
+        T_cw = result.pose
+        states.add(result.state)
+        assert (T_cw is not None) == (result.state == "ok")
         if T_cw is not None:
             assert T_cw.shape == (4, 4) and T_cw.dtype == np.float64
             np.testing.assert_allclose(T_cw[:3, :3] @ T_cw[:3, :3].T, np.eye(3), atol=1e-9)
             np.testing.assert_array_equal(T_cw[3], [0, 0, 0, 1])
         poses.append(T_cw)
     assert sum(pose is not None for pose in poses) > FRAMES // 2
+    assert states <= {"not_initialized", "ok", "lost"} and "ok" in states
     slam.shutdown()
     slam.shutdown()  # safe twice
 
@@ -126,10 +131,70 @@ def test_errors_name_what_to_fix(smoke, tmp_path):
         slam.track(np.zeros((480, 640), np.float32), 0.0)
     with pytest.raises(ValueError, match="HxWx3"):
         slam.track(np.zeros((480, 640, 4), np.uint8), 0.0)
-    with pytest.raises(ValueError, match=r"\(N, 6\)"):
+    with pytest.raises(ValueError, match=r"\(N, 6\).*got shape \(2, 5\): 5 columns"):
         slam.track(np.zeros((480, 640), np.uint8), 0.0, np.zeros((2, 5)))
-    with pytest.raises(ValueError, match="score"):
+    with pytest.raises(ValueError, match="confidence must be in"):
         slam.track(np.zeros((480, 640), np.uint8), 0.0, np.array([[41, 10, 10, 20, 20, 1.5]]))
+
+
+@pytest.mark.parametrize("row, message", [
+    ([500, 10, 10, 20, 20, 0.5], "row 0: class_id must be a COCO-80 index in \\[0, 79\\], got 500"),
+    ([41.5, 10, 10, 20, 20, 0.5], "class_id must be a COCO-80 index"),
+    ([41, np.nan, 10, 20, 20, 0.5], "x y must be finite"),
+    ([41, 10, np.inf, 20, 20, 0.5], "x y must be finite"),
+    ([41, 10, 10, np.nan, 20, 0.5], "width and height must be positive"),
+    ([41, 10, 10, 20, np.inf, 0.5], "width and height must be positive"),
+    ([41, 10, 10, 20, 20, np.nan], "confidence must be in"),
+])
+def test_detection_rows_a_detection_file_may_not_hold_are_refused(smoke, row, message):
+    """The text reader's check, shared: ocg.ParseError (a ValueError) naming the row."""
+    sequence, _ = smoke
+    slam = ocg.ObjectSlam(sequence + "/camera.yaml", map_objects=False)
+    image = np.zeros((480, 640), np.uint8)
+    with pytest.raises(ocg.ParseError, match=message):
+        slam.track(image, 0.0, np.array([row]))
+    # Nothing was tracked for the refused frame: its time is still free.
+    assert slam.track(image, 0.0, np.array([[41, 10, 10, 20, 20, 0.5]])).state == "not_initialized"
+
+
+def test_timestamps_must_be_finite_and_increase(smoke):
+    """What the frame lists' readers refuse: a NaN or infinite time, one not later."""
+    sequence, _ = smoke
+    slam = ocg.ObjectSlam(sequence + "/camera.yaml", map_objects=False)
+    image = np.zeros((480, 640), np.uint8)
+    for bad in [np.nan, np.inf, -np.inf]:
+        with pytest.raises(ValueError, match="finite"):
+            slam.track(image, bad)
+    assert slam.track(image, 1.0).state == "not_initialized"
+    with pytest.raises(ValueError, match="not later than the last frame's 1"):
+        slam.track(image, 1.0)
+    with pytest.raises(ValueError, match="0.5 is not later"):
+        slam.track(image, 0.5)
+    assert slam.track(image, 1.5).state == "not_initialized"
+    slam.shutdown()
+    assert slam.camera_trajectory().shape[0] == 0
+
+
+def test_a_colour_image_gives_the_colour_signatures_without_a_file(smoke, tmp_path):
+    """The BGR pixels given to track() give the objects' colours as their file would."""
+    sequence, _ = smoke
+    reports = []
+    for with_path in [True, False]:
+        slam = ocg.ObjectSlam(sequence + "/camera.yaml")
+        for timestamp, image, detections in frames(sequence):
+            slam.track(ocg.read_image(image, "bgr"), timestamp, detections,
+                       image_path=image if with_path else None)
+        slam.shutdown()
+        folder = tmp_path / ("file" if with_path else "pixels")
+        folder.mkdir()
+        reports.append(slam.save(folder))
+    assert reports[1]["objects"]["colour_signatures"]["sightings"] > 0
+    assert reports[1]["objects"]["colour_signatures"] == reports[0]["objects"]["colour_signatures"]
+
+
+def test_more_errors_name_what_to_fix(smoke, tmp_path):
+    sequence, _ = smoke
+    slam = ocg.ObjectSlam(sequence + "/camera.yaml")
     with pytest.raises(RuntimeError, match="Shutdown"):
         slam.save(tmp_path)
     with pytest.raises(ocg.FileError):
@@ -163,3 +228,11 @@ def test_example_script_runs_the_sequence(smoke, source_dir, tmp_path):
     assert "camera at" in result.stdout and "objects" in result.stdout
     with open(tmp_path / "run" / "run.json") as run:
         assert json.load(run)["frames"] == 30
+
+
+def test_the_module_names_the_interpreter_it_was_built_for():
+    """It loads in that interpreter only: the build names it, so a user with pyenv first on
+    PATH learns which one to run."""
+    version = "(Python %d.%d)" % sys.version_info[:2]
+    assert ocg.BUILT_FOR_PYTHON.endswith(version), ocg.BUILT_FOR_PYTHON
+    assert os.path.isabs(ocg.BUILT_FOR_PYTHON.split(" ")[0])

@@ -147,6 +147,11 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
     if (judgement.next.state == ObjectState::kOutlier) removed.push_back(id);
   }
   for (ObjectId id : removed) {
+    // SPEC 3.1: seen again, it re-enters as a new node with its last centroid (and size).
+    ObjectGeometry kept;
+    kept.centroid = objects_.at(id).geometry.centroid;
+    kept.size = objects_.at(id).geometry.size;
+    pending_[id] = kept;
     objects_.erase(id);
     for (auto it = edges_.begin(); it != edges_.end();) {
       it = (it->first.first == id || it->first.second == id) ? edges_.erase(it) : std::next(it);

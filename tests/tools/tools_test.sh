@@ -20,6 +20,20 @@ check "ocg.json written" grep -q '"format": "ocg-graph"' "$WORK/replay/ocg.json"
 check "second run" "$BIN/ocg_replay" --input "$SRC/tests/data/ocg_example.jsonl" --out "$WORK/replay2"
 check "identical outputs for identical inputs" diff -r "$WORK/replay" "$WORK/replay2"
 
+# An object removed and seen again re-enters with its last centroid (SPEC 3.1) and can be
+# judged again: object 1 (centroid (0, 0, 2), sent once at keyframe 0) is removed at
+# keyframe 5, re-enters at 6, and at keyframe 8 is suspicious with doubt 30 (rate 1, in view).
+seen=('[1, 2]' '[2]' '[3]' '[2]' '[2]' '[3]' '[1, 2]' '[3]' '[2]')
+for k in "${!seen[@]}"; do
+  centroids='{}'
+  [ "$k" -eq 0 ] && centroids='{"1": [0, 0, 2]}'
+  echo "{\"keyframe\": $k, \"timestamp\": $k, \"T_cw\": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1], \"camera\": {\"fx\": 500, \"fy\": 500, \"cx\": 320, \"cy\": 240, \"width\": 640, \"height\": 480}, \"observed\": ${seen[$k]}, \"centroids\": $centroids}"
+done >"$WORK/reentry.jsonl"
+check "ocg_replay --mode paper on a re-entry" "$BIN/ocg_replay" --input "$WORK/reentry.jsonl" --out "$WORK/reentry" --mode paper
+check "object 1 removed at keyframe 5" grep -q '"keyframe":5,.*"removed":\[1\]' "$WORK/reentry/states.jsonl"
+check "re-entered at keyframe 6 in state 1" grep -q '"keyframe":6,"objects":\[{"active_edge_rate":[0-9.]*,"doubt":0[.0]*,"id":1,"state":1}' "$WORK/reentry/states.jsonl"
+check "keyframe 8: suspicious again with doubt 30" grep -q '"keyframe":8,"objects":\[{"active_edge_rate":1[.0]*,"doubt":30[.0]*,"id":1,"state":4}' "$WORK/reentry/states.jsonl"
+
 # Malformed input: an error naming the line, and nothing written.
 { head -n 3 "$SRC/tests/data/ocg_example.jsonl"; echo '{"keyframe": 3, "T_cw": [1, 2]}'; } >"$WORK/bad.jsonl"
 fails_with "ocg_replay names the bad line" "bad.jsonl:4" "$BIN/ocg_replay" --input "$WORK/bad.jsonl" --out "$WORK/bad_out"
@@ -43,6 +57,39 @@ check "ate --json" "$BIN/ocg_eval" ate --gt "$WORK/gt.txt" --est "$WORK/est.txt"
 fails_with "ate with disjoint times" "time base" "$BIN/ocg_eval" ate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --max-dt 0.001
 check "ocg_eval rpe runs" "$BIN/ocg_eval" rpe --gt "$WORK/gt.txt" --est "$WORK/est.txt"
 fails_with "missing file is named" "nope.txt" "$BIN/ocg_eval" ate --gt "$WORK/nope.txt" --est "$WORK/est.txt"
+
+# KITTI poses (12 numbers a line, no time), recognised by content. Two KITTI files pair
+# row by row; a KITTI file against a TUM one takes its rows' times from --times.
+awk '!/^#/ { print $1 }' "$WORK/gt.txt" >"$WORK/times.txt"
+check "ocg_eval convert TUM -> KITTI" "$BIN/ocg_eval" convert --in "$WORK/gt.txt" --to kitti --out "$WORK/gt_kitti.txt"
+check "... 12 numbers a line" test "$(awk '{ print NF }' "$WORK/gt_kitti.txt" | sort -u)" = 12
+check "... back to TUM with the times" "$BIN/ocg_eval" convert --in "$WORK/gt_kitti.txt" --to tum --times "$WORK/times.txt" --out "$WORK/gt_again.txt"
+"$BIN/ocg_eval" ate --gt "$WORK/gt_again.txt" --est "$WORK/gt.txt" --align none >"$WORK/out" 2>&1
+output_has "... the same poses" "rmse    0.000000"
+check "ocg_eval ate KITTI against TUM with --times" "$BIN/ocg_eval" ate --gt "$WORK/gt_kitti.txt" --est "$WORK/est.txt" --times "$WORK/times.txt"
+output_has "... scale 1/3 as from the TUM file" "scale   0.333333"
+output_has "... rmse 0" "rmse    0.000000"
+fails_with "KITTI against TUM without --times" "give the KITTI rows' times with --times" "$BIN/ocg_eval" ate --gt "$WORK/gt_kitti.txt" --est "$WORK/est.txt"
+check "est to KITTI" "$BIN/ocg_eval" convert --in "$WORK/est.txt" --to kitti --out "$WORK/est_kitti.txt"
+check "ocg_eval ate on two KITTI files (row by row)" "$BIN/ocg_eval" ate --gt "$WORK/gt_kitti.txt" --est "$WORK/est_kitti.txt"
+output_has "... rmse 0" "rmse    0.000000"
+head -n 3 "$WORK/est_kitti.txt" >"$WORK/est_kitti_short.txt"
+fails_with "two KITTI files of other lengths" "holds 5 poses and '$WORK/est_kitti_short.txt' 3" "$BIN/ocg_eval" ate --gt "$WORK/gt_kitti.txt" --est "$WORK/est_kitti_short.txt"
+# One row per frame of times.txt: a frame without a pose is refused, naming it.
+{ cat "$WORK/times.txt"; echo 1.50; } >"$WORK/times_more.txt"
+fails_with "convert --to kitti --times with a frame without a pose" "1 of the 6 frames of '$WORK/times_more.txt' have no pose" \
+  "$BIN/ocg_eval" convert --in "$WORK/gt.txt" --to kitti --times "$WORK/times_more.txt" --out "$WORK/x.txt"
+check "... nothing written" test ! -e "$WORK/x.txt"
+DATA="$SRC/../shared/data/kitti_07_first160"
+if [ -d "$DATA" ]; then
+  # The real KITTI ground truth against its TUM conversion: the same poses.
+  check "real KITTI poses against their TUM conversion" "$BIN/ocg_eval" ate --gt "$DATA/poses_kitti.txt" --est "$DATA/groundtruth.txt" --times "$DATA/times.txt" --align none
+  output_has "... 160 pairs" "pairs   160"
+  output_has "... rmse 0" "rmse    0.000000"
+  # A KITTI odometry folder read directly (image_0/, times.txt, calib.txt).
+  check "ocg_slam run --format kitti" "$BIN/ocg_slam" run --format kitti --sequence "$DATA" --settings "$DATA/orbslam2_KITTI04-12.yaml" --max-frames 3 --snapshots none --out "$WORK/kitti_run"
+  output_has "... 3 frames of the folder" "3 frames of $DATA"
+fi
 
 # ocg_convert_detections: EAO folder -> JSON -> EAO folder gives the same detections.
 mkdir -p "$WORK/eao"

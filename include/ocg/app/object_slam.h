@@ -36,6 +36,7 @@
 #include "ocg/features/orb_extractor.h"
 #include "ocg/io/detections.h"
 #include "ocg/io/trajectory.h"
+#include "ocg/slam/tracking.h"
 #include "ocg/viewer/snapshots.h"
 
 namespace ocg {
@@ -89,6 +90,15 @@ struct FrameSource {
   std::shared_ptr<const ExtractedFeatures> features = nullptr;
 };
 
+// What tracking made of the last frame given to ObjectSlam::Track().
+struct FrameReport {
+  TrackingState state = TrackingState::kNoImages;
+  std::optional<SE3> T_cw;    // world to camera, when tracked
+  bool new_keyframe = false;  // the frame became a keyframe
+  bool relocalized = false;   // tracked again after being lost (or in a loaded map)
+  int inliers = 0;            // map points matched, tracked frames
+};
+
 // Where the run came from, for run.json.
 struct RunDescription {
   std::string sequence;    // sequence folder
@@ -112,11 +122,13 @@ class ObjectSlam {
   ObjectSlam(const ObjectSlam&) = delete;
   ObjectSlam& operator=(const ObjectSlam&) = delete;
 
-  // One frame: image CV_8UC1 grey or CV_8UC3 BGR of the settings' size (pixels);
-  // timestamp in seconds, increasing; detections in this image's pixels (EAO format,
-  // ignored when the options map no objects). Returns T_cw (world to camera, map units)
-  // when the frame was tracked, else nothing. Throws std::invalid_argument for an empty
-  // image, another type or size; std::logic_error after Shutdown().
+  // One frame: image CV_8UC1 grey or CV_8UC3 BGR of the settings' size (pixels; a BGR
+  // image gives the objects' colour signatures when source.image_path is empty);
+  // timestamp in seconds, finite, strictly increasing; detections in this image's pixels
+  // (EAO format, ignored when the options map no objects). Returns T_cw (world to camera,
+  // map units) when the frame was tracked, else nothing. Throws std::invalid_argument for
+  // an empty image, another type or size, a timestamp not finite or not later than the last
+  // frame's; std::logic_error after Shutdown().
   std::optional<SE3> Track(const cv::Mat& image, double timestamp,
                            const std::vector<Detection>& detections,
                            const FrameSource& source = {});
@@ -135,6 +147,8 @@ class ObjectSlam {
   // takes the map's lock, so a few times a second at most).
   RunStatus Status() const;
 
+  // What tracking made of the last frame given (state kNoImages before the first).
+  FrameReport LastFrame() const;
   // The last tracked frame's pose (T_cw), if any frame was tracked since the last reset.
   std::optional<SE3> Pose() const;
   // objects.json and changes.json (docs/objects.md): the object map and the change log.

@@ -21,6 +21,14 @@ struct Detection {
   double confidence = 0.0;  // in [0, 1]
 };
 
+// The one check of a detection, whatever gave it (an EAO text line, a JSON entry, a Python
+// array): class_id a COCO-80 index in [0, 79], x and y finite, width and height positive
+// and finite, confidence in [0, 1]. Throws ParseError "where: what is wrong".
+void CheckDetection(const Detection& detection, const std::string& where);
+// A row [class_id, x, y, w, h, confidence] of numbers: class_id must be a whole number,
+// then CheckDetection. Throws ParseError "where: what is wrong".
+Detection DetectionFromRow(const double (&row)[6], const std::string& where);
+
 struct DetectionFrame {
   std::string file_name;  // image the detections belong to
   std::vector<Detection> detections;

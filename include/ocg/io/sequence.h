@@ -1,5 +1,5 @@
 #pragma once
-// Image sequences on disk: TUM RGB-D folders and EuRoC MAV folders.
+// Image sequences on disk: TUM RGB-D, EuRoC MAV and KITTI odometry folders.
 
 #include <optional>
 #include <string>
@@ -45,6 +45,21 @@ ImageSequence ReadTumSequence(const std::string& root);
 // line (or a time out of order), SettingsError naming sensor.yaml and the key for a bad or
 // impossible calibration.
 ImageSequence ReadEurocSequence(const std::string& root);
+
+// A KITTI odometry sequence folder (sequences/NN/): image_0/NNNNNN.png (the left grey
+// camera), times.txt (one time in seconds per image, strictly increasing; ReadKittiTimes),
+// calib.txt (its P0 line gives fx, fy, cx, cy; the image size is the first image's). The
+// frames' timestamp texts are the times as "%.6f" (detection files: "<text>.txt"). No
+// ground truth: KITTI keeps it in poses/NN.txt, outside the folder.
+// Throws FileError when image_0/, times.txt or calib.txt is missing, when times.txt lists
+// more times than image_0/ holds images or the first image cannot be read; ParseError
+// naming file and line for a bad time or a bad P0 line.
+ImageSequence ReadKittiSequence(const std::string& root);
+
+// format "tum", "euroc" or "kitti"; "auto": the one whose files the folder holds (rgb.txt,
+// mav0/cam0/data.csv, times.txt with image_0/). Throws std::invalid_argument for another
+// format, FileError when "auto" finds none (naming what it looked for).
+ImageSequence ReadSequence(const std::string& root, const std::string& format);
 
 // Camera poses from body poses: T_wc = T_wb * T_body_camera.
 std::vector<StampedPose> BodyToCameraPoses(const std::vector<StampedPose>& body_poses,

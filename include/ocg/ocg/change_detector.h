@@ -81,7 +81,8 @@ class ObjectChangeDetector {
   bool Restore(ObjectId id);
 
   std::optional<ObjectStatus> Status(ObjectId id) const;
-  // Geometry given for an object not in the graph, kept for its first observation.
+  // Geometry known for an object not in the graph, used when it is observed (again): given
+  // before its first observation, or the last of a removed object (SPEC 3.1).
   std::optional<ObjectGeometryUpdate> PendingGeometry(ObjectId id) const;
   // Every object in the graph, ascending id.
   std::vector<ObjectStatus> Snapshot() const;
@@ -113,6 +114,8 @@ class ObjectChangeDetector {
   void ApplyUpdate(Record& record, const ObjectGeometryUpdate& update);
   void SetState(ObjectId id, Record& record, const StateAndDoubt& next);
   void UpdateIsolation(ObjectId id);
+  // A removal's centroid, size and class wait in pending_ for the id's re-entry.
+  void KeepGeometryForReentry(ObjectId id);
   // archive: keep the record and edges for Restore() ("restore" mode removals).
   void RemoveObject(ObjectId id, bool archive = false);
   // "dropout": sum of E(id, j) over the neighbours j detected in this keyframe or
@@ -132,8 +135,8 @@ class ObjectChangeDetector {
   OcgModes modes_;
   ObjectCovisibilityGraph graph_;
   std::unordered_map<ObjectId, Record> records_;
-  // Geometry given for objects not (yet) in the graph (SPEC 3.1: a centroid may arrive
-  // before the first observation); applied when the object enters.
+  // Geometry of objects not in the graph (SPEC 3.1: a centroid may arrive before the
+  // first observation; a removed object keeps its last one); applied when the id enters.
   std::unordered_map<ObjectId, ObjectGeometryUpdate> pending_;
   std::unordered_set<ObjectId> active_;    // states 1, 2 and 4
   std::unordered_set<ObjectId> isolated_;  // degree 0 (judged geometrically in "fallback")
