@@ -1,10 +1,13 @@
-"""tools/ocg_batch: the configuration check, the Slurm profile's dry run, and a local
-two-sequence batch (generated smoke sequences, 20 frames) that resumes after losing a run."""
+"""tools/ocg_batch: the configuration check, the Slurm profile's dry run, a local
+two-sequence batch (generated smoke sequences, 20 frames) that resumes after losing a run,
+ORB-SLAM2's own settings files, and a batch where one run fails in the middle."""
 import csv
 import os
 import subprocess
 
 import pytest
+
+from conftest import run_tool
 
 
 def ocg_batch(source_dir, *arguments, cwd=None):
@@ -39,6 +42,16 @@ repeats: 2
     ("out: o\nsequences: [{path: nowhere, settings: s.yaml}]\n", "sequences[0].path: no such folder"),
     ("out: o\nsequences: [{preset: smoke}]\nvariants: {v: {System.sequential: true}}\n",
      "variants.v.System.sequential: set by executions"),
+    # Variant keys are read by the product's own reader, strictly: a misspelt key stops
+    # the batch instead of giving a row identical to the default's.
+    ("out: o\nsequences: [{preset: smoke}]\nvariants: {v: {LoopClosing.enabeld: false}}\n",
+     "variants.v: (defaults): unknown settings keys (no module reads them; docs/settings.md "
+     "lists the keys):\n  --set LoopClosing.enabeld: unknown key 'LoopClosing.enabeld'; did you "
+     "mean 'LoopClosing.enabled'?"),
+    ("out: o\nsequences: [{preset: smoke}]\nvariants: {v: {OCG: {tau_doubt: lots}}}\n",
+     "variants.v: --set OCG.tau_doubt: key 'OCG.tau_doubt': expected a number, got 'lots'"),
+    ("out: o\nsequences: [{preset: smoke}]\nvariants: {v: {OCG.tau_observable: 1.5}}\n",
+     "variants.v: --set OCG.tau_observable: key 'OCG.tau_observable': must be in (0, 1)"),
 ])
 def test_config_errors_name_the_key_and_nothing_runs(source_dir, tools, tmp_path, text, message):
     config = write_config(tmp_path, tools, text)
@@ -59,9 +72,10 @@ def test_slurm_profile_dry_run(source_dir, tools, tmp_path):
     result = ocg_batch(source_dir, config, "--slurm", "--dry-run")
     assert result.returncode == 0, result.stdout + result.stderr
     output = result.stdout + result.stderr
-    # Every job of the batch, with the profile's Slurm resources.
+    # Every job of the batch, with the profile's Slurm resources (the tables are made by
+    # ocg_batch after the jobs, so that failed runs become rows: no job of their own).
     assert output.count("rule run:") == 6 and output.count("rule sequence:") == 2
-    assert output.count("slurm_partition=main") == 20
+    assert output.count("slurm_partition=main") == 19
     assert not os.path.exists(tmp_path / "out" / "runs")  # a dry run runs nothing
 
 
@@ -112,6 +126,106 @@ def test_local_batch_tables_plots_and_resume(source_dir, tools, tmp_path):
     assert result.returncode == 0, result.stderr[-3000:]
     assert (lost / "CameraTrajectory.txt").read_bytes() == trajectory
     assert kept.stat().st_mtime_ns == kept_time
+    stats = result.stderr[result.stderr.index("Job stats:"):]
+    assert [line.split()[:2] for line in stats.splitlines() if line.startswith("run ")] == \
+        [["run", "1"]]
+
+
+def test_orbslam2_settings_files_and_their_variants_are_read_as_a_run_reads_them(
+        source_dir, tools, tmp_path, shared_data):
+    """ORB-SLAM2's TUM3 file (OpenCV YAML, "Viewer.PointSize:2") under a sequence folder,
+    with a variant: each run's settings file is written by ocg_slam settings."""
+    config = write_config(tmp_path, tools, """out: out
+sequences:
+  - name: fr3
+    path: %s/tum_fr3_long_office
+    settings: %s/orbslam2_settings/Monocular_TUM3.yaml
+    max_frames: 3
+variants: {default: {}, no_loops: {LoopClosing: {enabled: false}}}
+executions: [sequential]
+""" % (shared_data, shared_data))
+    result = ocg_batch(source_dir, config, "--cores", "1")
+    assert result.returncode == 0, result.stderr[-3000:]
+    settings = (tmp_path / "out" / "settings" / "fr3" / "no_loops-sequential.yaml").read_text()
+    for line in ("Camera.fx: 535.4", "Viewer.PointSize: 2", "LoopClosing.enabled: false",
+                 "System.sequential: true"):
+        assert line + "\n" in settings, settings
+    # The written file is what ocg_slam reads: checked strictly, it gives TUM3's camera.
+    checked = run_tool(tools, "ocg_slam", "settings", str(tmp_path / "out" / "settings" / "fr3" /
+                                                           "no_loops-sequential.yaml"),
+                       "--strict", "--need-camera")
+    assert ": ok" in checked
+    rows = read_csv(tmp_path / "out" / "table_II.csv")
+    assert [(r["sequence"], r["variant"], r["mode"]) for r in rows] == [
+        ("fr3", "default", "slam"), ("fr3", "no_loops", "slam")]
+
+
+def test_settings_of_another_camera_stop_the_batch_before_any_job(
+        source_dir, tools, tmp_path, shared_data):
+    config = write_config(tmp_path, tools, """out: out
+sequences:
+  - path: %s/kitti_07_first160
+    settings: %s/orbslam2_settings/Monocular_TUM1.yaml
+""" % (shared_data, shared_data))
+    result = ocg_batch(source_dir, config, "--cores", "1")
+    assert result.returncode != 0
+    message = result.stderr
+    assert "sequences[0].settings: " in message and "Monocular_TUM1.yaml" in message, message
+    assert "640x480" in message and "1226x370" in message, message
+    assert sorted(os.listdir(tmp_path)) == ["batch.yaml"]
+
+
+def test_a_failed_run_is_a_failed_row_and_paths_may_hold_spaces_and_quotes(
+        source_dir, tools, tmp_path):
+    """Three sequences, one of them with a truncated image at frame 30: its run fails, the
+    other two are scored, and the failure is listed with the log's last line. The folders
+    and a variant's value hold spaces and quotes: no shell sees them."""
+    good = tmp_path / "my data" / "smoke 40"
+    bad = tmp_path / "o'brien" / "smoke"
+    for folder, seed in ((good, "1"), (bad, "2")):
+        run_tool(tools, "ocg_synth", "--preset", "smoke", "--seed", seed, "--frames", "40",
+                 "--size", "320x240", "--out", str(folder), "--log-level", "warn")
+    frames = [line.split()[1] for line in (bad / "rgb.txt").read_text().splitlines()
+              if line.strip() and not line.startswith("#")]
+    broken = bad / frames[29]
+    broken.write_bytes(broken.read_bytes()[:200])
+    vocabulary = tmp_path / "o'brien" / "voc \"1\".ocgvoc"
+    vocabulary.symlink_to(os.path.join(source_dir, "thirdparty", "vocabulary",
+                                       "ocg_orb_vocabulary.ocgvoc"))
+    sequence = """  - path: "%s"
+    settings: "%s/camera.yaml"
+    detections: "%s/detections"
+    objects_gt: "%s/objects_gt.json"
+"""
+    config = write_config(tmp_path, tools, "out: out\nsequences:\n" +
+                          sequence % ((good,) * 4) + sequence % ((bad,) * 4) + """\
+  - {preset: smoke, seed: 3, frames: 20, size: 320x240}
+modes: [paper]
+variants:
+  quoted: {Vocabulary.path: '%s'}
+executions: [sequential]
+""" % str(vocabulary).replace("'", "''"))
+    result = ocg_batch(source_dir, config, "--cores", "2")
+    assert result.returncode == 3, result.stderr[-3000:]
+    out = tmp_path / "out"
+    rows = {r["sequence"]: r for r in read_csv(out / "table_II.csv")}
+    assert sorted(rows) == ["smoke", "smoke_40", "smoke_s3"]  # names made of the folders'
+    assert rows["smoke"]["failed"] == "1"
+    for name in ("smoke_40", "smoke_s3"):
+        assert rows[name]["failed"] == "0" and float(rows[name]["ate_median_mm"]) < 10.0
+    failed = read_csv(out / "failed_runs.csv")
+    assert [(f["run"], f["stage"]) for f in failed] == [("smoke/quoted/paper/sequential-1", "run")]
+    assert str(broken) in failed[0]["last_log_line"], failed[0]
+    table_one = (out / "table_I.md").read_text()
+    assert "| smoke | quoted | paper | sequential | 0 | failed |" in table_one, table_one
+    assert "- smoke/quoted/paper/sequential-1: run failed: `" in table_one
+    # The runs that worked used the vocabulary with the quote in its name.
+    run = (out / "runs" / "smoke_40" / "quoted" / "paper" / "sequential-1" / "run.json").read_text()
+    assert "voc \\\"1\\\".ocgvoc" in run or "voc \"1\".ocgvoc" in run
+
+    # Run again: only the failed run is redone (and fails again the same way).
+    result = ocg_batch(source_dir, config, "--cores", "2")
+    assert result.returncode == 3
     stats = result.stderr[result.stderr.index("Job stats:"):]
     assert [line.split()[:2] for line in stats.splitlines() if line.startswith("run ")] == \
         [["run", "1"]]
