@@ -229,3 +229,66 @@ executions: [sequential]
     stats = result.stderr[result.stderr.index("Job stats:"):]
     assert [line.split()[:2] for line in stats.splitlines() if line.startswith("run ")] == \
         [["run", "1"]]
+
+
+def slurm_cluster_or_skip(source_dir):
+    """The one-node cluster of tools/slurm_local.sh, started when this machine can run it."""
+    if os.environ.get("OCG_TEST_SLURM") != "1":
+        pytest.skip("the Slurm batch test takes minutes: set OCG_TEST_SLURM=1 to run it "
+                    "(it starts the one-node cluster of tools/slurm_local.sh)")
+    if os.geteuid() != 0:
+        pytest.skip("starting the one-node Slurm cluster needs root (sudo tools/slurm_local.sh "
+                    "start), and this test runs as another user")
+    if subprocess.run(["which", "slurmctld"], capture_output=True).returncode != 0:
+        pytest.skip("slurm-wlm is not installed: sudo tools/slurm_local.sh start installs it")
+    started = subprocess.run([os.path.join(source_dir, "tools", "slurm_local.sh"), "start"],
+                             capture_output=True, text=True)
+    if started.returncode != 0:
+        pytest.skip("the one-node Slurm cluster did not start: " + started.stderr[-500:])
+
+
+def test_batch_through_slurm_matches_the_local_batch_and_failed_jobs_are_rows(
+        source_dir, tools, tmp_path):
+    """Every job through Slurm (the jobcomp log lists them completed), the tables as a local
+    run's (sequential runs are deterministic), and a run that fails is retried once, then is
+    a failed row with its Slurm job id."""
+    slurm_cluster_or_skip(source_dir)
+    bad = tmp_path / "bad"
+    run_tool(tools, "ocg_synth", "--preset", "smoke", "--seed", "2", "--frames", "12",
+             "--size", "320x240", "--out", str(bad), "--log-level", "warn")
+    frames = [line.split()[1] for line in (bad / "rgb.txt").read_text().splitlines()
+              if line.strip() and not line.startswith("#")]
+    (bad / frames[8]).write_bytes((bad / frames[8]).read_bytes()[:200])
+    text = """sequences:
+  - {preset: smoke, seed: 1, frames: 20}
+  - {path: bad, settings: bad/camera.yaml, detections: bad/detections, objects_gt: bad/objects_gt.json}
+modes: [paper, improved]
+executions: [sequential]
+"""
+    local = write_config(tmp_path, tools, "out: local\n" + text)
+    os.rename(local, tmp_path / "local.yaml")
+    on_slurm = write_config(tmp_path, tools, "out: slurm\n" + text)
+    assert ocg_batch(source_dir, str(tmp_path / "local.yaml"), "--cores", "2").returncode == 3
+    result = ocg_batch(source_dir, on_slurm, "--profile",
+                       os.path.join(source_dir, "eval", "slurm_local"))
+    assert result.returncode == 3, result.stderr[-3000:]
+    for table in ("table_I.csv", "table_II.csv"):
+        assert (tmp_path / "slurm" / table).read_text() == (tmp_path / "local" / table).read_text()
+    # Every job went through Slurm: its log names its job, which Slurm recorded as completed.
+    with open("/var/log/slurm/jobcomp.log") as handle:
+        states = {line.split("JobId=")[1].split()[0]: line.split("JobState=")[1].split()[0]
+                  for line in handle if "JobId=" in line}
+    logs = sorted((tmp_path / "slurm" / "logs" / "runs" / "smoke_s1").rglob("*.log"))
+    assert len(logs) == 2
+    for log in logs:
+        job = log.read_text().splitlines()[0].split()[-1]
+        assert states.get(job) == "COMPLETED", (log, job)
+    # The failing run: tried twice (the profile's restart-times: 1), then a failed row naming
+    # its (last) Slurm job and the log's last line.
+    failed = read_csv(tmp_path / "slurm" / "failed_runs.csv")
+    assert sorted(f["run"] for f in failed) == ["bad/default/improved/sequential-1",
+                                               "bad/default/paper/sequential-1"]
+    for row in failed:
+        assert row["stage"] == "run" and states.get(row["slurm_job"]) == "FAILED", row
+        assert "cannot read image" in row["last_log_line"], row
+    assert result.stderr.count("Trying to restart job") >= 2, result.stderr[-3000:]
