@@ -20,7 +20,8 @@ EXECUTIONS = ("sequential", "threaded")
 NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
 TOP_KEYS = {"out", "tools", "sequences", "modes", "variants", "executions", "repeats",
             "realtime", "max_dt"}
-GENERATED_KEYS = {"name", "preset", "seed", "frames", "size"}
+GENERATED_KEYS = {"name", "preset", "seed", "frames", "size", "detector"}
+DETECTORS = ("independent", "realistic")
 USER_KEYS = {"name", "path", "format", "settings", "groundtruth", "detections", "objects_gt",
              "max_frames"}
 
@@ -200,9 +201,14 @@ def load(config_path, script_dir, out_override=None):
             size = entry.get("size", "")
             if size and not re.match(r"^\d+x\d+$", str(size)):
                 _fail(source, key + ".size", "expected WxH, e.g. 320x240")
+            detector = entry.get("detector", "")  # "": the preset's own
+            if detector and detector not in DETECTORS:
+                _fail(source, key + ".detector", "expected %s, got %r" % (
+                    " or ".join(DETECTORS), detector))
             sequence = {"name": entry.get("name", "%s_s%d" % (entry["preset"], seed)),
                         "generated": True, "preset": entry["preset"], "seed": seed,
-                        "frames": frames, "size": str(size), "format": "tum", "max_frames": 0}
+                        "frames": frames, "size": str(size), "detector": detector,
+                        "format": "tum", "max_frames": 0}
         else:
             extra = sorted(set(entry) - USER_KEYS)
             if extra:

@@ -39,6 +39,8 @@ repeats: 2
     ("out: o\nsequences: [{preset: smoke}]\nrepeats: 0\n", ": repeats: expected a whole number >= 1"),
     ("out: o\nsequences: [{preset: smoke}]\nmodes: [paper, clever]\n", ": modes[1]: unknown OCG mode"),
     ("sequences: [{preset: smoke}]\n", ": out: required"),
+    ("out: o\nsequences: [{preset: smoke, detector: perfect}]\n",
+     "sequences[0].detector: expected independent or realistic, got 'perfect'"),
     ("out: o\nsequences: [{path: nowhere, settings: s.yaml}]\n", "sequences[0].path: no such folder"),
     ("out: o\nsequences: [{preset: smoke}]\nvariants: {v: {System.sequential: true}}\n",
      "variants.v.System.sequential: set by executions"),
