@@ -436,6 +436,18 @@ TEST(Settings, KnownKeysAreEveryKeyTheModulesRead) {
   EXPECT_GT(keys.size(), 100u);
 }
 
+// docs/settings.md names every key the modules read (in full, or `name` in its section's
+// table): a key added to a reader without a line in the docs fails here.
+TEST(Settings, EveryKnownKeyIsDocumented) {
+  const std::string docs = ReadTextFile(testing::SourceDir() + "/docs/settings.md");
+  for (const std::string& key : KnownSettingsKeys()) {
+    const std::string name = key.substr(key.find('.') + 1);
+    EXPECT_TRUE(docs.find(key) != std::string::npos ||
+                docs.find("`" + name + "`") != std::string::npos)
+        << key << " is not in docs/settings.md";
+  }
+}
+
 TEST(Settings, SettingsOfAnotherCameraNameTheFileAndBothImageSizes) {
   const fs::path folder = fs::path(::testing::TempDir()) / "ocg_settings_image_size";
   fs::create_directories(folder);
