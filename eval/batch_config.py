@@ -2,7 +2,10 @@
 and resolved (defaults filled, paths absolute) into the JSON the Snakefile reads.
 
 Every error names the file and the key, e.g. `b.yaml: sequences[1].preset: unknown preset
-'smok' (known: smoke, ...)`. Needs PyYAML (a dependency of Debian's snakemake).
+'smok' (known: smoke, ...)`. Settings files and variant keys are checked by the product's
+own reader (`ocg_slam settings --strict`), so the batch reads exactly what a run reads and a
+misspelt key stops the batch with the key it most likely meant. Needs PyYAML (a dependency
+of Debian's snakemake) for the batch file itself.
 """
 import json
 import os
@@ -11,20 +14,47 @@ import subprocess
 
 import yaml
 
-from settings_variant import flatten
 
 MODES = ("off", "visibility", "paper", "improved", "fallback", "in_image", "guard")
 EXECUTIONS = ("sequential", "threaded")
 NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
 TOP_KEYS = {"out", "tools", "sequences", "modes", "variants", "executions", "repeats",
             "realtime", "max_dt"}
-GENERATED_KEYS = {"name", "preset", "seed", "frames", "size"}
+GENERATED_KEYS = {"name", "preset", "seed", "frames", "size", "detector"}
+DETECTORS = ("independent", "realistic")
 USER_KEYS = {"name", "path", "format", "settings", "groundtruth", "detections", "objects_gt",
              "max_frames"}
 
 
 class ConfigError(Exception):
     pass
+
+
+def flatten(value, prefix, out):
+    """{A: {b: v}} -> {"A.b": v}: variants may nest keys as settings files do."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            flatten(item, "%s.%s" % (prefix, key) if prefix else str(key), out)
+    else:
+        out[prefix] = value
+    return out
+
+
+def settings_command(tools, base, overrides, sequential, write=None, image=None):
+    """The ocg_slam settings command line of a run's settings: the sequence's settings file
+    (None: the defaults), the variant's keys and System.sequential on top, checked strictly."""
+    command = [os.path.join(tools, "ocg_slam"), "settings"]
+    if base:
+        command += [base, "--need-camera"]
+    command.append("--strict")
+    for key, value in overrides.items():
+        command += ["--set", "%s=%s" % (key, json.dumps(value))]
+    command += ["--set", "System.sequential=%s" % ("true" if sequential else "false")]
+    if image:
+        command += ["--image", image]
+    if write:
+        command += ["--write", write]
+    return command
 
 
 def _fail(source, key, message):
@@ -65,6 +95,58 @@ def _presets(tools):
     result = subprocess.run([os.path.join(tools, "ocg_synth"), "--list-presets"],
                             capture_output=True, text=True)
     return result.stdout.split() if result.returncode == 0 else []
+
+
+def _first_image(source, key, path, form):
+    """The sequence's first image, after checking that every image it lists exists (a run
+    would stop at a missing one, after the frames before it)."""
+    if form == "tum":
+        listing, folder, separator = os.path.join(path, "rgb.txt"), path, None
+    else:
+        folder = os.path.join(path, "mav0", "cam0", "data")
+        listing, separator = os.path.join(path, "mav0", "cam0", "data.csv"), ","
+    if not os.path.isfile(listing):
+        _fail(source, key + ".path", "not a %s sequence: %s is missing" % (
+            "TUM" if form == "tum" else "EuRoC", listing))
+    images = []
+    with open(listing) as handle:
+        for number, line in enumerate(handle, 1):
+            if not line.strip() or line.lstrip().startswith("#"):
+                continue
+            fields = [f.strip() for f in line.strip().split(separator)]
+            if len(fields) < 2:
+                _fail(source, key + ".path", "%s:%d: expected 'timestamp filename'" % (
+                    listing, number))
+            images.append((number, os.path.join(folder, fields[1])))
+    if not images:
+        _fail(source, key + ".path", "%s lists no image" % listing)
+    for number, image in images:
+        if not os.path.isfile(image):
+            _fail(source, key + ".path", "%s:%d: no such image: %s" % (listing, number, image))
+    return images[0][1]
+
+
+def _check_settings(source, tools, sequences, variants):
+    """Every sequence's settings file, and every variant over it, read as the runs will read
+    them (ocg_slam settings --strict), before any job: an unknown key, a wrong value or
+    settings of another camera stop the batch here, naming the key."""
+    checked = {}
+    for index, sequence in enumerate(sequences):
+        base = None if sequence["generated"] else sequence["settings"]
+        image = None if sequence["generated"] else sequence["first_image"]
+        where = "sequences[%d].settings" % index
+        for name, overrides in [(None, {})] + list(variants.items()):
+            if (base, image, name) in checked:
+                continue
+            checked[(base, image, name)] = True
+            command = settings_command(tools, base, overrides, True, image=image)
+            result = subprocess.run(command, capture_output=True, text=True)
+            if result.returncode != 0:
+                message = result.stderr.strip().replace("ocg_slam: error: ", "")
+                if name is None:
+                    _fail(source, where, message)
+                _fail(source, "variants.%s" % name, message + (
+                    "" if base is None else " (over %s's settings)" % sequence["name"]))
 
 
 def load(config_path, script_dir, out_override=None):
@@ -119,9 +201,14 @@ def load(config_path, script_dir, out_override=None):
             size = entry.get("size", "")
             if size and not re.match(r"^\d+x\d+$", str(size)):
                 _fail(source, key + ".size", "expected WxH, e.g. 320x240")
+            detector = entry.get("detector", "")  # "": the preset's own
+            if detector and detector not in DETECTORS:
+                _fail(source, key + ".detector", "expected %s, got %r" % (
+                    " or ".join(DETECTORS), detector))
             sequence = {"name": entry.get("name", "%s_s%d" % (entry["preset"], seed)),
                         "generated": True, "preset": entry["preset"], "seed": seed,
-                        "frames": frames, "size": str(size), "format": "tum", "max_frames": 0}
+                        "frames": frames, "size": str(size), "detector": detector,
+                        "format": "tum", "max_frames": 0}
         else:
             extra = sorted(set(entry) - USER_KEYS)
             if extra:
@@ -137,7 +224,8 @@ def load(config_path, script_dir, out_override=None):
             if groundtruth is None and os.path.isfile(os.path.join(path, "groundtruth.txt")):
                 groundtruth = "groundtruth.txt"
             sequence = {
-                "name": entry.get("name", os.path.basename(path)), "generated": False,
+                "name": entry.get("name", re.sub(r"[^A-Za-z0-9_.-]", "_", os.path.basename(path))),
+                "generated": False,
                 "path": path, "format": form,
                 "settings": _path(source, key + ".settings", base, entry["settings"], "file"),
                 "groundtruth": _path(source, key + ".groundtruth", path, groundtruth, "file")
@@ -147,6 +235,7 @@ def load(config_path, script_dir, out_override=None):
                 "objects_gt": _path(source, key + ".objects_gt", base, entry["objects_gt"], "file")
                 if "objects_gt" in entry else None,
                 "max_frames": _whole(source, key + ".max_frames", entry.get("max_frames", 0), 0)}
+            sequence["first_image"] = _first_image(source, key, path, form)
         if not NAME.match(str(sequence["name"])):
             _fail(source, key + ".name", "use letters, digits, '_', '-' and '.' only")
         if sequence["name"] in names:
@@ -207,6 +296,8 @@ def load(config_path, script_dir, out_override=None):
         out = _path(source, "out", base, raw["out"], None)
     else:
         _fail(source, "out", "required: the folder of the runs, tables and plots")
+
+    _check_settings(source, tools, sequences, variants)
 
     runs = []
     for sequence in sequences:

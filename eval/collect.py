@@ -3,8 +3,12 @@ Markdown and CSV, with the median and the spread (min-max) over the repeats of e
 system, and plots the ATE per sequence and system.
 
 Usage: collect.py OUT/batch.json
-Writes OUT/table_I.md, table_I.csv, table_II.md, table_II.csv, plots/ate.png.
-The Markdown layout of Table I is tools/object_table.py's.
+Writes OUT/table_I.md, table_I.csv, table_II.md, table_II.csv, failed_runs.csv,
+plots/ate.png. The Markdown layout of Table I is tools/object_table.py's.
+
+A run whose job failed (or never ran: the batch stopped first) has no score: it is counted
+in its system's `failed` column and listed under the tables and in failed_runs.csv with the
+stage that failed, the last line of that stage's log and, on Slurm, the job id.
 """
 import csv
 import json
@@ -23,15 +27,59 @@ RATIOS = {"acc", "prec", "recall"}
 SYSTEM_KEYS = ["sequence", "variant", "mode", "execution"]
 
 
+def last_log_line(log):
+    """The log's last line that says something (progress lines end in carriage returns), and
+    the Slurm job id the job wrote at its top, if any."""
+    with open(log, errors="replace") as handle:
+        lines = handle.read().replace("\r", "\n").splitlines()
+    job = next((l.split()[-1] for l in lines if l.startswith("# slurm job ")), "")
+    said = [l.strip() for l in lines if l.strip() and not l.startswith("# ")]
+    return (said[-1] if said else "(empty log)"), job
+
+
+def run_failure(batch, run):
+    """{stage, message, slurm_job, log} for a run without a score: the first of its jobs
+    (sequence, settings, run, score) whose output is missing."""
+    out = batch["out"]
+    sequence, variant, mode, rest = run.split("/")
+    execution = rest.rsplit("-", 1)[0]
+    generated = any(s["name"] == sequence and s["generated"] for s in batch["sequences"])
+    stages = [("sequence", os.path.join(out, "sequences", sequence),
+               os.path.join(out, "logs", "sequences", sequence + ".log"))] if generated else []
+    settings = os.path.join(sequence, "%s-%s" % (variant, execution))
+    stages += [("settings", os.path.join(out, "settings", settings + ".yaml"),
+                os.path.join(out, "logs", "settings", settings + ".log")),
+               ("run", os.path.join(out, "runs", run), os.path.join(out, "logs", "runs", run + ".log")),
+               ("score", os.path.join(out, "scores", run + ".json"),
+                os.path.join(out, "logs", "scores", run + ".log"))]
+    for stage, output, log in stages:
+        if os.path.exists(output):
+            continue
+        if not os.path.exists(log):
+            return {"stage": stage, "message": "not run (the batch stopped before it)",
+                    "slurm_job": "", "log": ""}
+        message, job = last_log_line(log)
+        return {"stage": stage, "message": message, "slurm_job": job,
+                "log": os.path.relpath(log, out)}
+    return {"stage": "score", "message": "no score", "slurm_job": "", "log": ""}
+
+
 def load_scores(batch):
-    """{(sequence, variant, mode, execution): [score of each repeat]} in the batch's order."""
-    systems = {}
+    """{(sequence, variant, mode, execution): [score of each repeat]} in the batch's order,
+    and {run: failure} of the runs without a score (their entry there is {"failed": ...})."""
+    systems, failures = {}, {}
     for run in batch["runs"]:
         sequence, variant, mode, rest = run.split("/")
         execution = rest.rsplit("-", 1)[0]
-        with open(os.path.join(batch["out"], "scores", run + ".json")) as handle:
-            systems.setdefault((sequence, variant, mode, execution), []).append(json.load(handle))
-    return systems
+        path = os.path.join(batch["out"], "scores", run + ".json")
+        if os.path.exists(path):
+            with open(path) as handle:
+                score = json.load(handle)
+        else:
+            failures[run] = run_failure(batch, run)
+            score = {"failed": failures[run]}
+        systems.setdefault((sequence, variant, mode, execution), []).append(score)
+    return systems, failures
 
 
 def spread(values, ratio):
@@ -55,37 +103,66 @@ def write_csv(path, header, rows):
     os.replace(temporary, path)
 
 
-def table_one(batch, systems):
+def table_one(batch, systems, failures):
     lines = table_header(SYSTEM_KEYS + ["runs"], TABLE_I_HEADER)
     rows = []
-    last = list(systems)[-1] if systems else None
-    for key, scores in systems.items():
+    keys = list(systems)
+    ground_truth = {}  # sequence -> a score's objects (its gt_static, gt_outdated)
+    for index, key in enumerate(keys):
+        scores = systems[key]
         measured = [s["objects"] for s in scores if s.get("objects")]
-        if not measured:
-            continue  # no objects for this system (a sequence without detections)
-        cells, numbers = [], []
-        for metric in METRICS:
-            text, values = spread([m[metric] for m in measured], metric in RATIOS)
-            if metric == "redun_s":
-                text += " (%g+%g)" % (statistics.median(m["redun_duplicates"] for m in measured),
-                                      statistics.median(m["redun_spurious"] for m in measured))
-            cells.append(text)
-            numbers += values
-        lines.append("| " + " | ".join(list(key) + [str(len(measured))] + cells) + " |")
-        gt = measured[0]
-        rows.append(list(key) + [len(measured)] + numbers + [gt["gt_static"], gt["gt_outdated"]])
-        following = list(systems)[list(systems).index(key) + 1] if key != last else None
-        if following is None or following[0] != key[0]:
+        if measured:
+            ground_truth[key[0]] = measured[0]
+            cells, numbers = [], []
+            for metric in METRICS:
+                text, values = spread([m[metric] for m in measured], metric in RATIOS)
+                if metric == "redun_s":
+                    text += " (%g+%g)" % (
+                        statistics.median(m["redun_duplicates"] for m in measured),
+                        statistics.median(m["redun_spurious"] for m in measured))
+                cells.append(text)
+                numbers += values
+            lines.append("| " + " | ".join(list(key) + [str(len(measured))] + cells) + " |")
+            rows.append(list(key) + [len(measured)] + numbers +
+                        [measured[0]["gt_static"], measured[0]["gt_outdated"]])
+        elif key[2] != "slam" and any(s.get("failed") for s in scores):
+            # Every run of the system failed: a row that says so, not a missing one.
+            lines.append("| " + " | ".join(list(key) + ["0"] + ["failed"] * len(METRICS)) + " |")
+            rows.append(list(key) + [0] + [""] * (3 * len(METRICS) + 2))
+        # (no objects for this system otherwise: a sequence without detections)
+        last_of_sequence = index + 1 == len(keys) or keys[index + 1][0] != key[0]
+        if last_of_sequence and key[0] in ground_truth:
             # The ground truth's row, as tools/object_table.py writes it.
+            gt = ground_truth[key[0]]
             lines.append("| %s | | GT | | | %d | 0 | 0 | %d | 0 | 0 | - | - | - |" % (
                 key[0], gt["gt_static"], gt["gt_outdated"]))
     header = SYSTEM_KEYS + ["runs"] + ["%s_%s" % (m, s) for m in METRICS
                                        for s in ("median", "min", "max")] + ["gt_static", "gt_outdated"]
     write_csv(os.path.join(batch["out"], "table_I.csv"), header, rows)
-    write_table(batch["out"], "table_I.md", lines)
+    write_table(batch["out"], "table_I.md", lines + failure_lines(failures))
 
 
-def table_two(batch, systems):
+def failure_lines(failures):
+    """Markdown list of the failed runs, under the tables."""
+    if not failures:
+        return []
+    lines = ["", "Failed runs (no score; run the batch again to retry them):", ""]
+    for run, failure in failures.items():
+        job = " (Slurm job %s)" % failure["slurm_job"] if failure["slurm_job"] else ""
+        log = " [%s]" % failure["log"] if failure["log"] else ""
+        lines.append("- %s: %s failed%s: `%s`%s" % (run, failure["stage"], job,
+                                                     failure["message"], log))
+    return lines
+
+
+def write_failures(batch, failures):
+    write_csv(os.path.join(batch["out"], "failed_runs.csv"),
+              ["run", "stage", "slurm_job", "last_log_line", "log"],
+              [[run, f["stage"], f["slurm_job"], f["message"], f["log"]]
+               for run, f in failures.items()])
+
+
+def table_two(batch, systems, failures):
     lines = table_header(SYSTEM_KEYS + ["runs", "failed"],
                          ["tracked frames", "keyframes", "ATE RMSE [mm]", "Sim(3) scale"])
     rows, series = [], []
@@ -108,7 +185,7 @@ def table_two(batch, systems):
     write_csv(os.path.join(batch["out"], "table_II.csv"),
               SYSTEM_KEYS + ["runs", "failed", "ate_median_mm", "ate_min_mm", "ate_max_mm",
                              "tracked_frames_median"], rows)
-    write_table(batch["out"], "table_II.md", lines)
+    write_table(batch["out"], "table_II.md", lines + failure_lines(failures))
     return series
 
 
@@ -145,10 +222,18 @@ def main():
         sys.exit(__doc__)
     with open(sys.argv[1]) as handle:
         batch = json.load(handle)
-    systems = load_scores(batch)
-    table_one(batch, systems)
-    series = table_two(batch, systems)
+    systems, failures = load_scores(batch)
+    table_one(batch, systems, failures)
+    series = table_two(batch, systems, failures)
+    write_failures(batch, failures)
     plot_ate(os.path.join(batch["out"], "plots", "ate.png"), series)
+    if failures:
+        print("collect.py: %d of %d runs failed (listed under the tables and in %s)" % (
+            len(failures), len(batch["runs"]),
+            os.path.join(batch["out"], "failed_runs.csv")), file=sys.stderr)
+        for run, failure in failures.items():
+            print("  %s: %s: %s" % (run, failure["stage"], failure["message"]), file=sys.stderr)
+        sys.exit(3)
 
 
 if __name__ == "__main__":

@@ -32,6 +32,7 @@
 #include "ocg/io/sequence.h"
 #include "ocg/io/trajectory.h"
 #include "ocg/viewer/snapshots.h"
+#include "settings_command.h"
 
 namespace {
 
@@ -342,7 +343,14 @@ int main(int argc, char** argv) {
   objects->add_flag("--lenient", objects_command.lenient,
                     "skip malformed detection lines with a warning instead of failing");
 
+  ocg::tools::SettingsCommand settings_command;
+  ocg::tools::AddSettingsCommand(app, &settings_command);
+
   const int code = ocg::tools::RunTool(app, argc, argv, log_level, [&] {
+    if (settings_command.app->parsed()) {
+      RunSettingsCommand(settings_command);
+      return;
+    }
     if (objects->parsed()) {
       RunObjects(objects_command);
       return;
@@ -385,6 +393,7 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("no frames to process: '" + sequence.list +
                                   "' lists no image (only comments or blank lines)");
     }
+    ocg::CheckCameraFitsImage(loaded, sequence.images.front().path);
     std::optional<ocg::EaoDetectionFolder> detection_folder;
     if (!detections.empty()) {
       ocg::DetectionReadOptions read_options;

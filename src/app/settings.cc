@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "ocg/core/file_io.h"
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
@@ -31,10 +33,8 @@ void CheckAll(const Settings& settings) {
   settings.viewer.Check();
 }
 
-LoadedSettings ReadAll(const SettingsFile& file, CameraNeed camera_need) {
-  LoadedSettings loaded;
-  Settings& settings = loaded.settings;
-  settings.source = file.name();
+void ReadEveryModule(const SettingsFile& file, Settings* settings_out) {
+  Settings& settings = *settings_out;
   ReadSettings(file, &settings.camera);
   ReadSettings(file, &settings.system);
   ReadSettings(file, &settings.orb);
@@ -47,7 +47,17 @@ LoadedSettings ReadAll(const SettingsFile& file, CameraNeed camera_need) {
   ReadSettings(file, &settings.objects);
   ReadSettings(file, &settings.ocg);
   ReadSettings(file, &settings.viewer);
+}
+
+}  // namespace
+
+LoadedSettings ReadSettingsFile(const SettingsFile& file, CameraNeed camera_need,
+                                UnknownKeys unknown_keys) {
+  LoadedSettings loaded;
+  Settings& settings = loaded.settings;
+  settings.source = file.name();
   try {
+    ReadEveryModule(file, &settings);  // some readers check a value's shape (Objects.up)
     CheckAll(settings);
   } catch (const OptionError& error) {
     throw SettingsError(file.Describe(CameraKeyInFile(file, error.key()), error.message()));
@@ -55,16 +65,55 @@ LoadedSettings ReadAll(const SettingsFile& file, CameraNeed camera_need) {
   // After the values: a wrong value is reported where it is, even when keys are missing.
   RequireCamera(file, camera_need);
   loaded.image_size_given = file.Has("Camera.width") && file.Has("Camera.height");
+  // Every reader has asked for its keys: they are the known keys, spelt once, in the readers.
+  const std::vector<std::string> known = file.AskedKeys();
+  std::string unknown;
   for (const std::string& key : file.UnreadKeys()) {
     if (IsKnownForeignKey(key)) continue;
-    loaded.warnings.push_back(FileLocation(file.name(), file.LineOf(key)) + ": unknown key '" +
-                              key + "' ignored");
-    spdlog::warn("{}", loaded.warnings.back());
+    const std::string closest = ClosestKey(key, known);
+    const std::string suggestion = closest.empty() ? "" : "; did you mean '" + closest + "'?";
+    if (unknown_keys == UnknownKeys::kError) {
+      unknown += "\n  " + file.Where(key) + ": unknown key '" + key + "'" + suggestion;
+      continue;
+    }
+    const std::string message =
+        file.Where(key) + ": unknown key '" + key + "' ignored" + suggestion;
+    loaded.warnings.push_back(message);
+    spdlog::warn("{}", message);
+  }
+  if (!unknown.empty()) {
+    throw SettingsError(file.name() +
+                        ": unknown settings keys (no module reads them; "
+                        "docs/settings.md lists the keys):" +
+                        unknown);
   }
   return loaded;
 }
 
-}  // namespace
+void CheckCameraFitsImage(const LoadedSettings& loaded, const std::string& image_path) {
+  const cv::Mat image = cv::imread(image_path, cv::IMREAD_UNCHANGED);
+  if (image.empty()) throw FileError("cannot read the image '" + image_path + "'");
+  const PinholeCamera& camera = loaded.settings.camera.model;
+  if (image.cols == camera.width && image.rows == camera.height) return;
+  const auto size = [](int width, int height) {
+    return std::to_string(width) + "x" + std::to_string(height);
+  };
+  throw SettingsError(loaded.settings.source + ": the camera of these settings is " +
+                      size(camera.width, camera.height) +
+                      (loaded.image_size_given
+                           ? " (Camera.width, Camera.height)"
+                           : " (the default: the file gives no Camera.width and "
+                             "Camera.height, as ORB-SLAM2's TUM files for 640x480 images)") +
+                      ", but the images are " + size(image.cols, image.rows) + " ('" + image_path +
+                      "'): give the settings of the camera that took these images");
+}
+
+std::vector<std::string> KnownSettingsKeys() {
+  const SettingsFile empty = SettingsFile::Parse("", "(defaults)");
+  Settings settings;
+  ReadEveryModule(empty, &settings);
+  return empty.AskedKeys();
+}
 
 void Settings::Check() const {
   try {
@@ -74,13 +123,14 @@ void Settings::Check() const {
   }
 }
 
-LoadedSettings LoadSettings(const std::string& path, CameraNeed camera_need) {
-  return ReadAll(SettingsFile::Load(path), camera_need);
+LoadedSettings LoadSettings(const std::string& path, CameraNeed camera_need,
+                            UnknownKeys unknown_keys) {
+  return ReadSettingsFile(SettingsFile::Load(path), camera_need, unknown_keys);
 }
 
 LoadedSettings ParseSettings(const std::string& text, const std::string& name,
-                             CameraNeed camera_need) {
-  return ReadAll(SettingsFile::Parse(text, name), camera_need);
+                             CameraNeed camera_need, UnknownKeys unknown_keys) {
+  return ReadSettingsFile(SettingsFile::Parse(text, name), camera_need, unknown_keys);
 }
 
 SystemConfig MakeSystemConfig(const Settings& settings) {

@@ -1,6 +1,7 @@
 #include "ocg/core/core_settings.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -45,6 +46,32 @@ bool IsVersion1(const SettingsFile& file) {
 
 std::string ParameterPrefix(bool version1) { return version1 ? "Camera1." : "Camera."; }
 
+bool SameIgnoringCase(const std::string& a, const std::string& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return std::tolower(static_cast<unsigned char>(x)) ==
+                  std::tolower(static_cast<unsigned char>(y));
+         });
+}
+
+// The camera key a misspelt one meant ("Camera1.Fx" -> "Camera1.fx", "Camera.widht" ->
+// "Camera.width"), or "". Short names must match but for case: "k4" is a coefficient of
+// another camera model, not a misspelt "k1".
+std::string CameraKeySuggestion(const std::string& key, bool version1) {
+  std::vector<std::string> known;
+  for (const auto* names : {&kIntrinsics, &kDistortion}) {
+    for (const std::string& name : *names) known.push_back(ParameterPrefix(version1) + name);
+  }
+  known.push_back(ParameterPrefix(version1) + "k3");
+  for (const std::string& name : kImageKeys) known.push_back("Camera." + name);
+  const std::string closest = ClosestKey(key, known);
+  if (closest.empty()) return "";
+  const std::string name = key.substr(key.find('.') + 1);
+  if (name.size() <= 3 && !SameIgnoringCase(name, closest.substr(closest.find('.') + 1))) {
+    return "";
+  }
+  return closest;
+}
+
 // Why a key of the "Camera." or "Camera1." group cannot be read, or "" when it can. Keys we
 // do not understand there are errors, not warnings: a fisheye coefficient, a resize or a
 // parameter of the other layout changes what every pixel means.
@@ -65,6 +92,10 @@ std::string CameraKeyProblem(const std::string& key, bool version1) {
     return "";
   }
   if (!in_camera1 && (Contains(kImageKeys, name) || name == kStereoBaseline)) return "";
+  const std::string suggestion = CameraKeySuggestion(key, version1);
+  if (!suggestion.empty()) {
+    return "unknown camera key (keys are case-sensitive): did you mean " + suggestion + "?";
+  }
   if (name == "newWidth" || name == "newHeight") {
     return "resizing the images is not supported: resize them beforehand and give the "
            "camera of the resized images";

@@ -150,8 +150,80 @@ SettingsFile SettingsFile::Parse(const std::string& text, const std::string& nam
     value.items = std::move(entry.items);
     value.is_sequence = entry.is_sequence;
     value.line = entry.line;
+    value.order = static_cast<int>(file.values_.size()) - 1;
   }
   return file;
+}
+
+void SettingsFile::Set(const std::string& key, const std::string& text, const std::string& origin) {
+  if (key.empty() || key.find_first_of(" \t:#") != std::string::npos) {
+    throw SettingsError(origin + ": '" + key + "' is not a settings key (e.g. OCG.tau_doubt)");
+  }
+  YAML::Node node;
+  try {
+    node = YAML::Load(text);
+  } catch (const YAML::Exception& error) {
+    throw SettingsError(origin + ": value '" + text + "' is not a YAML value: " + error.msg);
+  }
+  Value value;
+  value.origin = origin;
+  if (node.IsSequence()) {
+    value.is_sequence = true;
+    for (const auto& item : node) {
+      if (!item.IsScalar()) {
+        throw SettingsError(origin + ": value '" + text + "': nested lists are not supported");
+      }
+      value.items.push_back(item.Scalar());
+    }
+  } else if (node.IsScalar() || node.IsNull()) {
+    value.items.push_back(node.IsNull() ? std::string() : node.Scalar());
+  } else {
+    throw SettingsError(origin + ": value '" + text +
+                        "': expected a value or a list of values, not a map");
+  }
+  const auto it = values_.find(key);
+  value.order = it != values_.end() ? it->second.order : static_cast<int>(values_.size());
+  values_[key] = std::move(value);
+}
+
+std::string SettingsFile::ToFlatYaml(const std::string& comment) const {
+  std::vector<std::string> keys;
+  for (const auto& entry : values_) keys.push_back(entry.first);
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  for (const std::string& key : KeysInOrder(keys)) {
+    const Value& value = values_.at(key);
+    out << YAML::Key << key << YAML::Value;
+    if (value.is_sequence) {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (const std::string& item : value.items) out << item;
+      out << YAML::EndSeq;
+    } else {
+      out << value.items[0];
+    }
+  }
+  out << YAML::EndMap;
+  std::string one_line = comment;
+  std::replace(one_line.begin(), one_line.end(), '\n', ' ');
+  return "# " + one_line + "\n" + out.c_str() + "\n";
+}
+
+std::vector<std::string> SettingsFile::KeysInOrder(const std::vector<std::string>& keys) const {
+  std::vector<std::pair<int, std::string>> ordered;
+  for (const std::string& key : keys) ordered.emplace_back(values_.at(key).order, key);
+  std::sort(ordered.begin(), ordered.end());
+  std::vector<std::string> result;
+  for (auto& entry : ordered) result.push_back(std::move(entry.second));
+  return result;
+}
+
+std::vector<std::string> SettingsFile::AskedKeys() const { return asked_; }
+
+std::string SettingsFile::Where(const std::string& key) const {
+  const auto it = values_.find(key);
+  if (it == values_.end()) return name_;
+  if (!it->second.origin.empty()) return it->second.origin;
+  return FileLocation(name_, it->second.line);
 }
 
 int SettingsFile::LineOf(const std::string& key) const {
@@ -160,9 +232,7 @@ int SettingsFile::LineOf(const std::string& key) const {
 }
 
 std::string SettingsFile::Describe(const std::string& key, const std::string& message) const {
-  const int line = LineOf(key);
-  const std::string where = line > 0 ? FileLocation(name_, line) : name_;
-  return where + ": key '" + key + "': " + message;
+  return Where(key) + ": key '" + key + "': " + message;
 }
 
 void SettingsFile::Fail(const std::string& key, const std::string& message) const {
@@ -170,6 +240,7 @@ void SettingsFile::Fail(const std::string& key, const std::string& message) cons
 }
 
 const SettingsFile::Value* SettingsFile::Find(const std::string& key, bool expect_sequence) const {
+  if (asked_set_.insert(key).second) asked_.push_back(key);
   const auto it = values_.find(key);
   if (it == values_.end()) return nullptr;
   read_.insert(key);
@@ -245,26 +316,58 @@ bool SettingsFile::Read(const std::string& key, std::vector<double>* value) cons
 }
 
 std::vector<std::string> SettingsFile::KeysUnder(const std::string& prefix) const {
-  std::vector<std::pair<int, std::string>> found;
+  std::vector<std::string> found;
   for (auto it = values_.lower_bound(prefix); it != values_.end(); ++it) {
     if (it->first.compare(0, prefix.size(), prefix) != 0) break;
-    found.emplace_back(it->second.line, it->first);
+    found.push_back(it->first);
   }
-  std::sort(found.begin(), found.end());
-  std::vector<std::string> keys;
-  for (auto& entry : found) keys.push_back(std::move(entry.second));
-  return keys;
+  return KeysInOrder(found);
 }
 
 std::vector<std::string> SettingsFile::UnreadKeys() const {
-  std::vector<std::pair<int, std::string>> unread;
-  for (const auto& [key, value] : values_) {
-    if (read_.count(key) == 0) unread.emplace_back(value.line, key);
+  std::vector<std::string> unread;
+  for (const auto& entry : values_) {
+    if (read_.count(entry.first) == 0) unread.push_back(entry.first);
   }
-  std::sort(unread.begin(), unread.end());
-  std::vector<std::string> keys;
-  for (auto& entry : unread) keys.push_back(std::move(entry.second));
-  return keys;
+  return KeysInOrder(unread);
+}
+
+namespace {
+
+// Edits (insert, delete, replace, or swap two neighbouring letters) from a to b.
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t replace = d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, replace});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+}  // namespace
+
+std::string ClosestKey(const std::string& key, const std::vector<std::string>& known) {
+  const std::string lower = Lowercase(key);
+  // A few edits, fewer for short keys: "fx" is not a misspelling of "cy".
+  std::size_t best = std::max<std::size_t>(1, std::min<std::size_t>(3, key.size() / 6)) + 1;
+  std::string closest;
+  for (const std::string& candidate : known) {
+    const std::string candidate_lower = Lowercase(candidate);
+    if (candidate_lower == lower) return candidate;
+    const std::size_t distance = EditDistance(lower, candidate_lower);
+    if (distance < best) {
+      best = distance;
+      closest = candidate;
+    }
+  }
+  return closest;
 }
 
 }  // namespace ocg

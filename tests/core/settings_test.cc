@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <set>
 
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
@@ -301,6 +303,174 @@ TEST(Settings, UnknownKeyWarnsWithItsNameAndLine) {
   ASSERT_EQ(loaded.warnings.size(), 1u);
   EXPECT_NE(loaded.warnings[0].find("typo.yaml:2"), std::string::npos) << loaded.warnings[0];
   EXPECT_NE(loaded.warnings[0].find("OCG.tau_dobut"), std::string::npos);
+}
+
+TEST(Settings, UnknownKeySuggestsTheKnownKeyItMostLikelyMeant) {
+  const LoadedSettings loaded =
+      ParseSettings("System.seed: 7\nLoopClosing.enabeld: false\nCompletelyNew.key: 1\n", "v.yaml");
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_NE(loaded.warnings[0].find("v.yaml:2: unknown key 'LoopClosing.enabeld' ignored; did "
+                                    "you mean 'LoopClosing.enabled'?"),
+            std::string::npos)
+      << loaded.warnings[0];
+  EXPECT_EQ(loaded.warnings[1].find("did you mean"), std::string::npos) << loaded.warnings[1];
+  EXPECT_TRUE(loaded.settings.loop_closing.enabled) << "the misspelt key changes nothing";
+  // Strict: an error listing every unknown key, the value never taken silently.
+  try {
+    ParseSettings("OCG.tau_dobut: 3\nLoopClosing.enabeld: false\n", "v.yaml", CameraNeed::kNone,
+                  UnknownKeys::kError);
+    FAIL() << "strict loading accepted unknown keys";
+  } catch (const SettingsError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("v.yaml:1: unknown key 'OCG.tau_dobut'; did you mean 'OCG.tau_doubt'?"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("v.yaml:2: unknown key 'LoopClosing.enabeld'; did you mean "
+                           "'LoopClosing.enabled'?"),
+              std::string::npos)
+        << message;
+  }
+  // ORB-SLAM's own keys of other sensors stay quiet, strict or not.
+  EXPECT_NO_THROW(ParseSettings("ThDepth: 35\nCamera.bf: 40\n", "s.yaml", CameraNeed::kNone,
+                                UnknownKeys::kError));
+}
+
+TEST(Settings, MisspeltCameraKeysSuggestTheKeyNotAnotherCameraModel) {
+  const std::string version1 =
+      "File.version: \"1.0\"\nCamera.type: \"PinHole\"\nCamera1.Fx: 517.3\nCamera1.fy: 516.5\n"
+      "Camera1.cx: 318.6\nCamera1.cy: 255.3\n";
+  const std::string error = ErrorOf(version1);
+  EXPECT_NE(error.find("fixture.yaml:3: key 'Camera1.Fx'"), std::string::npos) << error;
+  EXPECT_NE(error.find("did you mean Camera1.fx?"), std::string::npos) << error;
+  EXPECT_EQ(error.find("camera models"), std::string::npos) << error;
+  EXPECT_NE(ErrorOf("Camera.FX: 500\n").find("did you mean Camera.fx?"), std::string::npos);
+  EXPECT_NE(ErrorOf("Camera.widht: 640\n").find("did you mean Camera.width?"), std::string::npos);
+  // k4 is a fisheye coefficient, not a misspelt k1.
+  const std::string fisheye = ErrorOf("Camera.k4: 0.1\n");
+  EXPECT_NE(fisheye.find("other camera models"), std::string::npos) << fisheye;
+  EXPECT_EQ(fisheye.find("did you mean"), std::string::npos) << fisheye;
+}
+
+TEST(SettingsFile, ClosestKeyNeedsACloseSpelling) {
+  const std::vector<std::string> known = {"OCG.tau_doubt", "OCG.tau_observable", "Camera.fx"};
+  EXPECT_EQ(ClosestKey("ocg.TAU_DOUBT", known), "OCG.tau_doubt");
+  EXPECT_EQ(ClosestKey("OCG.tau_doutb", known), "OCG.tau_doubt");
+  EXPECT_EQ(ClosestKey("OCG.tau_obsrevable", known), "OCG.tau_observable");
+  EXPECT_EQ(ClosestKey("Objects.min_confidence", known), "");
+  EXPECT_EQ(ClosestKey("Camera.k4", known), "");
+}
+
+// The flat file a batch writes: an ORB-SLAM2 file (OpenCV YAML, "Key:value" without a
+// space) with keys changed, read back to the same values.
+TEST(SettingsFile, SetKeysAndWriteFlatYamlThatReadsBackTheSame) {
+  SettingsFile file = SettingsFile::Parse(
+      "%YAML:1.0\nCamera.fx: 517.306408\nCamera.fy: 516.469215\nCamera.cx: 318.643040\n"
+      "Camera.cy: 255.313989\nViewer.PointSize:2\nLoopClosing:\n  enabled: true\n"
+      "File.comment: \"a: b # c\"\n",
+      "TUM1.yaml");
+  file.Set("LoopClosing.enabled", "false", "--set LoopClosing.enabled");
+  file.Set("Objects.up", "[0, 0, 1]", "--set Objects.up");
+  file.Set("Vocabulary.path", "\"o'brien/voc \\\"1\\\".ocgvoc\"", "--set Vocabulary.path");
+  const std::string flat = file.ToFlatYaml("from TUM1.yaml");
+  EXPECT_EQ(flat.rfind("# from TUM1.yaml\n", 0), 0u) << flat;
+  const SettingsFile again = SettingsFile::Parse(flat, "flat.yaml");
+  for (const char* key : {"Camera.fx", "Camera.cy", "Viewer.PointSize", "LoopClosing.enabled",
+                          "Vocabulary.path", "File.comment"}) {
+    std::string before, after;
+    ASSERT_TRUE(file.Read(key, &before)) << key;
+    ASSERT_TRUE(again.Read(key, &after)) << key << " missing in:\n" << flat;
+    EXPECT_EQ(before, after) << key;
+  }
+  std::string vocabulary;
+  again.Read("Vocabulary.path", &vocabulary);
+  EXPECT_EQ(vocabulary, "o'brien/voc \"1\".ocgvoc");
+  std::vector<double> up;
+  ASSERT_TRUE(again.Read("Objects.up", &up));
+  EXPECT_EQ(up, (std::vector<double>{0, 0, 1}));
+  // File order kept, the new keys last.
+  EXPECT_LT(flat.find("Camera.fx"), flat.find("LoopClosing.enabled: false"));
+  EXPECT_LT(flat.find("File.comment"), flat.find("Objects.up"));
+  const LoadedSettings loaded =
+      ReadSettingsFile(again, CameraNeed::kIntrinsics, UnknownKeys::kWarn);
+  EXPECT_FALSE(loaded.settings.loop_closing.enabled);
+  EXPECT_DOUBLE_EQ(loaded.settings.viewer.point_size, 2.0);
+  EXPECT_DOUBLE_EQ(loaded.settings.objects.up.z(), 1.0);
+}
+
+// The error of reading the file strictly, or "" when it reads.
+std::string StrictReadError(const SettingsFile& file) {
+  try {
+    ReadSettingsFile(file, CameraNeed::kNone, UnknownKeys::kError);
+  } catch (const SettingsError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(SettingsFile, ErrorsAboutASetKeyNameWhereItWasSet) {
+  SettingsFile file = SettingsFile::Parse("System.seed: 7\n", "base.yaml");
+  file.Set("OCG.tau_doubt", "lots", "--set OCG.tau_doubt");
+  std::string error = StrictReadError(file);
+  EXPECT_NE(error.find("--set OCG.tau_doubt: key 'OCG.tau_doubt': expected a number, got 'lots'"),
+            std::string::npos)
+      << error;
+  file.Set("LoopClosing.enabeld", "false", "--set LoopClosing.enabeld");
+  file.Set("OCG.tau_doubt", "40", "--set OCG.tau_doubt");
+  error = StrictReadError(file);
+  EXPECT_NE(error.find("--set LoopClosing.enabeld: unknown key 'LoopClosing.enabeld'; did you "
+                       "mean 'LoopClosing.enabled'?"),
+            std::string::npos)
+      << error;
+  EXPECT_THROW(file.Set("Objects.up", "{x: 1}", "--set Objects.up"), SettingsError);
+  EXPECT_THROW(file.Set("bad key", "1", "--set bad key"), SettingsError);
+}
+
+TEST(Settings, KnownKeysAreEveryKeyTheModulesRead) {
+  const std::vector<std::string> keys = KnownSettingsKeys();
+  for (const char* key : {"Camera.fx", "Camera.width", "System.sequential", "ORBextractor.nLevels",
+                          "LoopClosing.enabled", "Objects.up", "OCG.tau_doubt", "OCG.mode",
+                          "Viewer.PointSize", "Vocabulary.path", "Initializer.seed"}) {
+    EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key;
+  }
+  EXPECT_EQ(std::set<std::string>(keys.begin(), keys.end()).size(), keys.size());
+  EXPECT_GT(keys.size(), 100u);
+}
+
+// docs/settings.md names every key the modules read (in full, or `name` in its section's
+// table): a key added to a reader without a line in the docs fails here.
+TEST(Settings, EveryKnownKeyIsDocumented) {
+  const std::string docs = ReadTextFile(testing::SourceDir() + "/docs/settings.md");
+  for (const std::string& key : KnownSettingsKeys()) {
+    const std::string name = key.substr(key.find('.') + 1);
+    EXPECT_TRUE(docs.find(key) != std::string::npos ||
+                docs.find("`" + name + "`") != std::string::npos)
+        << key << " is not in docs/settings.md";
+  }
+}
+
+TEST(Settings, SettingsOfAnotherCameraNameTheFileAndBothImageSizes) {
+  const fs::path folder = fs::path(::testing::TempDir()) / "ocg_settings_image_size";
+  fs::create_directories(folder);
+  const std::string image = (folder / "000000.pgm").string();
+  // A 1226x370 grey image, as KITTI's (a PGM: written without an image library).
+  WriteFileAtomically(image, "P5\n1226 370\n255\n" + std::string(1226 * 370, '\x80'));
+  const std::string tum1 =
+      "%YAML:1.0\nCamera.fx: 517.306408\nCamera.fy: 516.469215\nCamera.cx: 318.643040\n"
+      "Camera.cy: 255.313989\n";
+  try {
+    CheckCameraFitsImage(ParseSettings(tum1, "Monocular_TUM1.yaml", CameraNeed::kIntrinsics),
+                         image);
+    FAIL() << "TUM settings accepted for a 1226x370 image";
+  } catch (const SettingsError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("Monocular_TUM1.yaml"), std::string::npos) << message;
+    EXPECT_NE(message.find("640x480"), std::string::npos) << message;
+    EXPECT_NE(message.find("1226x370"), std::string::npos) << message;
+    EXPECT_NE(message.find(image), std::string::npos) << message;
+  }
+  EXPECT_NO_THROW(CheckCameraFitsImage(
+      ParseSettings(tum1 + "Camera.width: 1226\nCamera.height: 370\n", "k.yaml"), image));
+  fs::remove_all(folder);
 }
 
 TEST(Settings, WrongTypeNamesFileLineAndKey) {

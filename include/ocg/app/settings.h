@@ -39,9 +39,16 @@ struct Settings {
   void Check() const;
 };
 
+// What a key that no module reads is: a warning (the default: ORB-SLAM files carry keys of
+// other programs) or an error (a batch, where a misspelt key would silently give a run with
+// the default value).
+enum class UnknownKeys { kWarn, kError };
+
 struct LoadedSettings {
   Settings settings;
-  std::vector<std::string> warnings;  // one per unknown key, also logged
+  // One per unknown key, with the known key it most likely meant ("did you mean
+  // 'LoopClosing.enabled'?"); also logged.
+  std::vector<std::string> warnings;
   // Camera.width and Camera.height were both in the file (ORB-SLAM2's TUM files give
   // neither: a command that reads no image must then take the size from elsewhere).
   bool image_size_given = false;
@@ -51,9 +58,25 @@ struct LoadedSettings {
 // set twice, a wrong type, an impossible value or a camera we cannot model; and naming the
 // missing keys when the file lacks the camera keys camera_need asks for (the commands that
 // project points: ocg_slam run and objects).
-LoadedSettings LoadSettings(const std::string& path, CameraNeed camera_need = CameraNeed::kNone);
+// With UnknownKeys::kError, keys no module reads are a SettingsError listing each with its
+// place and the known key it most likely meant.
+LoadedSettings LoadSettings(const std::string& path, CameraNeed camera_need = CameraNeed::kNone,
+                            UnknownKeys unknown_keys = UnknownKeys::kWarn);
 LoadedSettings ParseSettings(const std::string& text, const std::string& name,
-                             CameraNeed camera_need = CameraNeed::kNone);
+                             CameraNeed camera_need = CameraNeed::kNone,
+                             UnknownKeys unknown_keys = UnknownKeys::kWarn);
+// The same from a file already parsed (and perhaps changed with SettingsFile::Set).
+LoadedSettings ReadSettingsFile(const SettingsFile& file, CameraNeed camera_need,
+                                UnknownKeys unknown_keys);
+
+// Throws SettingsError naming the settings file and both sizes when the camera's image size
+// (Camera.width/height, or the default 640x480 when the file gives neither, as ORB-SLAM2's
+// TUM files do) is not the size of image_path (the first image of a sequence): the settings
+// are those of another camera. Throws FileError when the image cannot be read.
+void CheckCameraFitsImage(const LoadedSettings& loaded, const std::string& image_path);
+
+// Every key the modules read, in reading order (the camera in ORB-SLAM2's layout).
+std::vector<std::string> KnownSettingsKeys();
 
 // The SLAM system's part of the settings; the initializer's RANSAC seed mixed with
 // System.seed so that one seed changes every random choice of a run.

@@ -43,10 +43,24 @@ class SettingsFile {
   bool Read(const std::string& key, std::string* value) const;
   bool Read(const std::string& key, std::vector<double>* value) const;
 
+  // Sets key to value, a YAML scalar or flow list ("false", "0.5", "[0, -1, 0]", "'a b'"),
+  // over the file's value if it has one (a new key goes after the file's keys). Messages
+  // about the key then name origin (e.g. "--set OCG.mode") instead of a line. Throws
+  // SettingsError naming origin when value is not a scalar or a list of scalars.
+  void Set(const std::string& key, const std::string& value, const std::string& origin);
+  // The file as flat YAML, one "key: value" line per key in file order (Set's new keys
+  // last), after a comment line "# comment". Read back, every key gives the same text.
+  std::string ToFlatYaml(const std::string& comment) const;
+
   // Keys that start with prefix (e.g. "Camera."), in file order.
   std::vector<std::string> KeysUnder(const std::string& prefix) const;
   // Keys present in the file that no Read asked for, in file order.
   std::vector<std::string> UnreadKeys() const;
+  // Every key a Read asked for, present in the file or not, in the order first asked: after
+  // every module has read its options, the keys the program knows.
+  std::vector<std::string> AskedKeys() const;
+  // Where the key's value comes from: "file:line", Set's origin, or the file's name.
+  std::string Where(const std::string& key) const;
   // "file:line: key 'K': message".
   std::string Describe(const std::string& key, const std::string& message) const;
 
@@ -55,13 +69,23 @@ class SettingsFile {
     std::vector<std::string> items;  // one item for a scalar
     bool is_sequence = false;
     int line = 0;
+    int order = 0;       // position in the file; Set's new keys after the file's
+    std::string origin;  // Set's origin, "" for a value from the file
   };
+  std::vector<std::string> KeysInOrder(const std::vector<std::string>& keys) const;
   const Value* Find(const std::string& key, bool expect_sequence) const;
   [[noreturn]] void Fail(const std::string& key, const std::string& message) const;
 
   std::string name_;
   std::map<std::string, Value> values_;
   mutable std::set<std::string> read_;
+  mutable std::vector<std::string> asked_;
+  mutable std::set<std::string> asked_set_;
 };
+
+// The known key a misspelt key most likely meant ("Camera1.Fx" -> "Camera1.fx",
+// "LoopClosing.enabeld" -> "LoopClosing.enabled"): equal but for case, else within a few
+// edits (letters swapped, missing, extra or wrong); "" when no known key is that close.
+std::string ClosestKey(const std::string& key, const std::vector<std::string>& known);
 
 }  // namespace ocg
