@@ -272,7 +272,7 @@ executions: [sequential]
     on_slurm = write_config(tmp_path, tools, "out: slurm\n" + text)
     assert ocg_batch(source_dir, str(tmp_path / "local.yaml"), "--cores", "2").returncode == 3
     result = ocg_batch(source_dir, on_slurm, "--profile",
-                       os.path.join(source_dir, "eval", "slurm_local"))
+                       os.path.join(source_dir, "eval", "slurm", "local"))
     assert result.returncode == 3, result.stderr[-3000:]
     for table in ("table_I.csv", "table_II.csv"):
         assert (tmp_path / "slurm" / table).read_text() == (tmp_path / "local" / table).read_text()
