@@ -150,6 +150,12 @@ class ObjectSlam::Impl {
     const auto write_folder = [&](const std::string& into, app_detail::ObjectLayer& layer) {
       WriteTumTrajectory(into + "/KeyFrameTrajectory.txt", keyframes);
       WriteTumTrajectory(into + "/CameraTrajectory.txt", cameras);
+      // Several maps: each one's frames in a file of its own (run.json's "maps").
+      const std::vector<MapSummary> maps = system_.Maps();
+      for (std::size_t m = 0; maps.size() > 1 && m < maps.size(); ++m) {
+        const std::string name = "/CameraTrajectory_map" + std::to_string(maps[m].index) + ".txt";
+        WriteTumTrajectory(into + name, system_.CameraTrajectory(maps[m].index));
+      }
       WritePlyPoints(into + "/map_points.ply", points);
       nlohmann::json report = slam_report;
       if (layer.Enabled()) {
@@ -261,6 +267,23 @@ class ObjectSlam::Impl {
   app_detail::ProgressSeries progress_;
 
  private:
+  // run.json's "maps": every map of the run (docs/slam.md "Lost tracking and new maps").
+  nlohmann::json MapsSection() const {
+    nlohmann::json maps = nlohmann::json::array();
+    const int main = system_.MainMap();
+    for (const MapSummary& map : system_.Maps()) {
+      maps.push_back({{"map", map.index},
+                      {"main", map.index == main},
+                      {"current", map.current},
+                      {"frames_tracked", map.frames_tracked},
+                      {"first_frame", map.first_frame},
+                      {"last_frame", map.last_frame},
+                      {"keyframes", map.keyframes},
+                      {"map_points", map.map_points}});
+    }
+    return maps;
+  }
+
   nlohmann::json Report(const RunDescription& description, const std::string& vocabulary_file) {
     int tracked = 0, lost = 0, relocalized = 0, uninitialized = 0;
     std::vector<double> tracking_seconds, tracking_cpu_seconds, mapping_seconds, lock_wait_seconds;
@@ -293,6 +316,8 @@ class ObjectSlam::Impl {
                              {"first_tracked_frame", first_tracked},
                              {"relocalizations", relocalized},
                              {"map_resets", system_.Resets()},
+                             {"new_maps", system_.NewMaps()},
+                             {"maps", MapsSection()},
                              {"keyframes", system_.KeyFrameCount()},
                              {"map_points", system_.MapPointCount()},
                              {"points_created", mapping.points_created},

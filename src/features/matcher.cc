@@ -129,6 +129,7 @@ void ReadSettings(const SettingsFile& file, MatcherOptions* options) {
   file.Read("Matcher.projectionRatio", &options->projection_ratio);
   file.Read("Matcher.bowRatio", &options->bow_ratio);
   file.Read("Matcher.initializationWindow", &options->initialization_window);
+  file.Read("Matcher.initializationAllLevels", &options->initialization_all_levels);
 }
 
 void FilterByRotationConsistency(const std::vector<cv::KeyPoint>& keypoints_a,
@@ -164,10 +165,17 @@ std::vector<int> MatchInWindow(const ExtractedFeatures& a, const ExtractedFeatur
                                const MatcherOptions& options) {
   std::vector<Proposal> proposals;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a.keypoints[i].octave > 0) continue;  // level 0 only: both views start at one scale
+    // Every level, each against its neighbours (the views share one scale, give or take
+    // a level): level 0 alone left too few matches to keep a first view through a fast
+    // turn with blur.
+    const int level = a.keypoints[i].octave;
+    if (!options.initialization_all_levels && level > 0) continue;
     const Eigen::Vector2d& p = predicted[i];
     Nearest nearest;
-    for (const int j : b.grid.InArea(p.x(), p.y(), options.initialization_window, 0, 0)) {
+    const int min_level = options.initialization_all_levels ? std::max(0, level - 1) : 0;
+    const int max_level = options.initialization_all_levels ? level + 1 : 0;
+    for (const int j :
+         b.grid.InArea(p.x(), p.y(), options.initialization_window, min_level, max_level)) {
       nearest.Offer(HammingDistance(a.descriptors[i], b.descriptors[static_cast<std::size_t>(j)]),
                     j, 0);
     }

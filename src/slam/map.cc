@@ -63,6 +63,12 @@ KeyFramePtr Map::GetKeyFrame(KeyFrameId id) const {
   return it == keyframes_.end() ? nullptr : it->second;
 }
 
+std::size_t Map::LiveKeyFrameCount() const {
+  std::size_t count = 0;
+  for (const auto& [id, keyframe] : keyframes_) count += keyframe->bad ? 0 : 1;
+  return count;
+}
+
 void Map::Clear() {
   keyframes_.clear();
   points_.clear();

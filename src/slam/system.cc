@@ -74,8 +74,16 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   pending_mapping_seconds_ = 0.0;
   pending_mapping_cpu_seconds_ = 0.0;
   const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text, features);
-  if (result.reset) {
-    ++resets_;
+  if (result.new_map) {
+    // Keep the trajectory of the map tracking leaves; the map itself is then cleared.
+    FinishedMap finished;
+    finished.summary = SummaryOfCurrentMap();
+    finished.keyframes = KeyFrameTrajectory(current_map_);
+    finished.cameras = CameraTrajectory(current_map_);
+    finished_maps_.push_back(std::move(finished));
+  }
+  if (result.reset || result.new_map) {
+    resets_ += result.reset ? 1 : 0;
     if (!config_.sequential) {  // drain the queues and join, in the order keyframes flow
       local_mapping_->Stop();
       loop_closing_->Stop();
@@ -87,7 +95,13 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
       loop_closing_->Start();
       local_mapping_->Start();
     }
-    for (FrameRecord& record : frames_) record.tracked = false;  // that map is gone
+    if (result.new_map) {
+      ++current_map_;
+    } else {
+      for (FrameRecord& record : frames_) {  // that map is gone
+        if (record.map == current_map_) record.tracked = false;
+      }
+    }
   }
   FrameRecord record;
   record.timestamp = timestamp;
@@ -99,6 +113,7 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   record.tracking_seconds = Seconds(start) - pending_mapping_seconds_;
   record.tracking_cpu_seconds = ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_;
   record.map_lock_wait_seconds = result.map_lock_wait_seconds;
+  record.map = current_map_;
   if (result.T_cw) {
     const std::unique_lock<std::mutex> lock = map_.LockForTracking();
     // The reference is the newest keyframe (or the one tracking last chose).
@@ -142,6 +157,53 @@ void System::Shutdown() {
 }
 
 std::vector<StampedPose> System::KeyFrameTrajectory() const {
+  return KeyFrameTrajectory(MainMap());
+}
+
+std::vector<StampedPose> System::CameraTrajectory() const { return CameraTrajectory(MainMap()); }
+
+MapSummary System::SummaryOfCurrentMap() const {
+  MapSummary summary;
+  summary.index = current_map_;
+  summary.current = true;
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    if (!frames_[i].tracked || frames_[i].map != current_map_) continue;
+    if (summary.frames_tracked == 0) summary.first_frame = i;
+    summary.last_frame = i;
+    ++summary.frames_tracked;
+  }
+  summary.keyframes = KeyFrameCount();
+  summary.map_points = MapPointCount();
+  return summary;
+}
+
+std::vector<MapSummary> System::Maps() const {
+  std::vector<MapSummary> maps;
+  for (const FinishedMap& finished : finished_maps_) {
+    maps.push_back(finished.summary);
+    maps.back().current = false;
+  }
+  maps.push_back(SummaryOfCurrentMap());
+  return maps;
+}
+
+int System::MainMap() const {
+  int main = current_map_;
+  std::size_t most = SummaryOfCurrentMap().frames_tracked;
+  for (const FinishedMap& finished : finished_maps_) {
+    if (finished.summary.frames_tracked > most) {
+      most = finished.summary.frames_tracked;
+      main = finished.summary.index;
+    }
+  }
+  return main;
+}
+
+std::vector<StampedPose> System::KeyFrameTrajectory(int map) const {
+  for (const FinishedMap& finished : finished_maps_) {
+    if (finished.summary.index == map) return finished.keyframes;
+  }
+  if (map != current_map_) return {};
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<StampedPose> poses;
   for (const auto& [id, keyframe] : map_.keyframes()) {
@@ -151,7 +213,11 @@ std::vector<StampedPose> System::KeyFrameTrajectory() const {
   return poses;
 }
 
-std::vector<StampedPose> System::CameraTrajectory() const {
+std::vector<StampedPose> System::CameraTrajectory(int map) const {
+  for (const FinishedMap& finished : finished_maps_) {
+    if (finished.summary.index == map) return finished.cameras;
+  }
+  if (map != current_map_) return {};
   const std::vector<std::optional<SE3>> frame_poses = FramePoses();
   std::vector<StampedPose> poses;
   for (std::size_t i = 0; i < frames_.size(); ++i) {
@@ -166,7 +232,7 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   std::vector<std::optional<SE3>> poses(frames_.size());
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const FrameRecord& record = frames_[i];
-    if (!record.tracked) continue;
+    if (!record.tracked || record.map != current_map_) continue;
     poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
   }
   return poses;
@@ -225,9 +291,7 @@ std::vector<Eigen::Matrix3d> System::KeyFrameRotations() const {
 
 std::size_t System::KeyFrameCount() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
-  std::size_t count = 0;
-  for (const auto& [id, keyframe] : map_.keyframes()) count += keyframe->bad ? 0 : 1;
-  return count;
+  return map_.LiveKeyFrameCount();
 }
 
 std::size_t System::MapPointCount() const {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <set>
@@ -60,6 +61,8 @@ void TrackingOptions::Check() const {
                 "must not be negative");
   RequireOption(min_keyframes_to_keep_map >= 2, "Tracking.minKeyFrames", "must be at least 2");
   RequireOption(local_keyframes >= 2, "Tracking.localKeyFrames", "must be at least 2");
+  RequireOption(new_map_after_lost_seconds >= 0.0, "Tracking.newMapAfterLostSeconds",
+                "must not be negative (0: never start a new map)");
 }
 
 void ReadSettings(const SettingsFile& file, TrackingOptions* options) {
@@ -77,6 +80,7 @@ void ReadSettings(const SettingsFile& file, TrackingOptions* options) {
   file.Read("Tracking.minFramesBetweenKeyFrames", &options->min_frames_between_keyframes);
   file.Read("Tracking.minKeyFrames", &options->min_keyframes_to_keep_map);
   file.Read("Tracking.localKeyFrames", &options->local_keyframes);
+  file.Read("Tracking.newMapAfterLostSeconds", &options->new_map_after_lost_seconds);
 }
 
 const char* ToString(TrackingState state) {
@@ -174,12 +178,16 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
                 ? options_.min_inliers_after_relocalization
                 : options_.min_local_map_inliers;
         ok = inliers >= needed;
+        if (!ok)
+          spdlog::debug("frame {}: local map: {} inliers, need {}", frame.id, inliers, needed);
       }
       if (ok) Anchor(frame, reference_);
     }
     result.inliers = inliers;
+    spdlog::trace("frame {}: {} local map inliers", frame.id, inliers);
     if (ok) {
       state_ = TrackingState::kOk;
+      frames_lost_ = 0;
       if (last_frame_ && last_frame_->T_cw) velocity_ = *frame.T_cw * last_frame_->T_cw->Inverse();
       if (NeedKeyFrame(frame, inliers)) {
         KeyFramePtr keyframe;
@@ -189,6 +197,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
           Anchor(frame, keyframe);
         }
         result.new_keyframe = true;
+        spdlog::trace("frame {}: new keyframe {}", frame.id, keyframe->id);
         if (keyframe_sink_(keyframe)) {
           // A loop moved the map under this frame: it stands where its keyframe now does.
           const std::unique_lock<std::mutex> lock = LockMap();
@@ -199,11 +208,20 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
     } else {
       state_ = TrackingState::kLost;
       velocity_.reset();
+      // The frame a relocalized one would take its velocity from must be the frame before
+      // it, not the last one tracked before the loss (seconds earlier, elsewhere): that
+      // velocity sent the motion model's search far from where the points were.
+      last_frame_.reset();
       std::size_t keyframes = 0;
       {
         const std::unique_lock<std::mutex> lock = LockMap();
-        keyframes = dependencies_.map->keyframes().size();
+        // Culled keyframes stay in the map (bad) for the frames placed on them; counting
+        // them kept a map culled down to four keyframes from ever being reset.
+        keyframes = dependencies_.map->LiveKeyFrameCount();
       }
+      ++frames_lost_;
+      const int new_map_frames =
+          static_cast<int>(std::ceil(options_.new_map_after_lost_seconds * fps_));
       if (!map_loaded_ &&
           keyframes <= static_cast<std::size_t>(options_.min_keyframes_to_keep_map)) {
         // The owner stops local mapping first, then calls Reset(): clearing the map under
@@ -211,6 +229,12 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
         spdlog::warn("frame {}: lost with only {} keyframes: the map will be reset", frame.id,
                      keyframes);
         result.reset = true;
+      } else if (!map_loaded_ && new_map_frames > 0 && frames_lost_ >= new_map_frames) {
+        spdlog::warn(
+            "frame {}: lost for {} frames in a map of {} keyframes without relocalizing: "
+            "starting a new map",
+            frame.id, frames_lost_, keyframes);
+        result.new_map = true;
       }
     }
   }
@@ -403,8 +427,16 @@ bool Tracking::TrackWithMotionModel(Frame& frame) {
   }
   const int matched = static_cast<int>(std::count_if(
       frame.points.begin(), frame.points.end(), [](const MapPointPtr& p) { return p != nullptr; }));
-  if (matched < options_.min_motion_matches) return false;
-  return OptimizeFramePose(frame) >= options_.min_tracked_matches;
+  if (matched < options_.min_motion_matches) {
+    spdlog::debug("frame {}: motion model: {} matches of {} points projected", frame.id, matched,
+                  points.size());
+    return false;
+  }
+  const int inliers = OptimizeFramePose(frame);
+  if (inliers < options_.min_tracked_matches) {
+    spdlog::debug("frame {}: motion model: {} inliers of {} matches", frame.id, inliers, matched);
+  }
+  return inliers >= options_.min_tracked_matches;
 }
 
 bool Tracking::TrackReferenceKeyFrame(Frame& frame) {
@@ -417,7 +449,11 @@ bool Tracking::TrackReferenceKeyFrame(Frame& frame) {
   const BowFeatures b{&frame.feature_vector, &frame.features.descriptors, &frame.features.keypoints,
                       nullptr};
   const std::vector<int> matches = SearchByBow(a, b, options);
-  if (CountMatches(matches) < options_.min_bow_matches) return false;
+  if (CountMatches(matches) < options_.min_bow_matches) {
+    spdlog::debug("frame {}: reference keyframe {}: {} BoW matches", frame.id, reference_->id,
+                  CountMatches(matches));
+    return false;
+  }
   std::fill(frame.points.begin(), frame.points.end(), nullptr);
   for (std::size_t i = 0; i < matches.size(); ++i) {
     if (matches[i] != kNoMatch)
@@ -514,7 +550,7 @@ std::unique_lock<std::mutex> Tracking::LockMap() const {
 
 bool Tracking::NeedKeyFrame(const Frame& frame, int inliers) const {
   const std::unique_lock<std::mutex> lock = LockMap();
-  const std::size_t keyframes = dependencies_.map->keyframes().size();
+  const std::size_t keyframes = dependencies_.map->LiveKeyFrameCount();
   const std::uint64_t max_frames =
       options_.max_frames_between_keyframes > 0
           ? static_cast<std::uint64_t>(options_.max_frames_between_keyframes)
@@ -676,6 +712,7 @@ void Tracking::Reset() {
   }
   dependencies_.database->Clear();
   state_ = TrackingState::kNotInitialized;
+  frames_lost_ = 0;
   initial_frame_.reset();
   last_frame_.reset();
   velocity_.reset();

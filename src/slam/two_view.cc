@@ -198,7 +198,12 @@ void ChooseAmong(const std::vector<std::pair<Eigen::Matrix3d, Eigen::Vector3d>>&
                       std::to_string(best_good) + " vs " + std::to_string(second) + " points)";
     return;
   }
-  if (checks[best].parallax_degrees < o.min_parallax_degrees) {
+  const double turned_degrees =
+      Eigen::AngleAxisd(candidates[best].first).angle() * kRadiansToDegrees;
+  const double min_parallax = turned_degrees > o.turning_degrees
+                                  ? std::max(o.min_parallax_degrees, o.min_parallax_turning_degrees)
+                                  : o.min_parallax_degrees;
+  if (checks[best].parallax_degrees < min_parallax) {
     result->failure =
         "too little parallax (" + std::to_string(checks[best].parallax_degrees) + " degrees)";
     return;
@@ -232,6 +237,9 @@ void TwoViewOptions::Check() const {
   RequireOption(homography_ratio > 0.0 && homography_ratio < 1.0, "Initializer.homographyRatio",
                 "must be in (0, 1)");
   RequireOption(min_parallax_degrees >= 0.0, "Initializer.minParallax", "must not be negative");
+  RequireOption(min_parallax_turning_degrees >= 0.0, "Initializer.minParallaxTurning",
+                "must not be negative");
+  RequireOption(turning_degrees >= 0.0, "Initializer.turningDegrees", "must not be negative");
   RequireOption(min_triangulated >= 8, "Initializer.minTriangulated", "must be at least 8");
   RequireOption(min_good_fraction > 0.0 && min_good_fraction <= 1.0, "Initializer.minGoodFraction",
                 "must be in (0, 1]");
@@ -248,6 +256,8 @@ void ReadSettings(const SettingsFile& file, TwoViewOptions* options) {
   file.Read("Initializer.chi2TwoDof", &options->chi2_two_dof);
   file.Read("Initializer.homographyRatio", &options->homography_ratio);
   file.Read("Initializer.minParallax", &options->min_parallax_degrees);
+  file.Read("Initializer.minParallaxTurning", &options->min_parallax_turning_degrees);
+  file.Read("Initializer.turningDegrees", &options->turning_degrees);
   file.Read("Initializer.minTriangulated", &options->min_triangulated);
   file.Read("Initializer.minGoodFraction", &options->min_good_fraction);
   file.Read("Initializer.maxAmbiguity", &options->max_ambiguity);

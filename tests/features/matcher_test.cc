@@ -205,6 +205,7 @@ TEST(Matcher, WindowSearchFollowsASmallShift) {
   const ExtractedFeatures b = extractor.Extract(shifted, camera);
   MatcherOptions options;
   options.initialization_window = 20;
+  options.initialization_all_levels = false;
   // Predicted: where the feature was (no motion assumed), as at initialization.
   const std::vector<int> matches = MatchInWindow(a, b, a.undistorted, options);
   int found = 0;

@@ -272,3 +272,40 @@ TEST(TwoViewOptions, ChecksNameTheKey) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+// A hand-held camera turning fast: views 10 degrees apart with a few centimetres of
+// baseline. Their 1-2 degrees of parallax pass Initializer.minParallax but not the
+// stricter bound for turned views (the fr1_rpy first map that scaled the trajectory
+// wrongly); the same parallax between views turned 2 degrees passes.
+TEST(TwoView, TurnedViewsNeedMoreParallax) {
+  const PinholeCamera camera;
+  const auto reconstruct = [&](double turn_radians) {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::normal_distribution<double> noise(0.0, 0.3);
+    const SE3 T_21(Eigen::AngleAxisd(turn_radians, Eigen::Vector3d::UnitY()).toRotationMatrix(),
+                   Eigen::Vector3d(-0.07, 0.01, 0.0));
+    std::vector<Eigen::Vector2d> p1, p2;
+    while (p1.size() < 300) {
+      const Eigen::Vector3d X(2.0 * unit(rng), 1.5 * unit(rng), 2.5 + 1.0 * unit(rng));
+      const Eigen::Vector2d a = camera.Project(X), b = camera.Project(T_21 * X);
+      if (!camera.IsInImage(a, 5) || !camera.IsInImage(b, 5)) continue;
+      p1.push_back(a + Eigen::Vector2d(noise(rng), noise(rng)));
+      p2.push_back(b + Eigen::Vector2d(noise(rng), noise(rng)));
+    }
+    return ReconstructTwoView(p1, p2, camera, TwoViewOptions());
+  };
+  const TwoViewResult straight = reconstruct(2.0 * M_PI / 180.0);
+  ASSERT_TRUE(straight.success) << straight.failure;
+  EXPECT_GT(straight.parallax_degrees, TwoViewOptions().min_parallax_degrees);
+  EXPECT_LT(straight.parallax_degrees, TwoViewOptions().min_parallax_turning_degrees);
+  const TwoViewResult turned = reconstruct(10.0 * M_PI / 180.0);
+  EXPECT_FALSE(turned.success);
+  EXPECT_EQ(turned.failure.rfind("too little parallax", 0), 0u) << turned.failure;
+}
+
+}  // namespace
+}  // namespace ocg

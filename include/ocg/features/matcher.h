@@ -29,6 +29,9 @@ struct MatcherOptions {
   double projection_ratio = 0.8;      // Matcher.projectionRatio: map points onto a frame
   double bow_ratio = 0.7;             // Matcher.bowRatio: keyframe to frame through BoW
   int initialization_window = 100;    // Matcher.initializationWindow: search radius, pixels
+  // Matcher.initializationAllLevels: match features of every pyramid level (each with
+  // its neighbouring levels) when initializing; false: level 0 only (ORB-SLAM2).
+  bool initialization_all_levels = true;
 
   void Check() const;  // throws OptionError naming the key
 };
@@ -46,8 +49,9 @@ void FilterByRotationConsistency(const std::vector<cv::KeyPoint>& keypoints_a,
 std::vector<int> MatchBruteForce(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
                                  double ratio, int max_distance);
 
-// Monocular initialization: level-0 features of a searched in b within the window
-// around predicted[i] (usually the position a's feature had when last matched).
+// Monocular initialization: features of a searched in b within the window around
+// predicted[i] (usually the position a's feature had when last matched), on the same
+// pyramid level or a neighbouring one (level 0 only unless initialization_all_levels).
 std::vector<int> MatchInWindow(const ExtractedFeatures& a, const ExtractedFeatures& b,
                                const std::vector<Eigen::Vector2d>& predicted,
                                const MatcherOptions& options);

@@ -146,7 +146,11 @@ class Map {
   void Add(const KeyFramePtr& keyframe) { keyframes_[keyframe->id] = keyframe; }
   void Add(const MapPointPtr& point) { points_[point->id] = point; }
   KeyFramePtr GetKeyFrame(KeyFrameId id) const;
+  // Every keyframe ever added, the culled ones (bad) included: frames placed relative to
+  // a culled keyframe still follow it to its parent.
   const std::map<KeyFrameId, KeyFramePtr>& keyframes() const { return keyframes_; }
+  // The keyframes not culled: how big the map is.
+  std::size_t LiveKeyFrameCount() const;
   const std::map<MapPointId, MapPointPtr>& points() const { return points_; }
   void Clear();
 

@@ -52,6 +52,21 @@ struct FrameRecord {
   bool tracked = false;
   KeyFrameId reference = 0;
   SE3 T_c_reference;
+  // The map the frame was tracked in (0, 1, ... in the order they were started); a map
+  // reset is forgotten, its frames untracked.
+  int map = 0;
+};
+
+// One map of the run: a finished one (tracking got lost in it and started a new one) or
+// the current one. Poses of different maps are in different frames and scales.
+struct MapSummary {
+  int index = 0;
+  bool current = false;
+  std::size_t frames_tracked = 0;  // frames placed in it (CameraTrajectory)
+  std::uint64_t first_frame = 0;   // call index of its first and last tracked frame
+  std::uint64_t last_frame = 0;
+  std::size_t keyframes = 0;
+  std::size_t map_points = 0;
 };
 
 class System {
@@ -78,12 +93,22 @@ class System {
   // failure of the local mapping thread.
   void Shutdown();
 
-  // Camera-to-world poses (TUM convention) of the keyframes still in the map.
+  // Camera-to-world poses (TUM convention) of the keyframes of the main map (the map
+  // with the most tracked frames; the current one on a tie or with a single map).
   std::vector<StampedPose> KeyFrameTrajectory() const;
-  // Every tracked frame, placed relative to its reference keyframe's final pose.
+  // Every frame tracked in the main map, placed relative to its reference keyframe's
+  // final pose.
   std::vector<StampedPose> CameraTrajectory() const;
+  // The same for one map (MapSummary::index); a finished map's poses as they were when
+  // tracking left it.
+  std::vector<StampedPose> KeyFrameTrajectory(int map) const;
+  std::vector<StampedPose> CameraTrajectory(int map) const;
+  // Every map of the run, finished ones first, in the order they were started.
+  std::vector<MapSummary> Maps() const;
+  int MainMap() const;
   // The current pose (after bundle adjustment) of every frame given to TrackImage, in
-  // call order; none for frames not tracked or whose map was reset.
+  // call order; none for frames not tracked, whose map was reset or that belong to an
+  // earlier map than the current one (FrameRecord::map says which).
   std::vector<std::optional<SE3>> FramePoses() const;
   // The positions of every map point (for the object layer's supporting plane and point
   // sets), with their ids and descriptors in the same order when those are given.
@@ -106,6 +131,8 @@ class System {
   // Call after Shutdown() in threaded mode (the worker writes it).
   const LoopClosingStats& LoopStats() const { return loop_closing_->Stats(); }
   int Resets() const { return resets_; }
+  // Maps started after the first, each when tracking was lost too long in a bigger one.
+  int NewMaps() const { return static_cast<int>(finished_maps_.size()); }
 
   // Map files (slam/map_file.h, docs/sessions.md). SaveMap: same conditions as
   // KeyFrames(). LoadMap: before the first TrackImage, into the empty map; the keyframe
@@ -133,6 +160,14 @@ class System {
   double pending_mapping_seconds_ = 0.0;
   double pending_mapping_cpu_seconds_ = 0.0;
   int resets_ = 0;
+  // A map tracking left: what the outputs need of it, taken when it was left.
+  struct FinishedMap {
+    MapSummary summary;
+    std::vector<StampedPose> keyframes, cameras;
+  };
+  std::vector<FinishedMap> finished_maps_;
+  int current_map_ = 0;
+  MapSummary SummaryOfCurrentMap() const;
   bool shut_down_ = false;
   bool map_loaded_ = false;
 };

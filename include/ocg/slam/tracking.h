@@ -46,7 +46,11 @@ struct TrackingOptions {
   // keyframes for 155 frames). 2 stands for that busy frame in both modes.
   int min_frames_between_keyframes = 2;
   int min_keyframes_to_keep_map = 5;  // Tracking.minKeyFrames: reset when lost below
-  int local_keyframes = 80;           // Tracking.localKeyFrames: at most
+  // Tracking.newMapAfterLostSeconds: lost this long in a bigger map without relocalizing,
+  // tracking starts a new map (the old one is kept, ORB-SLAM3's Atlas); 0: never, keep
+  // trying to relocalize.
+  double new_map_after_lost_seconds = 2.0;
+  int local_keyframes = 80;  // Tracking.localKeyFrames: at most
   void Check() const;
 };
 
@@ -85,6 +89,10 @@ struct TrackingResult {
   bool relocalized = false;
   // Lost with too small a map: the owner must stop local mapping and call Reset().
   bool reset = false;
+  // Lost too long in a bigger map: the owner keeps what it needs of the map (its
+  // trajectory), stops local mapping and calls Reset(); tracking initializes a new map.
+  // Poses before and after are in different frames (and scales).
+  bool new_map = false;
   int inliers = 0;
   // Time spent waiting for the map lock while tracking this frame [s]: in threaded mode,
   // while local mapping or loop closing held it.
@@ -179,6 +187,7 @@ class Tracking {
   std::uint64_t anchored_corrections_ = 0;  // Map::corrections() when it was placed
   std::uint64_t last_keyframe_frame_id_ = 0;
   std::uint64_t last_relocalization_frame_id_ = 0;
+  int frames_lost_ = 0;  // in a row, in this map
   bool map_loaded_ = false;
 };
 

@@ -28,8 +28,14 @@ struct TwoViewOptions {
   // Initializer.homographyRatio: choose the homography when S_H / (S_H + S_F) exceeds it.
   double homography_ratio = 0.40;
   double min_parallax_degrees = 1.0;  // Initializer.minParallax: of the 50th largest parallax
-  int min_triangulated = 50;          // Initializer.minTriangulated
-  double min_good_fraction = 0.9;     // Initializer.minGoodFraction: of the model's inliers
+  // Initializer.minParallaxTurning / turningDegrees: a hand-held camera turning fast has
+  // little translation for its rotation, and a pose from views turned more than
+  // turningDegrees apart needs this much parallax (with 1 degree fr1_rpy's first map came
+  // from a centimetre of baseline and scaled the trajectory wrongly).
+  double min_parallax_turning_degrees = 2.0;
+  double turning_degrees = 5.0;
+  int min_triangulated = 50;       // Initializer.minTriangulated
+  double min_good_fraction = 0.9;  // Initializer.minGoodFraction: of the model's inliers
   // Initializer.maxAmbiguity: reject when the second best pose explains this share of the
   // points the best one does (the views cannot tell the two apart).
   double max_ambiguity = 0.7;

@@ -1,0 +1,163 @@
+// What a system does when tracking is lost, on generated frames (smoke preset, rendered
+// in-process, sequential mode) with grey frames where the camera sees nothing: a young
+// map is reset, a mature one is left for a new map after Tracking.newMapAfterLostSeconds.
+// And the initializer's window matching on a blurred view.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "ocg/features/matcher.h"
+#include "ocg/features/vocabulary.h"
+#include "ocg/sim/generator.h"
+#include "ocg/sim/presets.h"
+#include "ocg/slam/system.h"
+#include "test_support.h"
+
+namespace ocg {
+namespace {
+
+Vocabulary DefaultVocabulary() {
+  return Vocabulary::Load(testing::SourceDir() +
+                          "/thirdparty/vocabulary/ocg_orb_vocabulary.ocgvoc");
+}
+
+// The smoke preset's frames, and grey ones (nothing to track) in [blind_from, blind_to).
+class SmokeFeed {
+ public:
+  explicit SmokeFeed(SystemConfig config = SystemConfig())
+      : scene_(sim::MakePreset("smoke", 1)), renderer_(scene_) {
+    config.camera = scene_.camera;
+    config.fps = scene_.fps;
+    config_ = config;
+  }
+  const SystemConfig& config() const { return config_; }
+  TrackingResult Feed(System& system, int frame, bool blind) {
+    const double t = frame / scene_.fps;
+    const cv::Mat image = blind ? cv::Mat(scene_.camera.height, scene_.camera.width, CV_8UC3,
+                                          cv::Scalar(128, 128, 128))
+                                : renderer_.Colour(t, sim::CameraPoseAt(scene_, t), frame);
+    return system.TrackImage(image, t, std::to_string(t));
+  }
+  cv::Mat Gray(int frame) {
+    const double t = frame / scene_.fps;
+    cv::Mat gray;
+    cv::cvtColor(renderer_.Colour(t, sim::CameraPoseAt(scene_, t), frame), gray,
+                 cv::COLOR_BGR2GRAY);
+    return gray;
+  }
+  const sim::Scene& scene() const { return scene_; }
+
+ private:
+  sim::Scene scene_;
+  sim::SceneRenderer renderer_;
+  SystemConfig config_;
+};
+
+// Keyframe culling leaves culled keyframes in the map (marked bad) for the frames placed
+// on them. Counting them kept a map culled down to a few keyframes from being reset when
+// lost: it stayed lost to the end of the run.
+TEST(LostTracking, AMapCulledToFewKeyFramesIsResetWhenLost) {
+  const Vocabulary vocabulary = DefaultVocabulary();
+  SystemConfig config;
+  config.tracking.new_map_after_lost_seconds = 0.0;  // reset or stay lost, nothing else
+  SmokeFeed feed(config);
+  System system(feed.config(), vocabulary);
+  int frame = 0;
+  while (system.KeyFrameCount() < 8 && frame < 150) feed.Feed(system, frame++, false);
+  ASSERT_GE(system.KeyFrameCount(), 8u) << "the smoke preset made too few keyframes";
+  // Culled as local mapping culls: marked bad, kept in the map.
+  const std::vector<KeyFramePtr> keyframes = system.KeyFrames();
+  for (std::size_t k = 3; k < keyframes.size(); ++k) keyframes[k]->bad = true;
+  ASSERT_EQ(system.KeyFrameCount(), 3u);
+  for (int blind = 0; blind < 5; ++blind) feed.Feed(system, frame++, true);
+  EXPECT_EQ(system.Resets(), 1);
+  EXPECT_EQ(system.NewMaps(), 0);
+  // Initialized again afterwards.
+  bool tracked_again = false;
+  for (int more = 0; more < 60 && !tracked_again; ++more)
+    tracked_again = feed.Feed(system, frame++, false).T_cw.has_value();
+  EXPECT_TRUE(tracked_again);
+  system.Shutdown();
+}
+
+// Lost in a mature map longer than Tracking.newMapAfterLostSeconds: a new map is started
+// and tracked; the first one's frames stay in its own trajectory.
+TEST(LostTracking, LostTooLongInAMatureMapStartsANewMap) {
+  const Vocabulary vocabulary = DefaultVocabulary();
+  SystemConfig config;
+  config.tracking.new_map_after_lost_seconds = 0.5;
+  SmokeFeed feed(config);
+  System system(feed.config(), vocabulary);
+  int frame = 0;
+  for (; frame < 60; ++frame) feed.Feed(system, frame, false);
+  ASSERT_GT(system.KeyFrameCount(),
+            static_cast<std::size_t>(config.tracking.min_keyframes_to_keep_map));
+  const std::size_t first_map_frames = system.CameraTrajectory(0).size();
+  ASSERT_GE(first_map_frames, 50u);
+  const int blind_frames = static_cast<int>(std::ceil(0.5 * feed.scene().fps));
+  for (int blind = 0; blind < blind_frames; ++blind) feed.Feed(system, frame++, true);
+  EXPECT_EQ(system.NewMaps(), 1);
+  EXPECT_EQ(system.Resets(), 0);
+  int tracked_after = 0;
+  for (int more = 0; more < 60; ++more)
+    tracked_after += feed.Feed(system, frame++, false).T_cw ? 1 : 0;
+  system.Shutdown();
+  EXPECT_GE(tracked_after, 40);
+  const std::vector<MapSummary> maps = system.Maps();
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_FALSE(maps[0].current);
+  EXPECT_TRUE(maps[1].current);
+  EXPECT_EQ(maps[0].frames_tracked, first_map_frames);
+  EXPECT_EQ(maps[1].frames_tracked, static_cast<std::size_t>(tracked_after));
+  EXPECT_EQ(system.CameraTrajectory(0).size(), first_map_frames);
+  EXPECT_EQ(system.CameraTrajectory(1).size(), static_cast<std::size_t>(tracked_after));
+  // The main map is the one with the most frames; FramePoses covers the current map only.
+  EXPECT_EQ(system.MainMap(), first_map_frames > static_cast<std::size_t>(tracked_after) ? 0 : 1);
+  const std::vector<std::optional<SE3>> poses = system.FramePoses();
+  for (int f = 0; f < 60; ++f) EXPECT_FALSE(poses[static_cast<std::size_t>(f)]) << f;
+  for (std::size_t f = 0; f < system.Frames().size(); ++f) {
+    EXPECT_EQ(system.Frames()[f].map, f < 60 + static_cast<std::size_t>(blind_frames) - 1 ? 0 : 1)
+        << f;
+  }
+}
+
+// A hand-held camera turning fast blurs the second view: level 0 loses most of its
+// corners, the coarser levels keep theirs. Matching every level keeps a first view.
+TEST(InitializationMatching, EveryLevelKeepsABlurredViewMatched) {
+  SmokeFeed feed;
+  const cv::Mat image = feed.Gray(10);
+  cv::Mat shifted, blurred;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 12, 0, 1, 5);
+  cv::warpAffine(image, shifted, shift, image.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT_101);
+  cv::GaussianBlur(shifted, blurred, cv::Size(0, 0), 1.5);
+  OrbExtractorOptions orb;
+  orb.features = 2000;
+  OrbExtractor extractor{orb};
+  PinholeCamera camera = feed.scene().camera;
+  const ExtractedFeatures a = extractor.Extract(image, camera);
+  const ExtractedFeatures b = extractor.Extract(blurred, camera);
+  const auto count = [&](bool all_levels, int* correct) {
+    MatcherOptions options;
+    options.initialization_all_levels = all_levels;
+    const std::vector<int> matches = MatchInWindow(a, b, a.undistorted, options);
+    int found = 0;
+    *correct = 0;
+    for (std::size_t i = 0; i < matches.size(); ++i) {
+      if (matches[i] == kNoMatch) continue;
+      ++found;
+      const Eigen::Vector2d moved = b.undistorted[static_cast<std::size_t>(matches[i])];
+      const double tolerance = 1.5 * std::pow(orb.scale_factor, a.keypoints[i].octave);
+      if ((moved - a.undistorted[i] - Eigen::Vector2d(12, 5)).norm() < tolerance) ++*correct;
+    }
+    return found;
+  };
+  int correct_level0 = 0, correct_all = 0;
+  const int level0 = count(false, &correct_level0);
+  const int all = count(true, &correct_all);
+  EXPECT_GE(correct_all, 2 * correct_level0) << level0 << " level-0 matches, " << all << " in all";
+  EXPECT_GE(correct_all, all * 9 / 10);
+}
+
+}  // namespace
+}  // namespace ocg
