@@ -75,9 +75,12 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
   if (!session_start_) session_start_ = timestamp;
-  if (result.reset) {
-    // The SLAM map the objects were built in is gone; so are they.
-    spdlog::warn("frame {}: the SLAM map was reset: the object map starts over", frame);
+  if (result.reset || result.new_map) {
+    // The SLAM map the objects were built in is gone (reset) or left behind for a new map
+    // in coordinates of its own (new_map): objects of the old frame cannot be kept in the
+    // new one, so the object map starts over.
+    spdlog::warn("frame {}: the SLAM map was {}: the object map starts over", frame,
+                 result.reset ? "reset" : "left for a new map");
     ++resets_;
     Start();
   }
