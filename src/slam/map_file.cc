@@ -9,6 +9,7 @@
 #include <cereal/types/vector.hpp>
 #include <istream>
 #include <limits>
+#include <new>
 #include <ostream>
 #include <stdexcept>
 #include <type_traits>
@@ -28,7 +29,12 @@ template <class T>
 void SaveBlock(cereal::BinaryOutputArchive& archive, const std::vector<T>& values) {
   static_assert(std::is_standard_layout_v<T>, "blocks of plain values only");
   archive(cereal::make_size_tag(static_cast<cereal::size_type>(values.size())));
-  archive(cereal::binary_data(values.data(), sizeof(T) * values.size()));
+  // Copied member by member into zeroed bytes: a value's padding (the 4 bytes after the
+  // word id of a BoW entry) is never set, and writing it raw made two saves of one map
+  // differ and wrote uninitialised memory into the file.
+  std::vector<unsigned char> bytes(sizeof(T) * values.size(), 0);
+  for (std::size_t i = 0; i < values.size(); ++i) new (bytes.data() + i * sizeof(T)) T(values[i]);
+  archive(cereal::binary_data(bytes.data(), bytes.size()));
 }
 template <class T>
 void LoadBlock(cereal::BinaryInputArchive& archive, std::vector<T>* values) {
