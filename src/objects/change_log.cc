@@ -118,6 +118,12 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
   return moves;
 }
 
+// times[id] (SeenAsClass's), else fallback.
+double TimeOr(const std::map<ObjectId, double>& times, ObjectId id, double fallback) {
+  const auto found = times.find(id);
+  return found != times.end() ? found->second : fallback;
+}
+
 nlohmann::json AppearanceJson(const AppearanceMatch& match) {
   return {{"matched", match.matched},
           {"compared", match.compared},
@@ -181,6 +187,8 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     record.cuboid = CuboidFromJson(entry.at("cuboid"));
     record.last_seen = entry.value("last_seen", entry.at("timestamp").get<double>());
     const bool earlier = context.session > 0 && record.last_seen < context.session_start;
+    if (!earlier)
+      record.last_seen = TimeOr(context.seen_as_class.last, record.id, record.last_seen);
     (earlier ? seen_before : seen_now).push_back(record);
   }
   std::map<ObjectId, MoveLink> moves_from;
@@ -220,8 +228,10 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     alternatives[from.id].push_back(entry);
   }
   std::vector<ObjectRecord> rest_live;
-  for (const ObjectRecord& object : live.objects) {
-    if (moved_to.count(object.id) == 0) rest_live.push_back(object);
+  for (ObjectRecord object : live.objects) {
+    if (moved_to.count(object.id) > 0) continue;
+    object.first_seen = TimeOr(context.seen_as_class.first, object.id, object.first_seen);
+    rest_live.push_back(object);
   }
   for (const MoveLink& move : LinkMoves(seen_now, rest_live, context.moves, true)) {
     moves_from.emplace(move.from.id, move);

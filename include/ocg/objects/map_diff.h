@@ -5,6 +5,7 @@
 // Distances scale with the objects' sizes, never in metres: a monocular map has its own
 // scale, and a cup and a laptop are moved over different distances.
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,15 @@ struct ObjectRecord {
   double last_seen = 0.0;
   int first_session = 0;  // the session of its first sighting (map files; 0 otherwise)
   int observations = 0;   // sightings (objects.json "observations"; 0 when not known)
+};
+
+// When a session saw objects as their class (a detection of the object's class associated
+// to it), timestamps in seconds, by id. A sighting of another class (a false positive at a
+// place emptied by a move, absorbed into the object left there; a class flip) does not
+// show the object there, so a move pairing orders a removal and an appearance by these.
+struct SeenAsClass {
+  std::map<ObjectId, double> first;  // objects no earlier session saw
+  std::map<ObjectId, double> last;
 };
 
 struct MoveLinkOptions {
