@@ -243,9 +243,11 @@ TEST(ChangeLog, InASessionANewPlaceSeenBeforeTheRemovalIsAMove) {
   InSessionMove log;
   // First seen at 1033: after the cup was last seen as a cup, before the box of another
   // class that joined it, before the removal.
+  log.context.seen_as_class.first[9] = 1034;  // its first box as a cup; the entry keeps 1033
   const nlohmann::json move = log.Entry(nlohmann::json::array({Live(9, kCup, 0.4, 1033)}));
   EXPECT_EQ(move["type"], "moved");
   EXPECT_EQ(move["to"]["object_id"], 9);
+  EXPECT_EQ(move["to"]["first_seen"], 1033);
   log.context.seen_as_class.last.clear();  // by last_seen alone: the box of another class
   EXPECT_EQ(log.Entry(nlohmann::json::array({Live(9, kCup, 0.4, 1033)}))["type"], "removed");
 }
