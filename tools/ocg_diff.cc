@@ -10,6 +10,7 @@
 #include "ocg/core/coco.h"
 #include "ocg/core/file_io.h"
 #include "ocg/objects/map_diff.h"
+#include "ocg/objects/map_frames.h"
 #include "ocg/viewer/diff_view.h"
 #include "ocg/viewer/run_scene.h"
 #include "ocg/viewer/snapshots.h"
@@ -27,16 +28,20 @@ std::string Describe(const ocg::ObjectRecord& record) {
   return text;
 }
 
-void PrintDiff(const ocg::MapDiff& diff) {
-  std::printf("removed %zu, added %zu, moved %zu, unchanged %zu\n", diff.removed.size(),
-              diff.added.size(), diff.moved.size(), diff.unchanged.size());
+void PrintDiff(const ocg::MapDiff& diff, const std::string& unit, const std::string& frame,
+               const std::string& after) {
+  std::printf("removed %zu, added %zu, moved %zu, unchanged %zu (distances in %s)\n",
+              diff.removed.size(), diff.added.size(), diff.moved.size(), diff.unchanged.size(),
+              unit.c_str());
+  std::printf("one frame: %s\n", frame.c_str());
   for (const ocg::ObjectRecord& record : diff.removed)
     std::printf("  removed    %s\n", Describe(record).c_str());
   for (const ocg::ObjectRecord& record : diff.added)
     std::printf("  added      %s\n", Describe(record).c_str());
   for (const ocg::MoveLink& link : diff.moved) {
-    std::printf("  moved      %s -> %s (%.3f)\n", Describe(link.from).c_str(),
-                Describe(link.to).c_str(), link.distance);
+    std::printf("  moved      %s -> %s (%.3f %s%s)\n", Describe(link.from).c_str(),
+                Describe(link.to).c_str(), link.distance, unit.c_str(),
+                link.recorded ? (", as " + after + "/changes.json records it").c_str() : "");
   }
   for (const ocg::MoveLink& link : diff.unchanged) {
     std::printf(
@@ -60,7 +65,7 @@ int main(int argc, char** argv) {
       "frame (a later session's map against the one it continued)",
       "ocg_diff"};
   std::string log_level, before, after, json_path, snapshots;
-  bool json = false;
+  bool json = false, any_frame = false;
   ocg::MapDiffOptions options;
   ocg::tools::AddLogLevelOption(app, &log_level);
   app.add_option("--before", before, "the earlier map: objects.json or a run folder")
@@ -78,6 +83,9 @@ int main(int argc, char** argv) {
                  "of each other: a move")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_flag("--any-frame", any_frame,
+               "compare maps that do not look like one world frame (by default refused: a "
+               "pose-given map against a SLAM map, or two SLAM runs from empty maps)");
   app.add_flag("--json", json, "print the diff as JSON instead of text");
   app.add_option("--out", json_path, "also write the diff as JSON into this file");
   app.add_option("--snapshots", snapshots,
@@ -87,13 +95,29 @@ int main(int argc, char** argv) {
     const auto readers = ocg::ObjectMapReaders();
     const ocg::SavedObjectMap first = ocg::ReadObjectMap(before, readers);
     const ocg::SavedObjectMap second = ocg::ReadObjectMap(after, readers);
-    const ocg::MapDiff diff = ocg::DiffObjectMaps(first.objects, second.objects, options);
-    const std::string text = ocg::MapDiffJson(diff);
+    ocg::FrameCheckOptions frame_options;
+    frame_options.same_place_factor = options.same_place_factor;
+    const ocg::FrameCheck frame = ocg::CheckOneFrame(first, second, frame_options);
+    if (!frame.one_frame && !any_frame) {
+      throw std::invalid_argument(
+          "'" + before + "' and '" + after + "' are not in one world frame: " + frame.evidence +
+          ". ocg_diff compares maps in one frame: a later session that continued the earlier "
+          "one's map file (ocg_slam run --load-map), or pose-given runs (ocg_slam objects) on "
+          "one ground truth; two SLAM runs from empty maps, or a SLAM map and a pose-given "
+          "one, each have their own frame and scale. --any-frame compares them anyway");
+    }
+    const std::string unit = ocg::DistanceUnit(first, second);
+    const ocg::MapDiff diff =
+        ocg::DiffObjectMaps(first.objects, second.objects, options, ocg::MovesSince(first, second));
+    const std::string frame_text =
+        frame.one_frame ? frame.evidence
+                        : "NOT one frame, compared as asked (--any-frame): " + frame.evidence;
+    const std::string text = ocg::MapDiffJson(diff, unit, frame_text);
     if (!json_path.empty()) ocg::WriteFileAtomically(json_path, text);
     if (json) {
       std::cout << text;
     } else {
-      PrintDiff(diff);
+      PrintDiff(diff, unit, frame_text, after);
     }
     if (!snapshots.empty()) {
       ocg::MapScene background = Background(after);

@@ -265,6 +265,7 @@ ChangeLogContext ObjectLayer::ChangeLog() const {
   context.session = session_;
   context.session_start = session_start_.value_or(0.0);
   context.appearance = mapper_->Appearances();
+  context.seen_as_class = mapper_->SeenAsClassThisSession();
   context.box_appearance = box_appearance_;
   context.colour = colour_;
   context.earlier_changes = earlier_changes_;

@@ -51,6 +51,7 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                            {"timing", {{"objects_per_frame", app_detail::Timing(frame_seconds)}}}};
   ChangeLogContext change_log;
   if (!frames.empty()) change_log.session_start = frames.front().timestamp;
+  change_log.seen_as_class = mapper.SeenAsClassThisSession();
   report.update(app_detail::WriteObjectMap(mapper, folder, change_log));
   return report;
 }

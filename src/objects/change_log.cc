@@ -118,6 +118,12 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
   return moves;
 }
 
+// times[id] (SeenAsClass's), else fallback.
+double TimeOr(const std::map<ObjectId, double>& times, ObjectId id, double fallback) {
+  const auto found = times.find(id);
+  return found != times.end() ? found->second : fallback;
+}
+
 nlohmann::json AppearanceJson(const AppearanceMatch& match) {
   return {{"matched", match.matched},
           {"compared", match.compared},
@@ -219,12 +225,24 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
     if (entry.contains("appearance")) looks[{from.id, to.id}] = entry["appearance"];
     alternatives[from.id].push_back(entry);
   }
-  std::vector<ObjectRecord> rest_live;
+  // In a session, ordered by when each was seen as its class; entries keep their times.
+  std::vector<ObjectRecord> removed_as_class = seen_now, rest_live, rest_as_class;
+  for (ObjectRecord& record : removed_as_class)
+    record.last_seen = TimeOr(context.seen_as_class.last, record.id, record.last_seen);
   for (const ObjectRecord& object : live.objects) {
-    if (moved_to.count(object.id) == 0) rest_live.push_back(object);
+    if (moved_to.count(object.id) > 0) continue;
+    rest_live.push_back(object);
+    rest_as_class.push_back(object);
+    rest_as_class.back().first_seen =
+        TimeOr(context.seen_as_class.first, object.id, object.first_seen);
   }
-  for (const MoveLink& move : LinkMoves(seen_now, rest_live, context.moves, true)) {
-    moves_from.emplace(move.from.id, move);
+  const auto original = [](const std::vector<ObjectRecord>& records, ObjectId id) {
+    return *std::find_if(records.begin(), records.end(),
+                         [id](const ObjectRecord& record) { return record.id == id; });
+  };
+  for (const MoveLink& move : LinkMoves(removed_as_class, rest_as_class, context.moves, true)) {
+    moves_from.emplace(move.from.id, MoveLink{original(seen_now, move.from.id),
+                                              original(rest_live, move.to.id), move.distance});
     moved_to.insert(move.to.id);
   }
   nlohmann::json list = nlohmann::json::array();

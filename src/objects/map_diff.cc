@@ -10,6 +10,7 @@
 
 #include "ocg/core/coco.h"
 #include "ocg/core/file_io.h"
+#include "ocg/io/change_entries.h"
 #include "ocg/io/text_lines.h"
 #include "ocg/objects/cuboid_json.h"
 
@@ -59,12 +60,54 @@ nlohmann::json RecordJson(const ObjectRecord& record) {
 }
 
 nlohmann::json LinkJson(const MoveLink& link) {
-  return {
-      {"from", RecordJson(link.from)}, {"to", RecordJson(link.to)}, {"distance", link.distance}};
+  return {{"from", RecordJson(link.from)},
+          {"to", RecordJson(link.to)},
+          {"distance", link.distance},
+          {"recorded", link.recorded}};
 }
 
 std::string ObjectsJsonPath(const std::string& path) {
   return fs::is_directory(path) ? path + "/objects.json" : path;
+}
+
+// run.json's session section and command, and changes.json's moves, of a run folder.
+RunRecord ReadRunRecord(const std::string& folder) {
+  RunRecord record;
+  record.folder = folder;
+  const std::string run_path = folder + "/run.json";
+  try {
+    const nlohmann::json run = nlohmann::json::parse(ReadTextFile(run_path));
+    record.poses_given = run.value("command", "") == "objects";
+    if (run.contains("session") && run.at("session").is_object()) {
+      const nlohmann::json& session = run.at("session");
+      record.session = session.value("index", 0);
+      const auto path = [&session](const char* key) {
+        return session.contains(key) && session.at(key).is_string()
+                   ? session.at(key).get<std::string>()
+                   : std::string();
+      };
+      record.map_loaded = path("map_loaded");
+      record.map_saved = path("map_saved");
+    }
+  } catch (const nlohmann::json::exception& error) {
+    throw ParseError(run_path + ": " + error.what());
+  }
+  const std::string changes_path = folder + "/changes.json";
+  if (!fs::exists(changes_path)) return record;
+  try {
+    const nlohmann::json changes = nlohmann::json::parse(ReadTextFile(changes_path));
+    const nlohmann::json& list = changes.at("changes");
+    const std::vector<bool> standing = StandingRemovals(list);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!standing[i] || list[i].at("type") != "moved") continue;
+      record.moves.push_back({list[i].at("object_id").get<ObjectId>(),
+                              list[i].at("to").at("object_id").get<ObjectId>(),
+                              list[i].value("session", 0)});
+    }
+  } catch (const nlohmann::json::exception& error) {
+    throw ParseError(changes_path + ": " + error.what());
+  }
+  return record;
 }
 
 }  // namespace
@@ -107,21 +150,35 @@ std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
 }
 
 MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
-                       const std::vector<ObjectRecord>& after, const MapDiffOptions& options) {
+                       const std::vector<ObjectRecord>& after, const MapDiffOptions& options,
+                       const std::vector<RecordedMove>& recorded) {
   options.Check();
+  MapDiff diff;
+  std::vector<bool> kept_before(before.size(), false), kept_after(after.size(), false);
+  const auto index_of = [](const std::vector<ObjectRecord>& records, ObjectId id) {
+    const auto found = std::find_if(records.begin(), records.end(),
+                                    [id](const ObjectRecord& record) { return record.id == id; });
+    return found == records.end() ? records.size()
+                                  : static_cast<std::size_t>(found - records.begin());
+  };
+  for (const RecordedMove& move : recorded) {
+    const std::size_t b = index_of(before, move.from), a = index_of(after, move.to);
+    if (b == before.size() || a == after.size() || kept_before[b] || kept_after[a]) continue;
+    kept_before[b] = kept_after[a] = true;
+    diff.moved.push_back(Link(before[b], after[a]));
+    diff.moved.back().recorded = true;
+  }
   // Same place: equal ids rank before any other pair (relative - 1 < 0).
   std::vector<Candidate> candidates;
   for (std::size_t b = 0; b < before.size(); ++b) {
     for (std::size_t a = 0; a < after.size(); ++a) {
-      if (before[b].class_id != after[a].class_id) continue;
+      if (kept_before[b] || kept_after[a] || before[b].class_id != after[a].class_id) continue;
       const double relative = Relative(before[b], after[a]);
       if (relative > options.same_place_factor) continue;
       const double rank = before[b].id == after[a].id ? relative - 1.0 : relative;
       candidates.push_back({rank, b, a, before[b].id, after[a].id});
     }
   }
-  MapDiff diff;
-  std::vector<bool> kept_before(before.size(), false), kept_after(after.size(), false);
   for (const Candidate& pair : PairNearest(std::move(candidates))) {
     kept_before[pair.a] = kept_after[pair.b] = true;
     diff.unchanged.push_back(Link(before[pair.a], after[pair.b]));
@@ -146,7 +203,8 @@ MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
   return diff;
 }
 
-std::string MapDiffJson(const MapDiff& diff) {
+std::string MapDiffJson(const MapDiff& diff, const std::string& distance_unit,
+                        const std::string& frame) {
   nlohmann::json removed = nlohmann::json::array(), added = nlohmann::json::array(),
                  moved = nlohmann::json::array(), unchanged = nlohmann::json::array();
   for (const ObjectRecord& record : diff.removed) removed.push_back(RecordJson(record));
@@ -160,6 +218,8 @@ std::string MapDiffJson(const MapDiff& diff) {
                            {"added", diff.added.size()},
                            {"moved", diff.moved.size()},
                            {"unchanged", diff.unchanged.size()}}},
+                         {"distance_unit", distance_unit},
+                         {"frame", frame},
                          {"removed", removed},
                          {"added", added},
                          {"moved", moved},
@@ -205,7 +265,30 @@ SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name
 
 SavedObjectMap ObjectsJsonReader::Read(const std::string& path) const {
   const std::string file = ObjectsJsonPath(path);
-  return ParseObjectsJson(ReadTextFile(file), file);
+  SavedObjectMap map = ParseObjectsJson(ReadTextFile(file), file);
+  if (fs::is_directory(path) && fs::exists(path + "/run.json")) map.run = ReadRunRecord(path);
+  return map;
+}
+
+bool ContinuesMapOf(const RunRecord& later, const RunRecord& earlier) {
+  if (later.map_loaded.empty() || earlier.map_saved.empty()) return false;
+  if (later.map_loaded == earlier.map_saved) return true;
+  std::error_code error;
+  return fs::equivalent(later.map_loaded, earlier.map_saved, error) && !error;
+}
+
+std::vector<RecordedMove> MovesSince(const SavedObjectMap& before, const SavedObjectMap& after) {
+  std::vector<RecordedMove> moves;
+  if (!before.run || !after.run || !ContinuesMapOf(*after.run, *before.run)) return moves;
+  for (const RecordedMove& move : after.run->moves) {
+    if (move.session > before.run->session) moves.push_back(move);
+  }
+  return moves;
+}
+
+std::string DistanceUnit(const SavedObjectMap& before, const SavedObjectMap& after) {
+  return before.run && after.run && before.run->poses_given && after.run->poses_given ? "m"
+                                                                                      : "map units";
 }
 
 std::vector<std::unique_ptr<ObjectMapReader>> ObjectMapReaders() {

@@ -393,7 +393,8 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
                                   BesideAMoreConfidentBoxOfItsClass(detections, d),
                                   detection.class_id,
                                   session_,
-                                  std::nullopt};
+                                  std::nullopt,
+                                  timestamp};
     MapObject* across_gap = nullptr;
     if (assignment[d] < 0) across_gap = CandidateAcrossGap(detection, frame, timestamp, T_cw);
     if (assignment[d] < 0 && across_gap == nullptr) {
@@ -881,6 +882,29 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMap::Appearances() const {
     if (!appearance.empty()) appearances[id] = std::move(appearance);
   }
   return appearances;
+}
+
+SeenAsClass ObjectMap::SeenAsClassThisSession() const {
+  SeenAsClass seen;
+  const auto add = [&](const MapObject& object) {
+    bool earlier = false;
+    std::optional<double> first, last;
+    for (const ObjectSighting& sighting : object.sightings) {
+      if (sighting.class_id != object.class_id) continue;
+      if (sighting.session != session_) {
+        earlier = true;
+        continue;
+      }
+      if (!first) first = sighting.timestamp;
+      last = sighting.timestamp;
+    }
+    if (!last) return;
+    if (!earlier) seen.first[object.id] = *first;
+    seen.last[object.id] = *last;
+  };
+  for (const auto& [id, object] : objects_) add(object);
+  for (const auto& [id, object] : removed_in_run_) add(object);
+  return seen;
 }
 
 template <typename Visit>

@@ -97,6 +97,11 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::Appearances() const {
   return map_.Appearances();
 }
 
+SeenAsClass ObjectMapper::SeenAsClassThisSession() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.SeenAsClassThisSession();
+}
+
 std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::BoxAppearances(
     const KeyframeFeatureMap& keyframes, const BoxAppearanceOptions& options,
     int max_distance) const {

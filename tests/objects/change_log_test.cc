@@ -37,6 +37,10 @@ nlohmann::json Live(ObjectId id, int class_id, double x, double first_seen, int 
           {"first_session", first_session}};
 }
 
+std::string ObjectsText(const nlohmann::json& objects) {
+  return nlohmann::json({{"format", "ocg-objects"}, {"objects", objects}}).dump();
+}
+
 // A cup removed at x = 0 and a cup that appeared at x = 0.4 after the first one's last
 // sighting; a book removed with no book near; a merged duplicate; a mouse first seen at
 // 1025 and a cup seen since 900 (in session 0).
@@ -216,6 +220,62 @@ TEST(ChangeLog, SeenTogetherIsNoMove) {
   EXPECT_EQ(revised["changes"][0]["type"], "removed");
 }
 
+// Within a session: a cup removed at 1050, last seen as a cup at 1021 (a false box of
+// another class at its emptied place joined it at 1040: its entry's last_seen), and the
+// objects that appeared since, as SeenAsClass orders them.
+struct InSessionMove {
+  std::string changes = ObjectChangesJson({Removed(3, kCup, 0.0, 1050, 1040)});
+  ChangeLogContext context = [] {
+    ChangeLogContext context;
+    context.session_start = 1000;
+    context.seen_as_class.last[3] = 1021;
+    return context;
+  }();
+  // The revised entry of the removal.
+  nlohmann::json Entry(const nlohmann::json& live) const {
+    return nlohmann::json::parse(ReviseChangeLog(changes, ObjectsText(live), context))
+        .at("changes")
+        .at(0);
+  }
+};
+
+TEST(ChangeLog, InASessionANewPlaceSeenBeforeTheRemovalIsAMove) {
+  InSessionMove log;
+  // First seen at 1033: after the cup was last seen as a cup, before the box of another
+  // class that joined it, before the removal.
+  log.context.seen_as_class.first[9] = 1034;  // its first box as a cup; the entry keeps 1033
+  const nlohmann::json move = log.Entry(nlohmann::json::array({Live(9, kCup, 0.4, 1033)}));
+  EXPECT_EQ(move["type"], "moved");
+  EXPECT_EQ(move["to"]["object_id"], 9);
+  EXPECT_EQ(move["to"]["first_seen"], 1033);
+  log.context.seen_as_class.last.clear();  // by last_seen alone: the box of another class
+  EXPECT_EQ(log.Entry(nlohmann::json::array({Live(9, kCup, 0.4, 1033)}))["type"], "removed");
+}
+
+TEST(ChangeLog, InASessionANewPlaceSeenAfterTheRemovalIsAMove) {
+  const nlohmann::json move =
+      InSessionMove().Entry(nlohmann::json::array({Live(9, kCup, 0.4, 1060)}));
+  EXPECT_EQ(move["type"], "moved");
+  EXPECT_EQ(move["to"]["object_id"], 9);
+}
+
+TEST(ChangeLog, InASessionTheMoveGoesToTheObjectThatAppearedSinceNotToANeighbour) {
+  InSessionMove log;
+  // Cup 8 is nearer but was first seen as a cup before the removed one's last sighting as
+  // a cup (its first box was another class's, at 1030): a neighbour. Of the two that
+  // appeared since, the nearer.
+  log.context.seen_as_class.first[8] = 1015;
+  const nlohmann::json move =
+      log.Entry({Live(8, kCup, 0.25, 1030), Live(9, kCup, 0.6, 1033), Live(10, kCup, 0.4, 1045)});
+  EXPECT_EQ(move["type"], "moved");
+  EXPECT_EQ(move["to"]["object_id"], 10);
+}
+
+TEST(ChangeLog, InASessionAnObjectOfAnotherClassIsNoMove) {
+  EXPECT_EQ(InSessionMove().Entry(nlohmann::json::array({Live(9, kBook, 0.4, 1033)}))["type"],
+            "removed");
+}
+
 // A removal undone by a restore (the object found again at its own place, live with its
 // id): it went nowhere, so the cup that appeared across the room in the same session is
 // an addition, not where it moved to (issue 19's between-session link must not take it).
@@ -251,10 +311,6 @@ TEST(ChangeLog, ARestoredRemovalIsNoMove) {
 }
 
 // objects.json holding these live objects.
-std::string ObjectsText(const nlohmann::json& objects) {
-  return nlohmann::json({{"format", "ocg-objects"}, {"objects", objects}}).dump();
-}
-
 ChangeLogContext Session(int session, double start) {
   ChangeLogContext context;
   context.session = session;

@@ -8,6 +8,7 @@
 #include "ocg/core/file_io.h"
 #include "ocg/io/text_lines.h"
 #include "ocg/objects/map_diff.h"
+#include "ocg/objects/map_frames.h"
 #include "test_support.h"
 
 namespace ocg {
@@ -120,6 +121,124 @@ TEST(MapDiff, ListsUnchangedMovedRemovedAndAdded) {
   EXPECT_EQ(json["moved"][0]["to"]["cuboid"]["centre"][1], 1.5);
 }
 
+// A later session's run paired vase 11 with vase 32 (its change log); nearest first, the
+// diff alone would take vase 36.
+TEST(MapDiff, TheMovesTheLaterRunRecordedComeFirst) {
+  const int kVase = 75;
+  const std::vector<ObjectRecord> before = {Record(11, kVase, 0, 0, 0.1),
+                                            Record(12, kCup, 1, 0, 0.1)};
+  const std::vector<ObjectRecord> after = {
+      Record(32, kVase, 0.6, 0, 0.1), Record(36, kVase, 0.3, 0, 0.1), Record(12, kCup, 1, 0, 0.1)};
+  const MapDiff alone = DiffObjectMaps(before, after, {});
+  EXPECT_EQ(Pairs(alone.moved), (std::vector<std::pair<ObjectId, ObjectId>>{{11, 36}}));
+  const MapDiff recorded = DiffObjectMaps(before, after, {}, {{11, 32, 1}, {99, 12, 1}});
+  EXPECT_EQ(Pairs(recorded.moved), (std::vector<std::pair<ObjectId, ObjectId>>{{11, 32}}));
+  EXPECT_TRUE(recorded.moved[0].recorded);
+  ASSERT_EQ(recorded.added.size(), 1u);  // a move naming an object not in before: ignored
+  EXPECT_EQ(recorded.added[0].id, 36);
+  EXPECT_EQ(Pairs(recorded.unchanged), (std::vector<std::pair<ObjectId, ObjectId>>{{12, 12}}));
+  const nlohmann::json json = nlohmann::json::parse(MapDiffJson(recorded, "m", "why"));
+  EXPECT_EQ(json["moved"][0]["recorded"], true);
+  EXPECT_EQ(json["distance_unit"], "m");
+  EXPECT_EQ(json["frame"], "why");
+}
+
+SavedObjectMap RunMap(std::vector<ObjectRecord> objects, int session, std::string loaded,
+                      std::string saved, std::vector<RecordedMove> moves = {}) {
+  SavedObjectMap map;
+  map.objects = std::move(objects);
+  map.run = RunRecord{"run" + std::to_string(session),
+                      session,
+                      std::move(loaded),
+                      std::move(saved),
+                      false,
+                      std::move(moves)};
+  return map;
+}
+
+TEST(MapDiff, MovesSinceAreTheLaterSessionsOfARunThatContinuedTheMap) {
+  const SavedObjectMap before = RunMap({}, 0, "", "maps/a.ocgmap");
+  const std::vector<RecordedMove> log = {{3, 4, 0}, {11, 32, 1}};
+  const SavedObjectMap after = RunMap({}, 1, "maps/a.ocgmap", "", log);
+  const std::vector<RecordedMove> since = MovesSince(before, after);
+  ASSERT_EQ(since.size(), 1u);  // session 0's move was already in before's map
+  EXPECT_EQ(since[0].from, 11);
+  EXPECT_EQ(since[0].to, 32);
+  // Another run's log names other objects; a bare objects.json has none.
+  EXPECT_TRUE(MovesSince(before, RunMap({}, 1, "maps/b.ocgmap", "", log)).empty());
+  SavedObjectMap bare;
+  EXPECT_TRUE(MovesSince(bare, after).empty());
+}
+
+TEST(MapDiff, DistancesAreMetresOnlyWhenBothMapsWereMadeOnGivenPoses) {
+  SavedObjectMap posed = RunMap({}, 0, "", ""), slam = posed, bare;
+  posed.run->poses_given = true;
+  EXPECT_EQ(DistanceUnit(posed, posed), "m");
+  EXPECT_EQ(DistanceUnit(posed, slam), "map units");
+  EXPECT_EQ(DistanceUnit(bare, bare), "map units");
+}
+
+// Eight objects of five classes on a table, and the same seen in another frame.
+std::vector<ObjectRecord> Table() {
+  return {Record(1, kCup, 0, 0, 0.1),         Record(2, kCup, 0.7, 0.2, 0.1),
+          Record(3, kBook, 1, -0.4, 0.23),    Record(4, kLaptop, -0.8, 0.5, 0.33),
+          Record(5, kMouse, -0.3, -0.6, 0.1), Record(6, kBowl, 0.4, 0.9, 0.15),
+          Record(7, kBook, -1.2, -0.2, 0.23), Record(8, kLaptop, 1.3, 0.8, 0.33)};
+}
+
+std::vector<ObjectRecord> Transformed(std::vector<ObjectRecord> records, double scale, double turn,
+                                      const Eigen::Vector3d& shift) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (ObjectRecord& record : records) {
+    record.id += 100;
+    record.cuboid.centre = scale * (R * record.cuboid.centre) + shift;
+    record.cuboid.size *= scale;
+    record.cuboid.yaw += turn;
+  }
+  return records;
+}
+
+TEST(CheckOneFrame, AMapInAnotherFrameIsToldFromOneWithMoves) {
+  SavedObjectMap before, after;
+  before.objects = Table();
+  // One frame, two objects moved and one gone.
+  after.objects = Table();
+  after.objects[0].cuboid.centre.x() += 0.5;
+  after.objects[3].cuboid.centre.y() -= 1.0;
+  after.objects.pop_back();
+  const FrameCheck same = CheckOneFrame(before, after, {});
+  EXPECT_TRUE(same.one_frame) << same.evidence;
+  EXPECT_EQ(same.same_place_as_given, 5);
+  // The same table in a SLAM map's frame: scaled, turned and shifted; one object moved.
+  after.objects = Transformed(Table(), 1.5, 0.7, Eigen::Vector3d(0.4, -0.3, 0.2));
+  after.objects[1].cuboid.centre.x() += 0.6;
+  const FrameCheck other = CheckOneFrame(before, after, {});
+  EXPECT_FALSE(other.one_frame) << other.evidence;
+  EXPECT_EQ(other.same_place_aligned, 7);
+  EXPECT_LE(other.same_place_as_given, 2);
+  EXPECT_NEAR(other.scale, 1 / 1.5, 1e-6);  // the later map onto the earlier
+  EXPECT_NEAR(other.turn, 0.7, 1e-6);
+  EXPECT_NE(other.evidence.find("scaled by 0.667"), std::string::npos) << other.evidence;
+  // Different up directions: the turn about up is found in each map's gravity frame.
+  after.up = Eigen::Vector3d(0, -1, 0);
+  const Eigen::Matrix3d tilt = GravityFrame(after.up);
+  for (ObjectRecord& record : after.objects) record.cuboid.centre = tilt * record.cuboid.centre;
+  EXPECT_FALSE(CheckOneFrame(before, after, {}).one_frame);
+  // A session record says one map whatever the objects say.
+  before.run = RunRecord{"a", 0, "", "m.ocgmap", false, {}};
+  after.run = RunRecord{"b", 1, "m.ocgmap", "", false, {}};
+  const FrameCheck recorded = CheckOneFrame(before, after, {});
+  EXPECT_TRUE(recorded.one_frame);
+  EXPECT_NE(recorded.evidence.find("continued the map file 'm.ocgmap'"), std::string::npos);
+}
+
+TEST(CheckOneFrame, TooFewObjectsToTellAreTakenAsOneFrame) {
+  SavedObjectMap before, after;
+  before.objects = {Record(1, kCup, 0, 0, 0.1), Record(2, kLaptop, 1, 0, 0.33)};
+  after.objects = Transformed(before.objects, 2.0, 1.0, Eigen::Vector3d(1, 1, 0));
+  EXPECT_TRUE(CheckOneFrame(before, after, {}).one_frame);
+}
+
 TEST(ObjectMapReader, ReadsObjectsJsonAndRefusesOtherFilesNamingThem) {
   const std::string dir = testing::MakeTempDir("map_reader");
   WriteFile(dir + "/objects.json",
@@ -135,6 +254,22 @@ TEST(ObjectMapReader, ReadsObjectsJsonAndRefusesOtherFilesNamingThem) {
     EXPECT_EQ(map.objects[0].cuboid.yaw, 0.5);
     EXPECT_EQ(map.objects[0].first_seen, 1000.5);
   }
+  EXPECT_FALSE(ReadObjectMap(dir, readers).run) << "no run.json: no run record";
+  WriteFile(dir + "/run.json", R"({"command": "objects", "session": {"index": 2,
+             "map_loaded": "a.ocgmap", "map_saved": null}})");
+  WriteFile(dir + "/changes.json", R"({"changes": [
+             {"type": "moved", "object_id": 3, "session": 2, "to": {"object_id": 4}},
+             {"type": "moved", "object_id": 5, "session": 2, "to": {"object_id": 6}},
+             {"type": "restored", "object_id": 5}]})");
+  const SavedObjectMap run = ReadObjectMap(dir, readers);
+  ASSERT_TRUE(run.run);
+  EXPECT_EQ(run.run->session, 2);
+  EXPECT_EQ(run.run->map_loaded, "a.ocgmap");
+  EXPECT_EQ(run.run->map_saved, "");
+  EXPECT_TRUE(run.run->poses_given);
+  ASSERT_EQ(run.run->moves.size(), 1u);  // the restored object moved nowhere
+  EXPECT_EQ(run.run->moves[0].from, 3);
+  EXPECT_EQ(run.run->moves[0].to, 4);
   WriteFile(dir + "/other.json", R"({"changes": []})");
   try {
     ReadObjectMap(dir + "/other.json", readers);

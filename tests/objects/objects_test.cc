@@ -663,6 +663,31 @@ TEST_F(TwoObjectScene, AnObjectSeenUnderAnotherClassForAWhileIsMergedIntoIt) {
   EXPECT_EQ(run(false, Eigen::Vector3d(0.2, -0.15, 0), true).first.size(), 3u);
 }
 
+// A cup's place emptied (a move) and a false box of another class there later joins the
+// cup left in the map: the cup's last sighting moves on, but not its last sighting as a
+// cup, which orders a move in changes.json.
+TEST_F(TwoObjectScene, SeenAsClassLeavesOutSightingsOfAnotherClass) {
+  ObjectsOptions options;
+  ObjectMap map(options, Camera());
+  for (int frame = 0; frame < 60; ++frame) {
+    const SE3 T_cw = OrbitPose(0.02 * frame);
+    std::vector<Detection> detections = DetectionsAt(T_cw);
+    if (frame >= 45) detections[0].class_id = 45;  // a bowl where the cup stands
+    map.AddFrame(frame, 1000 + frame / 30.0, T_cw, FilterDetections(detections, options, Camera()));
+  }
+  std::vector<ObjectChange> merges;
+  map.MakeKeyframeObservation(0, 1002.0, OrbitPose(1.2), &merges);
+  const MapObject* cup = nullptr;
+  for (const auto& [id, object] : map.objects()) {
+    if (object.class_id == 41) cup = &object;
+  }
+  ASSERT_NE(cup, nullptr);
+  ASSERT_GT(cup->last_timestamp, 1000 + 50 / 30.0) << "the bowl's boxes must join the cup";
+  const SeenAsClass seen = map.SeenAsClassThisSession();
+  EXPECT_NEAR(seen.last.at(cup->id), 1000 + 44 / 30.0, 1e-9);
+  EXPECT_NEAR(seen.first.at(cup->id), cup->first_timestamp, 1e-9);
+}
+
 // Issue 19, pair 2: a potted plant carried away between the sessions was never removed.
 // In session 1 a teddy bear was put down beside its old place, within the merge distance;
 // hygiene merged the new teddy bear (never seen with the plant: they lived in different

@@ -62,6 +62,10 @@ struct ChangeLogContext {
   // whose objects have one is weighed by it too (appearance_options.colour_weight).
   std::map<ObjectId, ColourHistogram> colour;
   AppearanceOptions appearance_options;
+  // ObjectMap::SeenAsClassThisSession(): the in-session pairing orders a removal and an
+  // appearance by when the two were seen as their class (objects left out: by
+  // objects.json's first_seen and the removal's last_seen).
+  SeenAsClass seen_as_class;
   // Map files: changes.json as the session that saved the loaded map revised it. Earlier
   // sessions' entries are taken from it (their moves, additions and reasons as that
   // session found them) instead of the object map's own entries. None: the object map's.
@@ -79,7 +83,10 @@ struct ChangeLogContext {
 //    entries list their candidates as evidence), and, where both have one, whose colours
 //    (context.colour) are alike;
 //  - or it was seen in this session and a live object of its class appeared near it after
-//    its last sighting (LinkMoves with context.moves).
+//    its last sighting (LinkMoves with context.moves), whether before or after the removal;
+//    both times as context.seen_as_class gives them, where it does: a box of another
+//    class absorbed into the removed object after its move does not make it seen later
+//    than its new place was first seen.
 // Earlier sessions' removals are not paired again: their session paired them (with
 // context.earlier_changes, their entries are that session's, moves included; without, they
 // stay "removed"). In a later

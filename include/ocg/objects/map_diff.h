@@ -5,7 +5,9 @@
 // Distances scale with the objects' sizes, never in metres: a monocular map has its own
 // scale, and a cup and a laptop are moved over different distances.
 
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,15 @@ struct ObjectRecord {
   double last_seen = 0.0;
   int first_session = 0;  // the session of its first sighting (map files; 0 otherwise)
   int observations = 0;   // sightings (objects.json "observations"; 0 when not known)
+};
+
+// When a session saw objects as their class (a detection of the object's class associated
+// to it), timestamps in seconds, by id. A sighting of another class (a false positive at a
+// place emptied by a move, absorbed into the object left there; a class flip) does not
+// show the object there, so a move pairing orders a removal and an appearance by these.
+struct SeenAsClass {
+  std::map<ObjectId, double> first;  // objects no earlier session saw
+  std::map<ObjectId, double> last;
 };
 
 struct MoveLinkOptions {
@@ -44,6 +55,13 @@ struct MoveLink {
   ObjectRecord from;
   ObjectRecord to;
   double distance = 0.0;  // between the centres, map units
+  bool recorded = false;  // DiffObjectMaps: the later run's changes.json reports it
+};
+
+// A move a run's changes.json reports (a "moved" entry not undone by a restore).
+struct RecordedMove {
+  ObjectId from = 0, to = 0;
+  int session = 0;  // the session that found it
 };
 
 // The larger of the two objects' largest extents (map units), at least 1e-6.
@@ -75,22 +93,52 @@ struct MapDiff {
 };
 
 // The diff of two object maps in one world frame (a later session continuing a loaded
-// map; two separate runs are not in one frame). Objects at the same place are unchanged
-// (pairs with equal ids first, then nearest first); of the rest, removals and additions
-// of one class near each other are moves (LinkMoves without order: two maps hold no
-// times to compare); the others are removed or added.
+// map; two separate runs are not in one frame: CheckOneFrame, map_frames.h). The moves
+// the later run recorded (MovesSince) come first, each whose objects are in before and
+// after by id (recorded = true). Of the rest, objects at the same place are unchanged
+// (pairs with equal ids first, then nearest first); of what is left, removals and
+// additions of one class near each other are moves (LinkMoves without order: two maps
+// hold no times to compare); the others are removed or added.
 MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
-                       const std::vector<ObjectRecord>& after, const MapDiffOptions& options);
+                       const std::vector<ObjectRecord>& after, const MapDiffOptions& options,
+                       const std::vector<RecordedMove>& recorded = {});
 
-// {"format": "ocg-map-diff", "version": 1, "counts", "removed", "added", "moved",
-// "unchanged"}: ids, classes, cuboids.
-std::string MapDiffJson(const MapDiff& diff);
+// {"format": "ocg-map-diff", "version": 1, "counts", "distance_unit", "frame", "removed",
+// "added", "moved" (with "recorded"), "unchanged"}: ids, classes, cuboids. distance_unit:
+// DistanceUnit's; frame: why the maps are taken to be in one frame (CheckOneFrame's
+// evidence).
+std::string MapDiffJson(const MapDiff& diff, const std::string& distance_unit = "map units",
+                        const std::string& frame = "");
+
+// What a run folder's run.json and changes.json say of the map beside its objects.json.
+struct RunRecord {
+  std::string folder;
+  int session = 0;                  // run.json "session.index" (0 without one)
+  std::string map_loaded;           // "session.map_loaded": the map file it continued ("": none)
+  std::string map_saved;            // "session.map_saved" ("": none)
+  bool poses_given = false;         // "command": "objects" (ocg_slam objects, the poses' frame)
+  std::vector<RecordedMove> moves;  // changes.json's standing "moved" entries
+};
 
 // A saved object map's live objects and its up direction (world frame).
 struct SavedObjectMap {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   std::vector<ObjectRecord> objects;
+  std::optional<RunRecord> run;  // read from a run folder holding run.json
 };
+
+// Whether later continued the map file earlier saved (run.json's session sections: the
+// same file, by path as given or as found on disk): one map, so one frame and one id
+// numbering.
+bool ContinuesMapOf(const RunRecord& later, const RunRecord& earlier);
+// The moves after's run recorded since before's map was saved, when after continued it
+// (ContinuesMapOf): its changes.json's moves found by later sessions than before's. Else
+// none: another run's ids name other objects.
+std::vector<RecordedMove> MovesSince(const SavedObjectMap& before, const SavedObjectMap& after);
+// The unit of the maps' distances: "m" when both were mapped on given poses (ocg_slam
+// objects: ground truth is in metres), else "map units" (a monocular SLAM map has its own
+// scale; a bare objects.json says nothing).
+std::string DistanceUnit(const SavedObjectMap& before, const SavedObjectMap& after);
 
 // objects.json's text (name: the file, for errors). Throws ParseError naming it.
 SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name);
@@ -107,7 +155,8 @@ class ObjectMapReader {
   virtual SavedObjectMap Read(const std::string& path) const = 0;
 };
 
-// objects.json ("format": "ocg-objects", as runs write it), or a run folder holding one.
+// objects.json ("format": "ocg-objects", as runs write it), or a run folder holding one
+// (then with its RunRecord when the folder has run.json).
 class ObjectsJsonReader : public ObjectMapReader {
  public:
   std::string Name() const override { return "objects.json"; }

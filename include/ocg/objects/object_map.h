@@ -19,6 +19,7 @@
 #include "ocg/objects/box_appearance.h"
 #include "ocg/objects/colour_signature.h"
 #include "ocg/objects/map_cues.h"
+#include "ocg/objects/map_diff.h"
 #include "ocg/objects/object_geometry.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/objects/point_presence.h"
@@ -45,6 +46,9 @@ struct ObjectSighting {
   // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
   // the sightings at that session's keyframes (ObjectMap::SetSightingColours).
   std::optional<ColourHistogram> colour;
+  // Seconds, the frame's timestamp (SeenAsClass()). Not saved in map files: 0 in sightings
+  // loaded from one.
+  double timestamp = 0.0;
 };
 
 // A SLAM map point seen inside an object's boxes (SLAM runs only).
@@ -203,6 +207,9 @@ class ObjectMap {
   // was when removed; the appearance of removals made by the runs that wrote a loaded map
   // file is not kept), by id. Objects without descriptors are left out.
   std::map<ObjectId, std::vector<Descriptor>> Appearances() const;
+  // When this session saw each live object and each object removed in this run as its
+  // class (SeenAsClass, map_diff.h); the in-session move pairing of changes.json reads it.
+  SeenAsClass SeenAsClassThisSession() const;
   // The box appearance (box_appearance.h) of the objects a between-session pairing weighs,
   // by id: those removed in this run and last seen in an earlier session, and the live
   // ones seen in this session alone (a later session only). Each without what its place

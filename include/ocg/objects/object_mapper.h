@@ -87,6 +87,8 @@ class ObjectMapper {
   ObjectMap::PointPresenceStats PointPresenceStats() const;
   // ObjectMap::Appearances().
   std::map<ObjectId, std::vector<Descriptor>> Appearances() const;
+  // ObjectMap::SeenAsClassThisSession().
+  SeenAsClass SeenAsClassThisSession() const;
   // ObjectMap::BoxAppearances().
   std::map<ObjectId, std::vector<Descriptor>> BoxAppearances(const KeyframeFeatureMap& keyframes,
                                                              const BoxAppearanceOptions& options,
