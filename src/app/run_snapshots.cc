@@ -12,6 +12,7 @@
 #include "ocg/core/file_io.h"
 #include "ocg/eval/trajectory_error.h"
 #include "ocg/objects/map_cues.h"
+#include "ocg/viewer/run_scene.h"
 
 namespace ocg::app_detail {
 
@@ -56,7 +57,12 @@ void RunSnapshots::AfterFrame(const System& system, ObjectLayer& objects,
 nlohmann::json RunSnapshots::Finish(const System& system, const ObjectLayer& objects) {
   if (!policy_.Enabled()) return nullptr;
   const auto start = std::chrono::steady_clock::now();
-  Record(writer_.WriteMapViews(Scene(system, objects, true), "final",
+  MapScene scene = Scene(system, objects, true);
+  // The change log pairs removals with what appeared elsewhere only now, at the end of the
+  // run: its moves are the final views' arrows, as ocg_render draws them from changes.json.
+  const std::string changes = objects.Changes();
+  if (!changes.empty()) scene.moves = MovesInChanges(nlohmann::json::parse(changes).at("changes"));
+  Record(writer_.WriteMapViews(scene, "final",
                                {MapViewpoint::kFollow, MapViewpoint::kTopDown,
                                 MapViewpoint::kThreeQuarter, MapViewpoint::kObjects}));
   WriteFrame(objects, "final_frame");

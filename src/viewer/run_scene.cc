@@ -59,7 +59,6 @@ MapScene ReadRunScene(const std::string& run_dir) {
       const std::vector<bool> standing = StandingRemovals(list);  // restored ones are live
       for (std::size_t i = 0; i < list.size(); ++i) {
         const nlohmann::json& entry = list[i];
-        const std::string type = entry.at("type").get<std::string>();
         if (!standing[i]) continue;
         ObjectView view;
         view.id = entry.at("object_id").get<ObjectId>();
@@ -68,15 +67,26 @@ MapScene ReadRunScene(const std::string& run_dir) {
         view.state = 5;
         view.removed = true;
         scene.objects.push_back(view);
-        if (type == "moved")
-          scene.moves.emplace_back(view.cuboid.centre,
-                                   CuboidFromJson(entry.at("to").at("cuboid")).centre);
       }
+      scene.moves = MovesInChanges(list);
     } catch (const std::exception& error) {
       throw ParseError(changes_path + ": " + error.what());
     }
   }
   return scene;
+}
+
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> MovesInChanges(
+    const nlohmann::json& changes) {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> moves;
+  const std::vector<bool> standing = StandingRemovals(changes);
+  for (std::size_t i = 0; i < changes.size(); ++i) {
+    const nlohmann::json& entry = changes[i];
+    if (standing[i] && entry.at("type").get<std::string>() == "moved")
+      moves.emplace_back(CuboidFromJson(entry.at("cuboid")).centre,
+                         CuboidFromJson(entry.at("to").at("cuboid")).centre);
+  }
+  return moves;
 }
 
 }  // namespace ocg

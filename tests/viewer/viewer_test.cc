@@ -319,5 +319,26 @@ TEST(RunScene, AMovedEntryIsAGhostWithAnArrow) {
   EXPECT_EQ(scene.moves[0].second, Eigen::Vector3d(0, 1, 0.5));
 }
 
+// The run's own final snapshots take their arrows from the revised change log: only moves
+// that stand (a later "restored" undoes one), never plain removals.
+TEST(RunScene, ArrowsAreTheStandingMovesOfAChangeLog) {
+  const nlohmann::json changes = nlohmann::json::parse(R"([
+      {"type": "moved", "object_id": 6, "class_id": 63,
+       "cuboid": {"centre": [2, 0, 0.5], "size": [0.3, 0.2, 0.05], "yaw": 0},
+       "to": {"object_id": 9, "cuboid": {"centre": [0, 1, 0.5], "size": [0.3, 0.2, 0.05], "yaw": 0}}},
+      {"type": "removed", "object_id": 3, "class_id": 41,
+       "cuboid": {"centre": [1, 1, 0.5], "size": [0.1, 0.1, 0.1], "yaw": 0}},
+      {"type": "moved", "object_id": 4, "class_id": 39,
+       "cuboid": {"centre": [3, 0, 0.5], "size": [0.1, 0.1, 0.2], "yaw": 0},
+       "to": {"object_id": 7, "cuboid": {"centre": [3, 2, 0.5], "size": [0.1, 0.1, 0.2], "yaw": 0}}},
+      {"type": "restored", "object_id": 4, "class_id": 39,
+       "cuboid": {"centre": [3, 0, 0.5], "size": [0.1, 0.1, 0.2], "yaw": 0}}])");
+  const auto moves = MovesInChanges(changes);
+  ASSERT_EQ(moves.size(), 1u);
+  EXPECT_EQ(moves[0].first, Eigen::Vector3d(2, 0, 0.5));
+  EXPECT_EQ(moves[0].second, Eigen::Vector3d(0, 1, 0.5));
+  EXPECT_TRUE(MovesInChanges(nlohmann::json::array()).empty());
+}
+
 }  // namespace
 }  // namespace ocg

@@ -1,7 +1,11 @@
 #pragma once
 // A finished run's map, read back from its output folder, for `ocg_render`.
 
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ocg/viewer/map_view.h"
 
@@ -13,5 +17,12 @@ namespace ocg {
 // KeyFrameTrajectory.txt may be missing (a SLAM run without detections has no objects). Throws
 // FileError / ParseError naming the file.
 MapScene ReadRunScene(const std::string& run_dir);
+
+// The arrows of a change log: for every "moved" entry of changes.json's "changes" list
+// that a later "restored" entry has not undone, its old centre and its new one ("to"),
+// as MapScene::moves draws them (map frame). Throws nlohmann::json's errors on a malformed
+// entry.
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> MovesInChanges(
+    const nlohmann::json& changes);
 
 }  // namespace ocg
