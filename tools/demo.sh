@@ -18,9 +18,21 @@ JOBS=$(nproc 2>/dev/null || echo 2)
 "$ROOT/tools/install_deps.sh"
 GENERATOR=()
 [ -f "$BUILD/CMakeCache.txt" ] || { command -v ninja >/dev/null 2>&1 && GENERATOR=(-G Ninja); }
-echo "== build"
+echo "== build (the first time about 10 minutes on 2 cores; full log in $BUILD/demo_build.log)"
 cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$BUILD" --parallel "$JOBS" --target ocg_synth ocg_slam ocg_eval >/dev/null
+# Progress every 20 steps (Ninja's "[done/total]", Make's "[ n%]"); the whole log on failure.
+set +e
+cmake --build "$BUILD" --parallel "$JOBS" --target ocg_synth ocg_slam ocg_eval 2>&1 |
+  tee "$BUILD/demo_build.log" |
+  awk 'match($0, /^\[ *[0-9]+(\/[0-9]+|%)\]/) {
+         if (++steps % 20 == 0) { print "  built " substr($0, RSTART, RLENGTH); fflush() } }'
+status=${PIPESTATUS[0]}
+set -e
+if [ "$status" -ne 0 ]; then
+  tail -n 40 "$BUILD/demo_build.log"
+  echo "demo: the build failed (whole log: $BUILD/demo_build.log)" >&2
+  exit 1
+fi
 
 echo "== demo"
 mkdir -p "$OUT"
@@ -39,7 +51,7 @@ row "$OUT/sequence/" "TUM-format sequence: rgb/, rgb.txt, groundtruth.txt, detec
 row "" "objects_gt.json (the laptop's move), camera.yaml"
 row "$OUT/run/" "KeyFrameTrajectory.txt, CameraTrajectory.txt (TUM format), run.json"
 row "$OUT/run/objects.json" "the object map: cuboids with their OCG state"
-row "$OUT/run/changes.json" "change log: objects removed by the OCG (and merged duplicates)"
+row "$OUT/run/changes.json" "change log: objects moved or removed, seen by the OCG (and merged duplicates)"
 row "$OUT/run/ocg.json" "the final Object Covisibility Graph"
 row "$OUT/run/map_points.ply" "the map points (ASCII PLY)"
 row "$OUT/run/snapshots/" "PNGs: final_{follow,top,three_quarter,objects}.png (the map),"
