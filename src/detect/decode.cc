@@ -7,6 +7,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "ocg/core/box2.h"
+
 namespace ocg {
 namespace {
 
@@ -244,12 +246,10 @@ std::vector<Detection> DecodeOutputs(const ModelOutputs& model, const std::vecto
 }
 
 double BoxIou(const Detection& a, const Detection& b) {
-  const double w = std::min(a.x + a.width, b.x + b.width) - std::max(a.x, b.x);
-  const double h = std::min(a.y + a.height, b.y + b.height) - std::max(a.y, b.y);
-  if (w <= 0.0 || h <= 0.0) return 0.0;
-  const double inter = w * h;
-  const double uni = a.width * a.height + b.width * b.height - inter;
-  return uni > 0.0 ? inter / uni : 0.0;
+  const auto corners = [](const Detection& d) {
+    return Box2{d.x, d.y, d.x + d.width, d.y + d.height};
+  };
+  return IntersectionOverUnion(corners(a), corners(b));
 }
 
 std::vector<Detection> ClassWiseNms(const std::vector<Detection>& boxes, double iou_threshold) {

@@ -6,24 +6,13 @@
 #include <utility>
 #include <vector>
 
+#include "ocg/core/box2.h"
 #include "ocg/core/camera.h"
 #include "ocg/core/lie.h"
 #include "ocg/io/detections.h"
 #include "ocg/objects/objects_options.h"
 
 namespace ocg {
-
-// Axis-aligned image rectangle, pixels, min corner inclusive.
-struct Box2 {
-  double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
-
-  double Width() const { return x1 - x0; }
-  double Height() const { return y1 - y0; }
-  double Area() const { return Width() > 0 && Height() > 0 ? Width() * Height() : 0.0; }
-  Eigen::Vector2d Centre() const { return {0.5 * (x0 + x1), 0.5 * (y0 + y1)}; }
-};
-
-double IntersectionOverUnion(const Box2& a, const Box2& b);
 
 // How a detection box fits the projection of an object's cuboid (both pixels):
 // kWhole: IoU at least min_iou; kPartial: a view of the object partly hidden behind
