@@ -115,12 +115,13 @@ def main():
                     ["--settings", settings, "--mode", mode, "--out", run_dir,
                      "--log-level", "warn"])
             if args.slam_runs and not args.slam:
-                # Objects were mapped in the SLAM frame: align through the trajectory. The
-                # run folder of `ocg_slam objects` holds no trajectory, so point at the
-                # SLAM run's.
+                # Objects were mapped in the SLAM frame: align through the SLAM run's whole
+                # trajectory, not the given poses `ocg_slam objects` keeps of its frames
+                # and OCG keyframes (ocg_eval objects would take KeyFrameTrajectory.txt first).
                 link = os.path.join(run_dir, "CameraTrajectory.txt")
-                if os.path.lexists(link):
-                    os.remove(link)
+                for stale in (link, os.path.join(run_dir, "KeyFrameTrajectory.txt")):
+                    if os.path.lexists(stale):
+                        os.remove(stale)
                 os.symlink(os.path.abspath(trajectory), link)
                 evaluate += ["--groundtruth", groundtruth]
             m = json.loads(run(evaluate))

@@ -1,8 +1,10 @@
 // ocg_render: PNG snapshots of a finished run's map, from its output folder alone
 // (docs/viewer.md): map points, keyframes, trajectory, object cuboids coloured by OCG
-// state and removed objects as ghosts, from ORB-SLAM2's viewpoint and the automatic ones.
+// state and removed objects as ghosts, from ORB-SLAM2's viewpoint and the automatic ones;
+// and the object map as a mesh (PLY, OBJ).
 
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -10,6 +12,7 @@
 #include "ocg/app/settings.h"
 #include "ocg/eval/trajectory_error.h"
 #include "ocg/io/trajectory.h"
+#include "ocg/viewer/object_mesh.h"
 #include "ocg/viewer/run_scene.h"
 #include "ocg/viewer/snapshots.h"
 
@@ -43,8 +46,10 @@ int main(int argc, char** argv) {
   std::string log_level, run_dir, output, settings_path, groundtruth,
       views_text = "follow,top,three_quarter,objects";
   std::string prefix = "map";
+  std::vector<std::string> meshes;
   ocg::tools::AddLogLevelOption(app, &log_level);
-  app.add_option("--run", run_dir, "output folder of ocg_slam run")
+  app.add_option("--run", run_dir,
+                 "a run's output folder (ocg_slam run, a later session, ocg_slam objects)")
       ->required()
       ->check(CLI::ExistingDirectory);
   app.add_option("--out", output, "folder for the PNGs (default: RUN/snapshots)");
@@ -56,15 +61,25 @@ int main(int argc, char** argv) {
   app.add_option("--views", views_text, "comma-separated: follow, top, three_quarter, objects")
       ->capture_default_str();
   app.add_option("--prefix", prefix, "file names: PREFIX_<view>.png")->capture_default_str();
+  app.add_option("--mesh", meshes,
+                 "also write the object map as a mesh: F.ply or F.obj (+ F.mtl), a box per live "
+                 "object coloured by OCG state (repeat for both)");
   return ocg::tools::RunTool(app, argc, argv, log_level, [&] {
     const std::vector<ocg::MapViewpoint> views = ParseViews(views_text);
+    for (const std::string& path : meshes) {  // before any drawing
+      const std::string extension = std::filesystem::path(path).extension().string();
+      if (extension != ".ply" && extension != ".obj")
+        throw std::invalid_argument("--mesh '" + path + "': the file must end in .ply or .obj");
+    }
     ocg::ViewerOptions options;
     if (!settings_path.empty()) options = ocg::LoadSettings(settings_path).settings.viewer;
     ocg::MapScene scene = ocg::ReadRunScene(run_dir);
     if (!groundtruth.empty()) {
       const std::vector<ocg::StampedPose> truth = ocg::ReadTumTrajectory(groundtruth);
+      std::string trajectory = run_dir + "/KeyFrameTrajectory.txt";
+      if (!std::filesystem::exists(trajectory)) trajectory = run_dir + "/CameraTrajectory.txt";
       const ocg::Sim3 run_from_truth =
-          ocg::ComputeAte(truth, ocg::ReadTumTrajectory(run_dir + "/KeyFrameTrajectory.txt"), {})
+          ocg::ComputeAte(truth, ocg::ReadTumTrajectory(trajectory), {})
               .reference_from_estimate.Inverse();
       for (const ocg::StampedPose& pose : truth)
         scene.groundtruth.push_back(run_from_truth * pose.T_wc.translation());
@@ -78,5 +93,13 @@ int main(int argc, char** argv) {
               << " keyframes, " << scene.objects.size() << " objects; " << paths.size()
               << " views in " << seconds << " s\n";
     for (const std::string& path : paths) std::cout << "wrote " << path << "\n";
+    if (!meshes.empty()) {
+      const ocg::ObjectMesh mesh = ocg::MakeObjectMesh(scene.objects, scene.up);
+      for (const std::string& path : meshes) {
+        ocg::WriteObjectMesh(path, mesh);
+        std::cout << "wrote " << path << " (" << mesh.objects.size() << " objects, "
+                  << mesh.triangles.size() << " triangles)\n";
+      }
+    }
   });
 }

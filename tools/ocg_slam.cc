@@ -109,16 +109,23 @@ std::string TimestampInSeconds(const std::string& text, const std::string& forma
 }
 
 struct ObjectsCommand {
-  std::string trajectory, detections, settings, frames, output, mode;
+  std::string trajectory, detections, settings, frames, output, mode, snapshots = "final";
   bool lenient = false;
 };
 
-// The frames to process: the image list's timestamps, or the detection files' names.
-std::vector<std::pair<std::string, double>> FrameTimestamps(const ObjectsCommand& command) {
-  std::vector<std::pair<std::string, double>> frames;
+// The frames to process: the image list's timestamps (and images, for the frame views),
+// or the detection files' names.
+struct ObjectsFrame {
+  std::string first;  // timestamp text
+  double second = 0.0;
+  std::string image_path;
+};
+std::vector<ObjectsFrame> FrameTimestamps(const ObjectsCommand& command) {
+  std::vector<ObjectsFrame> frames;
   if (!command.frames.empty()) {
-    for (const ocg::TimedImage& image : ocg::ReadTumImageList(command.frames, ".")) {
-      frames.emplace_back(image.timestamp_text, image.timestamp);
+    const std::string base = std::filesystem::path(command.frames).parent_path().string();
+    for (const ocg::TimedImage& image : ocg::ReadTumImageList(command.frames, base)) {
+      frames.push_back({image.timestamp_text, image.timestamp, image.path});
     }
     return frames;
   }
@@ -131,7 +138,7 @@ std::vector<std::pair<std::string, double>> FrameTimestamps(const ObjectsCommand
       throw std::invalid_argument("detection file '" + entry.path().string() +
                                   "' is not named <timestamp>.txt (give the frames with --frames)");
     }
-    frames.emplace_back(stem, timestamp);
+    frames.push_back({stem, timestamp, ""});
   }
   std::sort(frames.begin(), frames.end(),
             [](const auto& a, const auto& b) { return a.second < b.second; });
@@ -165,6 +172,7 @@ void TakeImageSizeFromFrames(const ObjectsCommand& command, ocg::CameraSettings*
 }
 
 void RunObjects(const ObjectsCommand& command) {
+  const ocg::SnapshotPolicy snapshots = ocg::ParseSnapshotPolicy(command.snapshots);
   const ocg::LoadedSettings loaded =
       ocg::LoadSettings(command.settings, ocg::CameraNeed::kIntrinsics);
   ocg::Settings settings = loaded.settings;
@@ -206,12 +214,12 @@ void RunObjects(const ObjectsCommand& command) {
   std::vector<ocg::PoseGivenFrame> pose_given;
   pose_given.reserve(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i)
-    pose_given.push_back({frames[i].first, frames[i].second, poses[i]});
+    pose_given.push_back({frames[i].first, frames[i].second, poses[i], frames[i].image_path});
   ocg::ProgressLine progress("frames", frames.size());
   StopOnSignals();
   nlohmann::json report = ocg::MapObjectsAlongTrajectory(
       settings, pose_given, detections, command.output,
-      [&progress](std::size_t done) { progress.Update(done); }, &ocg::ProcessRunStop());
+      [&progress](std::size_t done) { progress.Update(done); }, &ocg::ProcessRunStop(), snapshots);
   progress.Finish();
   report.update({{"command", "objects"},
                  {"trajectory", command.trajectory},
@@ -225,7 +233,9 @@ void RunObjects(const ObjectsCommand& command) {
             << report["objects_created"] << " objects created, " << report["objects_live"]
             << " live at the end; " << report["wall_seconds"].get<double>() << " s\n"
             << "wrote " << command.output
-            << "/objects.json, changes.json, ocg.json, ocg_observations.jsonl, run.json\n";
+            << "/objects.json, changes.json, ocg.json, ocg_observations.jsonl, run.json, "
+               "CameraTrajectory.txt, KeyFrameTrajectory.txt"
+            << (report["snapshots"].is_null() ? "" : ", snapshots/") << "\n";
 }
 
 // --save-map is written at the end of a run: a target that cannot take a file fails now,
@@ -316,7 +326,8 @@ int main(int argc, char** argv) {
   auto* objects = app.add_subcommand(
       "objects",
       "pose-given mode: build and maintain the object map from a trajectory and detections, no "
-      "images (writes objects.json, changes.json, ocg.json, run.json)");
+      "images (writes objects.json, changes.json, ocg.json, run.json, the trajectories and "
+      "snapshots)");
   ObjectsCommand objects_command;
   objects
       ->add_option("--trajectory", objects_command.trajectory,
@@ -340,6 +351,11 @@ int main(int argc, char** argv) {
   objects->add_option("--out", objects_command.output, "output folder")->required();
   objects->add_option("--mode", objects_command.mode,
                       "OCG.mode override (off, visibility, paper, ...)");
+  objects
+      ->add_option("--snapshots", objects_command.snapshots,
+                   "PNG snapshots under OUT/snapshots/ as a run takes them: final, every:N "
+                   "(also every N OCG keyframes) or none (docs/viewer.md)")
+      ->capture_default_str();
   objects->add_flag("--lenient", objects_command.lenient,
                     "skip malformed detection lines with a warning instead of failing");
 

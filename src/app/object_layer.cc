@@ -128,13 +128,7 @@ std::optional<Eigen::Vector3d> ObjectLayer::Up() const {
 }
 
 std::vector<FrameDetection> ObjectLayer::LastFrameDetections() const {
-  std::vector<FrameDetection> detections;
-  for (const ObjectDetection& detection : last_association_.detections)
-    detections.push_back({detection.box, detection.class_id, detection.confidence, 0});
-  for (const auto& [index, id] : last_association_.matched) {
-    if (index >= 0) detections[static_cast<std::size_t>(index)].object_id = id;
-  }
-  return detections;
+  return FrameDetectionsOf(last_association_);
 }
 
 std::optional<std::vector<ObjectView>> ObjectLayer::TakeFirstRemoval() {

@@ -5,6 +5,7 @@
 
 #include "object_layer.h"
 #include "ocg/objects/object_mapper.h"
+#include "run_snapshots.h"
 
 namespace ocg {
 
@@ -13,8 +14,9 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const EaoDetectionFolder& detections,
                                          const std::string& folder,
                                          const std::function<void(std::size_t)>& progress,
-                                         const RunStop* stop) {
+                                         const RunStop* stop, const SnapshotPolicy& snapshots) {
   ObjectMapper mapper(settings.objects, settings.ocg, settings.camera.model, true);
+  app_detail::PoseGivenOutputs outputs(settings, snapshots, folder);
   mapper.RecordObservations();
   const auto start = std::chrono::steady_clock::now();
   std::int64_t used = 0, without_pose = 0, keyframes = 0;
@@ -31,11 +33,16 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
       continue;
     }
     const auto frame_start = std::chrono::steady_clock::now();
-    mapper.AddFrame(used, frame.timestamp, *frame.T_cw, detections.ForFrame(frame.timestamp_text));
-    if (used % settings.objects.keyframe_interval == 0)
+    const FrameAssociation association = mapper.AddFrame(used, frame.timestamp, *frame.T_cw,
+                                                         detections.ForFrame(frame.timestamp_text));
+    const bool keyframe = used % settings.objects.keyframe_interval == 0;
+    if (keyframe) {
+      outputs.BeforeKeyframe(mapper);
       mapper.AddKeyframe(keyframes++, frame.timestamp, *frame.T_cw);
+    }
     frame_seconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count());
+    outputs.AfterFrame(mapper, frame, association, keyframe);
     ++used;
     if (progress) progress(i + 1);
   }
@@ -53,6 +60,7 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
   if (!frames.empty()) change_log.session_start = frames.front().timestamp;
   change_log.seen_as_class = mapper.SeenAsClassThisSession();
   report.update(app_detail::WriteObjectMap(mapper, folder, change_log));
+  report["snapshots"] = outputs.Finish(mapper);
   return report;
 }
 

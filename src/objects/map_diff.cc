@@ -252,6 +252,8 @@ SavedObjectMap ParseObjectsJson(const std::string& text, const std::string& name
       record.first_session = entry.value("first_session", 0);
       record.observations = entry.value("observations", 0);
       record.last_seen = entry.value("last_seen", 0.0);
+      if (entry.contains("state") && !entry.at("state").is_null())
+        record.state = entry.at("state").get<int>();
       map.objects.push_back(record);
     }
   } catch (const std::exception& error) {

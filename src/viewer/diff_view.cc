@@ -3,11 +3,14 @@
 namespace ocg {
 namespace {
 
-constexpr int kUnjudged = 0;  // drawn light grey: unchanged
-constexpr int kObserved = 1;  // drawn green: new at its place
+ObjectView View(const ObjectRecord& record, bool removed) {
+  return {record.id, record.class_id, record.cuboid, removed ? 5 : record.state, removed};
+}
 
-ObjectView View(const ObjectRecord& record, int state, bool removed) {
-  return {record.id, record.class_id, record.cuboid, removed ? 5 : state, removed};
+void Add(MapScene& scene, const ObjectView& view, const std::string& note = "") {
+  scene.objects.push_back(view);
+  scene.notes.resize(scene.objects.size());
+  scene.notes.back() = note;
 }
 
 }  // namespace
@@ -16,24 +19,24 @@ DiffScenes MakeDiffScenes(const MapDiff& diff, const MapScene& background) {
   DiffScenes scenes;
   scenes.before = background;
   scenes.before.objects.clear();
+  scenes.before.notes.clear();
   scenes.before.moves.clear();
   scenes.after = scenes.before;
   for (const MoveLink& link : diff.unchanged) {
-    scenes.before.objects.push_back(View(link.from, kUnjudged, false));
-    scenes.after.objects.push_back(View(link.to, kUnjudged, false));
+    Add(scenes.before, View(link.from, false));
+    Add(scenes.after, View(link.to, false));
   }
   for (const ObjectRecord& record : diff.removed) {
-    scenes.before.objects.push_back(View(record, kUnjudged, false));
-    scenes.after.objects.push_back(View(record, kUnjudged, true));
+    Add(scenes.before, View(record, false));
+    Add(scenes.after, View(record, true));
   }
   for (const MoveLink& link : diff.moved) {
-    scenes.before.objects.push_back(View(link.from, kUnjudged, false));
-    scenes.after.objects.push_back(View(link.from, kUnjudged, true));
-    scenes.after.objects.push_back(View(link.to, kObserved, false));
+    Add(scenes.before, View(link.from, false));
+    Add(scenes.after, View(link.from, true));
+    Add(scenes.after, View(link.to, false), "moved here");
     scenes.after.moves.emplace_back(link.from.cuboid.centre, link.to.cuboid.centre);
   }
-  for (const ObjectRecord& record : diff.added)
-    scenes.after.objects.push_back(View(record, kObserved, false));
+  for (const ObjectRecord& record : diff.added) Add(scenes.after, View(record, false), "added");
   return scenes;
 }
 

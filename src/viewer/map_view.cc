@@ -92,16 +92,71 @@ void AddFrustum(LineBatch& batch, const SE3& T_wc, double size) {
   }
 }
 
-void DrawLegend(cv::Mat& image) {
-  const std::pair<int, const char*> entries[] = {
-      {1, "observed"}, {2, "recently observed"}, {3, "unknown"}, {4, "suspicious"}, {5, "removed"}};
-  int y = 18;
-  for (const auto& [state, name] : entries) {
-    const cv::Scalar colour = ToBgr(StateColour(state, state == 5));
-    cv::rectangle(image, cv::Rect(10, y - 10, 12, 12), colour, cv::FILLED);
-    DrawLabel(image, name, cv::Point(28, y));
-    y += 18;
+const Eigen::Vector3f kArrowColour(0.85f, 0.1f, 0.75f);
+const Eigen::Vector3f kKeyframeColour(0.0f, 0.0f, 1.0f);
+const Eigen::Vector3f kTrajectoryColour(0.0f, 0.6f, 0.0f);
+const Eigen::Vector3f kGroundTruthColour(0.45f, 0.45f, 0.45f);
+
+std::vector<LegendEntry> LegendOf(const MapScene& scene) {
+  std::vector<LegendEntry> entries;
+  bool drawn[5] = {};
+  for (const ObjectView& object : scene.objects) {
+    if (!object.removed && object.state >= 0 && object.state < 5) drawn[object.state] = true;
   }
+  AddStateEntries(entries, drawn, LegendEntry::Mark::kFilled,
+                  [](int state) { return StateColour(state, false); });
+  if (std::any_of(scene.objects.begin(), scene.objects.end(),
+                  [](const ObjectView& object) { return object.removed; }))
+    entries.push_back({LegendEntry::Mark::kDashed, ToBgr(StateColour(5, true)), "removed"});
+  if (!scene.moves.empty())
+    entries.push_back({LegendEntry::Mark::kArrow, ToBgr(kArrowColour), "moved"});
+  if (!scene.keyframes.empty())
+    entries.push_back({LegendEntry::Mark::kOutline, ToBgr(kKeyframeColour), "keyframes"});
+  if (scene.trajectory.size() >= 2)
+    entries.push_back({LegendEntry::Mark::kLine, ToBgr(kTrajectoryColour), scene.trajectory_name});
+  if (scene.groundtruth.size() >= 2)
+    entries.push_back({LegendEntry::Mark::kLine, ToBgr(kGroundTruthColour), "ground truth"});
+  return entries;
+}
+
+std::vector<PlacedLabel> LabelsIn(const MapScene& scene, const ViewCamera& view,
+                                  const cv::Rect& legend) {
+  const Eigen::Matrix3d R_wg = GravityFrame(scene.up);
+  struct Candidate {
+    bool removed;
+    double depth;
+    std::size_t index;
+    cv::Point anchor;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const ObjectView& object = scene.objects[i];
+    const Eigen::Vector3d top = object.cuboid.centre + 0.5 * object.cuboid.size.z() * R_wg.col(2);
+    const Eigen::Vector3d p_c = view.T_cw * top;
+    if (p_c.z() <= Renderer::kNear) continue;
+    const Eigen::Vector2d pixel = view.camera.ProjectUndistorted(p_c);
+    if (pixel.x() < 0 || pixel.y() < 0 || pixel.x() >= view.camera.width ||
+        pixel.y() >= view.camera.height)
+      continue;
+    candidates.push_back({object.removed, p_c.z(), i,
+                          cv::Point(static_cast<int>(pixel.x()), static_cast<int>(pixel.y()))});
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) {
+                     if (a.removed != b.removed) return !a.removed;
+                     return a.depth < b.depth;
+                   });
+  std::vector<std::pair<std::string, cv::Point>> labels;
+  for (const Candidate& candidate : candidates) {
+    const ObjectView& object = scene.objects[candidate.index];
+    std::string text = std::to_string(object.id) + " " + CocoClassName(object.class_id);
+    if (candidate.index < scene.notes.size() && !scene.notes[candidate.index].empty())
+      text += " (" + scene.notes[candidate.index] + ")";
+    labels.emplace_back(std::move(text), candidate.anchor);
+  }
+  std::vector<cv::Rect> obstacles;
+  if (legend.area() > 0) obstacles.push_back(legend);
+  return LayOutLabels(labels, cv::Size(view.camera.width, view.camera.height), obstacles);
 }
 
 }  // namespace
@@ -203,7 +258,7 @@ cv::Mat RenderMapView(Renderer& renderer, const MapScene& scene, const ViewerOpt
   overlay.points.push_back(std::move(points));
 
   LineBatch keyframes;
-  keyframes.colour = Eigen::Vector3f(0.0f, 0.0f, 1.0f);
+  keyframes.colour = kKeyframeColour;
   keyframes.width = static_cast<float>(options.keyframe_line_width);
   for (const SE3& T_wc : scene.keyframes) AddFrustum(keyframes, T_wc, frustum_size);
   overlay.lines.push_back(std::move(keyframes));
@@ -216,8 +271,7 @@ cv::Mat RenderMapView(Renderer& renderer, const MapScene& scene, const ViewerOpt
   }
   for (const auto* path : {&scene.groundtruth, &scene.trajectory}) {
     LineBatch line;
-    line.colour = path == &scene.trajectory ? Eigen::Vector3f(0.0f, 0.6f, 0.0f)
-                                            : Eigen::Vector3f(0.45f, 0.45f, 0.45f);
+    line.colour = path == &scene.trajectory ? kTrajectoryColour : kGroundTruthColour;
     line.width = static_cast<float>(options.graph_line_width) + 1.0f;
     for (std::size_t i = 1; i < path->size(); ++i) AddSegment(line, (*path)[i - 1], (*path)[i]);
     overlay.lines.push_back(std::move(line));
@@ -225,7 +279,7 @@ cv::Mat RenderMapView(Renderer& renderer, const MapScene& scene, const ViewerOpt
 
   if (!scene.moves.empty()) {
     LineBatch arrows;
-    arrows.colour = Eigen::Vector3f(0.85f, 0.1f, 0.75f);
+    arrows.colour = kArrowColour;
     arrows.width = 3.0f;
     for (const auto& [from, to] : scene.moves)
       AddArrow(arrows, from, to, R_wg.col(2), 0.015 * (high - low).maxCoeff());
@@ -263,18 +317,21 @@ cv::Mat RenderMapView(Renderer& renderer, const MapScene& scene, const ViewerOpt
 
   cv::Mat image = renderer.RenderColour(items, overlay, view.T_cw, view.camera,
                                         Eigen::Vector3f(1.0f, 1.0f, 1.0f));
-  for (const ObjectView& object : scene.objects) {
-    const Eigen::Vector3d top = object.cuboid.centre + 0.5 * object.cuboid.size.z() * R_wg.col(2);
-    const Eigen::Vector3d p_c = view.T_cw * top;
-    if (p_c.z() <= Renderer::kNear) continue;
-    const Eigen::Vector2d pixel = view.camera.ProjectUndistorted(p_c);
-    if (pixel.x() < 0 || pixel.y() < 0 || pixel.x() >= image.cols || pixel.y() >= image.rows)
-      continue;
-    DrawLabel(image, std::to_string(object.id) + " " + CocoClassName(object.class_id),
-              cv::Point(static_cast<int>(pixel.x()) + 4, static_cast<int>(pixel.y()) - 4));
-  }
-  DrawLegend(image);
+  const std::vector<LegendEntry> legend = LegendOf(scene);
+  DrawLabels(image, LabelsIn(scene, view, LegendBox(legend)));
+  DrawLegend(image, legend);
   return image;
+}
+
+std::vector<std::string> MapLegend(const MapScene& scene) {
+  std::vector<std::string> texts;
+  for (const LegendEntry& entry : LegendOf(scene)) texts.push_back(entry.text);
+  return texts;
+}
+
+std::vector<PlacedLabel> MapViewLabels(const MapScene& scene, const ViewerOptions& options,
+                                       MapViewpoint viewpoint) {
+  return LabelsIn(scene, MapViewCamera(scene, options, viewpoint), LegendBox(LegendOf(scene)));
 }
 
 }  // namespace ocg

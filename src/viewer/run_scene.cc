@@ -1,6 +1,8 @@
 #include "ocg/viewer/run_scene.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "ocg/core/file_io.h"
@@ -26,8 +28,23 @@ nlohmann::json ReadJson(const std::string& path) {
 MapScene ReadRunScene(const std::string& run_dir) {
   namespace fs = std::filesystem;
   MapScene scene;
-  for (const StampedPose& pose : ReadTumTrajectory(run_dir + "/KeyFrameTrajectory.txt"))
-    scene.keyframes.push_back(pose.T_wc);
+  const char* files[] = {"KeyFrameTrajectory.txt", "CameraTrajectory.txt", "map_points.ply",
+                         "objects.json", "changes.json"};
+  if (!fs::is_directory(run_dir)) throw FileError("'" + run_dir + "' is not a folder");
+  if (std::none_of(std::begin(files), std::end(files),
+                   [&](const char* name) { return fs::exists(run_dir + "/" + name); })) {
+    throw FileError("'" + run_dir +
+                    "' holds no run: none of KeyFrameTrajectory.txt, CameraTrajectory.txt, "
+                    "map_points.ply, objects.json, changes.json (the outputs of ocg_slam run, "
+                    "ocg_slam objects, ocg_replay)");
+  }
+  if (fs::exists(run_dir + "/KeyFrameTrajectory.txt")) {
+    for (const StampedPose& pose : ReadTumTrajectory(run_dir + "/KeyFrameTrajectory.txt"))
+      scene.keyframes.push_back(pose.T_wc);
+  }
+  if (fs::exists(run_dir + "/run.json") &&
+      ReadJson(run_dir + "/run.json").value("command", "") == "objects")
+    scene.trajectory_name = "given camera path";
   if (fs::exists(run_dir + "/CameraTrajectory.txt")) {
     for (const StampedPose& pose : ReadTumTrajectory(run_dir + "/CameraTrajectory.txt"))
       scene.trajectory.push_back(pose.T_wc.translation());

@@ -11,7 +11,10 @@
 #include <fstream>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "ocg/core/file_io.h"
+#include "ocg/viewer/run_scene.h"
 #include "synthetic_scene.h"
 #include "test_support.h"
 
@@ -32,7 +35,8 @@ struct PoseGivenRun {
 // [no_pose_from, no_pose_until), whose files hold a person box in the middle of the image
 // (in every one of them: were they used, the person would be mapped).
 PoseGivenRun MapScene(const testing::SyntheticScene& scene, const Settings& settings,
-                      const std::string& name, int no_pose_from = 0, int no_pose_until = 0) {
+                      const std::string& name, int no_pose_from = 0, int no_pose_until = 0,
+                      const SnapshotPolicy& snapshots = {false, 0}) {
   const std::string folder = testing::MakeTempDir(name);
   const std::string detections = folder + "/detections";
   std::filesystem::create_directories(detections);
@@ -61,8 +65,9 @@ PoseGivenRun MapScene(const testing::SyntheticScene& scene, const Settings& sett
   run.folder = folder + "/out";
   std::filesystem::create_directories(run.folder);
   std::size_t progress_calls = 0;
-  run.report = MapObjectsAlongTrajectory(settings, frames, folder_of_detections, run.folder,
-                                         [&](std::size_t) { ++progress_calls; });
+  run.report = MapObjectsAlongTrajectory(
+      settings, frames, folder_of_detections, run.folder, [&](std::size_t) { ++progress_calls; },
+      nullptr, snapshots);
   EXPECT_EQ(progress_calls, frames.size() - static_cast<std::size_t>(no_pose_until - no_pose_from));
   return run;
 }
@@ -130,6 +135,65 @@ TEST(PoseGiven, TheOcgModeDecidesWhatIsRemovedNotWhatIsMapped) {
   const PoseGivenRun run = MapScene(scene, settings, "pose_given_off");
   EXPECT_EQ(run.Read("objects.json")["objects"].size(), 4u);
   EXPECT_TRUE(run.Read("changes.json")["changes"].empty());
+}
+
+int LineCount(const std::string& path) {
+  std::ifstream file(path);
+  int lines = 0;
+  for (std::string line; std::getline(file, line);) ++lines;
+  return lines;
+}
+
+// Issue 32, point 5: a pose-given run can be looked at like a SLAM run. Its folder holds
+// the given trajectory and the OCG keyframes' poses, and snapshots (the map before the
+// cup's removal, the final map, the last frame, and every N keyframes when asked), and
+// ocg_render draws it again.
+TEST(PoseGiven, WritesTrajectoriesAndSnapshotsThatOcgRenderDraws) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects(60));
+  Settings settings = PaperSettings();
+  settings.viewer.snapshot_width = 320;
+  settings.viewer.snapshot_height = 240;
+  const PoseGivenRun run =
+      MapScene(scene, settings, "pose_given_snapshots", 0, 0, ParseSnapshotPolicy("every:10"));
+  ASSERT_EQ(run.report["frames_used"], 120);
+  EXPECT_EQ(LineCount(run.folder + "/CameraTrajectory.txt"), 120);
+  EXPECT_EQ(LineCount(run.folder + "/KeyFrameTrajectory.txt"), run.report["keyframes"]);
+  const std::string snapshots = run.folder + "/snapshots/";
+  for (const char* name : {"final_follow", "final_top", "final_three_quarter", "final_objects",
+                           "before_first_removal_three_quarter", "before_first_removal_objects",
+                           "keyframe_00010_three_quarter", "keyframe_00020_three_quarter"}) {
+    const cv::Mat image = cv::imread(snapshots + name + ".png");
+    EXPECT_EQ(image.size(), cv::Size(320, 240)) << name;
+  }
+  for (const char* name : {"final_frame", "keyframe_00010_frame"}) {
+    const cv::Mat image = cv::imread(snapshots + name + ".png");
+    EXPECT_EQ(image.size(), cv::Size(settings.camera.model.width, settings.camera.model.height))
+        << name;
+  }
+  EXPECT_EQ(run.report["snapshots"]["files"].size(), 11u);
+
+  // The folder read back as ocg_render reads it (with the run.json `ocg_slam objects` adds):
+  // the given path, the keyframes, the three objects left and the cup's ghost.
+  nlohmann::json report = run.report;
+  report["command"] = "objects";
+  WriteFileAtomically(run.folder + "/run.json", report.dump());
+  const auto drawn = ReadRunScene(run.folder);
+  EXPECT_EQ(drawn.trajectory.size(), 120u);
+  EXPECT_EQ(drawn.keyframes.size(), run.report["keyframes"].get<std::size_t>());
+  EXPECT_EQ(drawn.trajectory_name, "given camera path");
+  ASSERT_EQ(drawn.objects.size(), 4u);
+  EXPECT_TRUE(drawn.objects[3].removed);
+  const std::string rendered = run.folder + "/rendered";
+  const std::string command = std::string(OCG_RENDER_TOOL) + " --run " + run.folder + " --out " +
+                              rendered + " --views top --log-level warn > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  EXPECT_EQ(cv::imread(rendered + "/map_top.png").size(), cv::Size(1280, 720));
+
+  // --snapshots none: the trajectories all the same, no PNG.
+  const PoseGivenRun plain = MapScene(scene, PaperSettings(), "pose_given_no_snapshots");
+  EXPECT_EQ(LineCount(plain.folder + "/CameraTrajectory.txt"), 120);
+  EXPECT_FALSE(std::filesystem::exists(plain.folder + "/snapshots"));
+  EXPECT_TRUE(plain.report["snapshots"].is_null());
 }
 
 }  // namespace

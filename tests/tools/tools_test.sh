@@ -6,7 +6,7 @@ BIN=$1
 SRC=$2
 source "$(dirname "${BASH_SOURCE[0]}")/check_helpers.sh"
 
-for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab ocg_slam ocg_diff; do
+for tool in ocg_eval ocg_replay ocg_convert_detections ocg_synth ocg_vocab ocg_slam ocg_diff ocg_render; do
   check "$tool --help" "$BIN/$tool" --help
 done
 
@@ -144,19 +144,33 @@ check "ocg_slam objects (pose-given)" objects_run "$WORK/objects" "$WORK/objseq/
 for file in objects.json changes.json ocg.json ocg_observations.jsonl run.json; do
   check "objects run wrote $file" test -s "$WORK/objects/$file"
 done
-check "objects run is deterministic" objects_run "$WORK/objects2" "$WORK/objseq/camera.yaml"
+# A pose-given run is looked at like a SLAM run (issue 32, points 5 and 9): the given
+# trajectory, snapshots with the last frame's image under its detections, ocg_render on its
+# folder, the object map as a mesh.
+check "objects run wrote the given trajectory" test "$(wc -l <"$WORK/objects/CameraTrajectory.txt")" -eq 300
+for view in follow top three_quarter objects frame; do
+  check "objects run wrote final_$view.png" test -s "$WORK/objects/snapshots/final_$view.png"
+done
+check "ocg_render draws a pose-given run and writes its meshes" "$BIN/ocg_render" --run "$WORK/objects" --out "$WORK/objects_render" --views top --mesh "$WORK/objects_render/map.ply" --mesh "$WORK/objects_render/map.obj" --log-level warn
+check "ocg_render wrote map_top.png" test -s "$WORK/objects_render/map_top.png"
+live=$(python3 -c "import json; print(len(json.load(open('$WORK/objects/objects.json'))['objects']))")
+check "the PLY mesh has 12 triangles per live object" grep -q "^element face $((12 * live))\$" "$WORK/objects_render/map.ply"
+check "the OBJ mesh has 12 faces per live object" test "$(grep -c '^f ' "$WORK/objects_render/map.obj")" -eq $((12 * live))
+check "the OBJ mesh names its materials" grep -q '^newmtl ' "$WORK/objects_render/map.mtl"
+fails_with "ocg_render refuses a mesh it cannot write" "must end in .ply or .obj" "$BIN/ocg_render" --run "$WORK/objects" --mesh "$WORK/map.stl"
+check "objects run is deterministic" objects_run "$WORK/objects2" "$WORK/objseq/camera.yaml" --snapshots none
 check "identical object maps" diff "$WORK/objects/objects.json" "$WORK/objects2/objects.json"
 check "ocg_eval objects" bash -c "'$BIN/ocg_eval' objects --gt '$WORK/objseq/objects_gt.json' --run '$WORK/objects' --json >'$WORK/metrics.json'"
 check "most static objects mapped (Corr.S >= 6 of 8)" python3 -c "import json,sys; sys.exit(json.load(open('$WORK/metrics.json'))['corr_s'] < 6)"
 check "the OCG input replays" "$BIN/ocg_replay" --input "$WORK/objects/ocg_observations.jsonl" --out "$WORK/objects_replay"
-check "mode off removes nothing" objects_run "$WORK/objects_off" "$WORK/objseq/camera.yaml" --mode off
+check "mode off removes nothing" objects_run "$WORK/objects_off" "$WORK/objseq/camera.yaml" --mode off --snapshots none
 check "no removal in mode off" bash -c "! grep -q '\"removed\"' '$WORK/objects_off/changes.json'"
 printf 'Objects:\n  min_confidence: 2\n' >"$WORK/bad_objects.yaml"
 fails_with "bad Objects key named" "Objects.min_confidence" objects_run "$WORK/never_objects" "$WORK/bad_objects.yaml"
 check "nothing written on failure" test ! -e "$WORK/never_objects/objects.json"
 grep -v -e width -e height "$WORK/objseq/camera.yaml" >"$WORK/no_size.yaml"
 # ORB-SLAM2's TUM files give no image size: objects takes it from the first image listed.
-check "objects takes the image size from the frames' images" objects_run "$WORK/objects_no_size" "$WORK/no_size.yaml"
+check "objects takes the image size from the frames' images" objects_run "$WORK/objects_no_size" "$WORK/no_size.yaml" --snapshots none
 check "same object map as with the size in the settings" cmp "$WORK/objects/objects.json" "$WORK/objects_no_size/objects.json"
 fails_with "objects without a size nor --frames names the keys" "this command needs Camera.width and Camera.height (or --frames" \
   "$BIN/ocg_slam" objects --trajectory "$WORK/objseq/groundtruth.txt" --detections "$WORK/objseq/detections" --settings "$WORK/no_size.yaml" --out "$WORK/never_objects"

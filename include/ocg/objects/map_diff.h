@@ -25,6 +25,7 @@ struct ObjectRecord {
   double last_seen = 0.0;
   int first_session = 0;  // the session of its first sighting (map files; 0 otherwise)
   int observations = 0;   // sightings (objects.json "observations"; 0 when not known)
+  int state = 0;          // its OCG state in its map (objects.json "state"; 0: not judged)
 };
 
 // When a session saw objects as their class (a detection of the object's class associated

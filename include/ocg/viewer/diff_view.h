@@ -6,9 +6,11 @@
 
 namespace ocg {
 
+// Every object in the colour of its OCG state in its own map (the same object looks the
+// same in both snapshots and in the run's), so that only a diff's ghosts are grey.
 struct DiffScenes {
   MapScene before;  // the first map's objects as they were
-  // The second map's objects (those new at their place, added or moved there, in green),
+  // The second map's objects (those new at their place labelled "added" or "moved here"),
   // removed objects as ghosts, moved ones as ghosts at the old place with an arrow to the
   // new one.
   MapScene after;

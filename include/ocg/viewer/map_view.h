@@ -16,6 +16,7 @@
 #include "ocg/core/lie.h"
 #include "ocg/objects/object_map.h"
 #include "ocg/render/renderer.h"
+#include "ocg/viewer/label_layout.h"
 #include "ocg/viewer/viewer_options.h"
 
 namespace ocg {
@@ -31,6 +32,11 @@ struct MapScene {
   // Moved objects: old centre to new centre, drawn as magenta arrows.
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> moves;
   std::optional<SE3> current_camera;  // T_wc of the last tracked frame, drawn in green
+  // The trajectory's name in the legend (pose-given runs: "given camera path").
+  std::string trajectory_name = "camera path";
+  // Words added to each object's label (objects' order: ocg_diff's "added", "moved here");
+  // shorter than objects or empty: none for the rest.
+  std::vector<std::string> notes;
 };
 
 enum class MapViewpoint {
@@ -51,6 +57,20 @@ struct ViewCamera {
 };
 ViewCamera MapViewCamera(const MapScene& scene, const ViewerOptions& options,
                          MapViewpoint viewpoint);
+
+// What the legend of a snapshot of scene lists: only what is drawn. The OCG states of its
+// live objects ("observed", "recently observed", "unknown", "suspicious", "not judged
+// yet"), "removed" for ghosts, "moved" for arrows, then the keyframes, the trajectory
+// (scene.trajectory_name) and the "ground truth" when there are any. Empty for an empty
+// scene (no legend is drawn).
+std::vector<std::string> MapLegend(const MapScene& scene);
+
+// The objects' labels ("id class", and its note) as RenderMapView draws them: live
+// objects first, nearest first, then ghosts; none overlapping another or the legend, a
+// label moved from its place drawn with a leader line; a label with no free place near
+// its object is left out.
+std::vector<PlacedLabel> MapViewLabels(const MapScene& scene, const ViewerOptions& options,
+                                       MapViewpoint viewpoint);
 
 // The snapshot (BGR, options.snapshot_width x snapshot_height). An empty scene renders
 // as the background.

@@ -1,0 +1,100 @@
+#include "ocg/viewer/label_layout.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "drawing.h"
+
+namespace ocg {
+namespace {
+
+constexpr int kStepX = 3;
+constexpr int kStepY = 2;
+
+// Shifts of a box within max_shift, nearest first (ties: up before down, right before
+// left, so that equal scenes give equal layouts).
+std::vector<cv::Point> ShiftsNearestFirst(int max_shift) {
+  std::vector<cv::Point> shifts;
+  for (int dy = -max_shift; dy <= max_shift; dy += kStepY) {
+    for (int dx = -(max_shift / kStepX) * kStepX; dx <= max_shift; dx += kStepX) {
+      if (dx * dx + dy * dy <= max_shift * max_shift) shifts.emplace_back(dx, dy);
+    }
+  }
+  std::stable_sort(shifts.begin(), shifts.end(), [](const cv::Point& a, const cv::Point& b) {
+    const int da = a.x * a.x + a.y * a.y, db = b.x * b.x + b.y * b.y;
+    if (da != db) return da < db;
+    if (a.y != b.y) return a.y < b.y;
+    return a.x > b.x;
+  });
+  return shifts;
+}
+
+bool Overlaps(const cv::Rect& a, const cv::Rect& b) { return (a & b).area() > 0; }
+
+// The point of box nearest to p.
+cv::Point NearestPoint(const cv::Rect& box, const cv::Point& p) {
+  return {std::clamp(p.x, box.x, box.x + box.width - 1),
+          std::clamp(p.y, box.y, box.y + box.height - 1)};
+}
+
+}  // namespace
+
+std::vector<std::optional<cv::Rect>> PlaceLabels(const std::vector<LabelRequest>& requests,
+                                                 const cv::Size& image,
+                                                 const std::vector<cv::Rect>& obstacles,
+                                                 const LabelLayoutOptions& options) {
+  const std::vector<cv::Point> shifts = ShiftsNearestFirst(std::max(0, options.max_shift));
+  const cv::Rect frame(0, 0, image.width, image.height);
+  std::vector<cv::Rect> taken = obstacles;
+  std::vector<std::optional<cv::Rect>> boxes;
+  boxes.reserve(requests.size());
+  for (const LabelRequest& request : requests) {
+    const cv::Point preferred(request.anchor.x + options.offset.x,
+                              request.anchor.y + options.offset.y - request.size.height);
+    std::optional<cv::Rect> found;
+    for (const cv::Point& shift : shifts) {
+      const cv::Rect box(preferred + shift, request.size);
+      if ((box & frame) != box) continue;
+      if (std::none_of(taken.begin(), taken.end(),
+                       [&](const cv::Rect& other) { return Overlaps(box, other); })) {
+        found = box;
+        break;
+      }
+    }
+    if (found) taken.push_back(*found);
+    boxes.push_back(found);
+  }
+  return boxes;
+}
+
+std::vector<PlacedLabel> LayOutLabels(const std::vector<std::pair<std::string, cv::Point>>& labels,
+                                      const cv::Size& image,
+                                      const std::vector<cv::Rect>& obstacles) {
+  std::vector<LabelRequest> requests;
+  requests.reserve(labels.size());
+  for (const auto& [text, anchor] : labels) requests.push_back({anchor, LabelSize(text)});
+  const LabelLayoutOptions options;
+  const std::vector<std::optional<cv::Rect>> boxes = PlaceLabels(requests, image, obstacles);
+  std::vector<PlacedLabel> placed;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (!boxes[i]) continue;
+    const cv::Point preferred(labels[i].second.x + options.offset.x,
+                              labels[i].second.y + options.offset.y - requests[i].size.height);
+    placed.push_back({labels[i].first, labels[i].second, *boxes[i], boxes[i]->tl() != preferred});
+  }
+  return placed;
+}
+
+void DrawLabels(cv::Mat& image, const std::vector<PlacedLabel>& labels) {
+  for (const PlacedLabel& label : labels) {
+    if (!label.moved) continue;
+    const cv::Point end = NearestPoint(label.box, label.anchor);
+    cv::line(image, label.anchor, end, cv::Scalar(255, 255, 255), 3, cv::LINE_AA);
+    cv::line(image, label.anchor, end, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+    cv::circle(image, label.anchor, 2, cv::Scalar(60, 60, 60), cv::FILLED, cv::LINE_AA);
+  }
+  for (const PlacedLabel& label : labels) DrawLabelInBox(image, label.text, label.box);
+}
+
+}  // namespace ocg
