@@ -9,14 +9,14 @@
 namespace ocg {
 namespace {
 
-constexpr int kStepX = 3;
-constexpr int kStepY = 2;
+constexpr int kStepX = 4;
+constexpr int kStepY = 3;
 
 // Shifts of a box within max_shift, nearest first (ties: up before down, right before
 // left, so that equal scenes give equal layouts).
 std::vector<cv::Point> ShiftsNearestFirst(int max_shift) {
   std::vector<cv::Point> shifts;
-  for (int dy = -max_shift; dy <= max_shift; dy += kStepY) {
+  for (int dy = -(max_shift / kStepY) * kStepY; dy <= max_shift; dy += kStepY) {
     for (int dx = -(max_shift / kStepX) * kStepX; dx <= max_shift; dx += kStepX) {
       if (dx * dx + dy * dy <= max_shift * max_shift) shifts.emplace_back(dx, dy);
     }
@@ -44,7 +44,14 @@ std::vector<std::optional<cv::Rect>> PlaceLabels(const std::vector<LabelRequest>
                                                  const cv::Size& image,
                                                  const std::vector<cv::Rect>& obstacles,
                                                  const LabelLayoutOptions& options) {
-  const std::vector<cv::Point> shifts = ShiftsNearestFirst(std::max(0, options.max_shift));
+  // The snapshots' own layouts all use the default reach: its shifts are sorted once.
+  static const LabelLayoutOptions kDefault;
+  static const std::vector<cv::Point> kDefaultShifts = ShiftsNearestFirst(kDefault.max_shift);
+  std::vector<cv::Point> own_shifts;
+  if (options.max_shift != kDefault.max_shift)
+    own_shifts = ShiftsNearestFirst(std::max(0, options.max_shift));
+  const std::vector<cv::Point>& shifts =
+      options.max_shift == kDefault.max_shift ? kDefaultShifts : own_shifts;
   const cv::Rect frame(0, 0, image.width, image.height);
   std::vector<cv::Rect> taken = obstacles;
   std::vector<std::optional<cv::Rect>> boxes;
@@ -53,14 +60,19 @@ std::vector<std::optional<cv::Rect>> PlaceLabels(const std::vector<LabelRequest>
     const cv::Point preferred(request.anchor.x + options.offset.x,
                               request.anchor.y + options.offset.y - request.size.height);
     std::optional<cv::Rect> found;
+    // Neighbouring places are mostly blocked by the same box: it is tried first.
+    std::size_t blocker = 0;
     for (const cv::Point& shift : shifts) {
       const cv::Rect box(preferred + shift, request.size);
       if ((box & frame) != box) continue;
-      if (std::none_of(taken.begin(), taken.end(),
-                       [&](const cv::Rect& other) { return Overlaps(box, other); })) {
+      if (blocker < taken.size() && Overlaps(box, taken[blocker])) continue;
+      const auto other = std::find_if(taken.begin(), taken.end(),
+                                      [&](const cv::Rect& rect) { return Overlaps(box, rect); });
+      if (other == taken.end()) {
         found = box;
         break;
       }
+      blocker = static_cast<std::size_t>(other - taken.begin());
     }
     if (found) taken.push_back(*found);
     boxes.push_back(found);

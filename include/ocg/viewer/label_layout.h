@@ -27,7 +27,7 @@ struct LabelLayoutOptions {
 
 // Boxes for the requests, taken in order (earlier requests get the nearer places): each
 // inside the image, overlapping no earlier box and no obstacle, at the free place nearest
-// its preferred one (places every 3 pixels across and 2 up and down); none when there is
+// its preferred one (places every 4 pixels across and 3 up and down); none when there is
 // no free place within max_shift or the box is larger than the image.
 std::vector<std::optional<cv::Rect>> PlaceLabels(const std::vector<LabelRequest>& requests,
                                                  const cv::Size& image,
