@@ -30,7 +30,14 @@ std::vector<cv::Point> ShiftsNearestFirst(int max_shift) {
   return shifts;
 }
 
-bool Overlaps(const cv::Rect& a, const cv::Rect& b) { return (a & b).area() > 0; }
+// Labels side by side read as one ("21 tv46 bottle"): a free place keeps this many pixels
+// from the others.
+constexpr int kGap = 3;
+
+bool Overlaps(const cv::Rect& a, const cv::Rect& b) {
+  const cv::Rect grown(a.x - kGap, a.y - kGap, a.width + 2 * kGap, a.height + 2 * kGap);
+  return (grown & b).area() > 0;
+}
 
 // The point of box nearest to p.
 cv::Point NearestPoint(const cv::Rect& box, const cv::Point& p) {

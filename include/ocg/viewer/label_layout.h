@@ -26,7 +26,8 @@ struct LabelLayoutOptions {
 };
 
 // Boxes for the requests, taken in order (earlier requests get the nearer places): each
-// inside the image, overlapping no earlier box and no obstacle, at the free place nearest
+// inside the image, overlapping no earlier box and no obstacle and 3 pixels clear of
+// them, at the free place nearest
 // its preferred one (places every 4 pixels across and 3 up and down); none when there is
 // no free place within max_shift or the box is larger than the image.
 std::vector<std::optional<cv::Rect>> PlaceLabels(const std::vector<LabelRequest>& requests,
