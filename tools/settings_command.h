@@ -22,6 +22,7 @@ struct SettingsCommand {
   bool strict = false;
   bool need_camera = false;
   bool list_keys = false;
+  bool markdown = false;
   std::string image;  // an image of the sequence the settings are for, or ""
 };
 
@@ -50,11 +51,20 @@ inline void AddSettingsCommand(CLI::App& parent, SettingsCommand* command) {
                  "write the checked settings here, flat (one 'key: value' per line, --set keys "
                  "included)");
   app.add_flag("--list-keys", command->list_keys, "print every key the modules read, and exit");
+  app.add_flag("--markdown", command->markdown,
+               "print every module's keys as the tables of docs/settings.md (key, default, "
+               "values taken, meaning), and exit");
 }
 
 inline void RunSettingsCommand(const SettingsCommand& command) {
   if (command.list_keys) {
     for (const std::string& key : KnownSettingsKeys()) std::cout << key << "\n";
+    return;
+  }
+  if (command.markdown) {
+    for (const SettingsSection& section : DescribeSettings()) {
+      std::cout << SettingsTableMarkdown(section) << "\n";
+    }
     return;
   }
   SettingsFile file = command.file.empty() ? SettingsFile::Parse("", "(defaults)")

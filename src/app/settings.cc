@@ -115,6 +115,30 @@ std::vector<std::string> KnownSettingsKeys() {
   return empty.AskedKeys();
 }
 
+std::vector<SettingsSection> DescribeSettings() {
+  return {{"System", DescribeOptionFields<SystemOptions>()},
+          {"ORBextractor", DescribeOptionFields<OrbExtractorOptions>()},
+          {"Matcher", DescribeOptionFields<MatcherOptions>()},
+          {"Vocabulary", DescribeOptionFields<VocabularyOptions>()},
+          {"Initializer", DescribeOptionFields<InitialMapOptions>()},
+          {"Tracking", DescribeOptionFields<TrackingOptions>()},
+          {"LocalMapping", DescribeOptionFields<LocalMappingOptions>()},
+          {"LoopClosing", DescribeOptionFields<LoopClosingOptions>()},
+          {"Objects", DescribeOptionFields<ObjectsOptions>()},
+          {"OCG", DescribeOptionFields<OcgOptions>()},
+          {"Viewer", DescribeOptionFields<ViewerOptions>()}};
+}
+
+std::string SettingsTableMarkdown(const SettingsSection& section) {
+  std::string table = "<!-- settings-table " + section.name + " -->\n" +
+                      "| key | default | values | meaning |\n|---|---|---|---|\n";
+  for (const OptionFieldDescription& field : section.fields) {
+    table += "| `" + field.key + "` | " + field.default_value + " | " + field.values + " | " +
+             field.meaning + " |\n";
+  }
+  return table + "<!-- end settings-table -->\n";
+}
+
 void Settings::Check() const {
   try {
     CheckAll(*this);

@@ -214,9 +214,7 @@ std::string CameraKeyInFile(const SettingsFile& file, const std::string& key) {
 }
 
 void ReadSettings(const SettingsFile& file, SystemOptions* options) {
-  file.Read("System.sequential", &options->sequential);
-  file.Read("System.seed", &options->seed);
-  file.Read("System.log_level", &options->log_level);
+  ReadOptionFields(file, options);
 }
 
 }  // namespace ocg

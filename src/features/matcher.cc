@@ -106,30 +106,13 @@ void KeepConsistentRotations(int bins, RotationOf rotation_of, std::vector<int>*
 }  // namespace
 
 void MatcherOptions::Check() const {
-  RequireOption(strict_distance >= 0 && strict_distance <= kDescriptorBits,
-                "Matcher.strictDistance", "must be in [0, 256]");
-  RequireOption(loose_distance >= strict_distance && loose_distance <= kDescriptorBits,
-                "Matcher.looseDistance", "must be in [Matcher.strictDistance, 256]");
-  RequireOption(orientation_bins >= 1 && orientation_bins <= 360, "Matcher.orientationBins",
-                "must be in [1, 360]");
-  RequireOption(initialization_ratio > 0.0 && initialization_ratio <= 1.0,
-                "Matcher.initializationRatio", "must be in (0, 1]");
-  RequireOption(projection_ratio > 0.0 && projection_ratio <= 1.0, "Matcher.projectionRatio",
-                "must be in (0, 1]");
-  RequireOption(bow_ratio > 0.0 && bow_ratio <= 1.0, "Matcher.bowRatio", "must be in (0, 1]");
-  RequireOption(initialization_window > 0, "Matcher.initializationWindow", "must be positive");
+  CheckOptionFields(*this);
+  RequireOption(loose_distance >= strict_distance, "Matcher.looseDistance",
+                "must be in [Matcher.strictDistance, 256]");
 }
 
 void ReadSettings(const SettingsFile& file, MatcherOptions* options) {
-  file.Read("Matcher.strictDistance", &options->strict_distance);
-  file.Read("Matcher.looseDistance", &options->loose_distance);
-  file.Read("Matcher.checkOrientation", &options->check_orientation);
-  file.Read("Matcher.orientationBins", &options->orientation_bins);
-  file.Read("Matcher.initializationRatio", &options->initialization_ratio);
-  file.Read("Matcher.projectionRatio", &options->projection_ratio);
-  file.Read("Matcher.bowRatio", &options->bow_ratio);
-  file.Read("Matcher.initializationWindow", &options->initialization_window);
-  file.Read("Matcher.initializationAllLevels", &options->initialization_all_levels);
+  ReadOptionFields(file, options);
 }
 
 void FilterByRotationConsistency(const std::vector<cv::KeyPoint>& keypoints_a,

@@ -569,7 +569,7 @@ std::string DefaultVocabularyPath() {
 }
 
 void ReadSettings(const SettingsFile& file, VocabularyOptions* options) {
-  file.Read("Vocabulary.path", &options->path);
+  ReadOptionFields(file, options);
 }
 
 std::string VocabularyOptions::Resolve() const {

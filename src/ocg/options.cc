@@ -59,39 +59,12 @@ OcgModes ParseOcgMode(const std::string& mode) {
 
 void OcgOptions::Check() const {
   ParseOcgMode(mode);
-  RequireOption(tau_observable > 0 && tau_observable < 1, "OCG.tau_observable",
-                "must be in (0, 1)");
-  RequireOption(std::isfinite(tau_doubt) && tau_doubt >= 0, "OCG.tau_doubt",
-                "must be non-negative");
-  RequireOption(rate_high > tau_observable && rate_high < 1, "OCG.rate_high",
-                "must be in (OCG.tau_observable, 1)");
-  for (const auto& [key, value] :
-       {std::pair<const char*, double>{"OCG.increment_full", increment_full},
-        {"OCG.increment_high", increment_high},
-        {"OCG.increment_low", increment_low}}) {
-    RequireOption(std::isfinite(value) && value >= 0, key, "must be non-negative");
-  }
-  RequireOption(isolated_rate >= 0 && isolated_rate <= 1, "OCG.isolated_rate", "must be in [0, 1]");
-  RequireOption(image_margin >= 0, "OCG.image_margin", "must be non-negative");
-  RequireOption(distance_slack >= 1, "OCG.distance_slack", "must be at least 1");
-  RequireOption(min_box_fraction > 0 && min_box_fraction <= 1, "OCG.min_box_fraction",
-                "must be in (0, 1]");
-  RequireOption(guard_min_neighbours >= 1, "OCG.guard_min_neighbours", "must be at least 1");
-  RequireOption(view_max_angle_deg > 0 && view_max_angle_deg <= 180, "OCG.view_max_angle_deg",
-                "must be in (0, 180]");
-  RequireOption(reliable_detection_rate > 0 && reliable_detection_rate < 1,
-                "OCG.reliable_detection_rate", "must be in (0, 1)");
-  RequireOption(dropout_full_share > 0 && dropout_full_share < 1, "OCG.dropout_full_share",
-                "must be in (0, 1)");
-  RequireOption(max_occluded_share > 0 && max_occluded_share <= 1, "OCG.max_occluded_share",
-                "must be in (0, 1]");
-  RequireOption(visibility_keyframes >= 1, "OCG.visibility_keyframes", "must be at least 1");
+  CheckOptionFields(*this);
+  RequireOption(rate_high > tau_observable, "OCG.rate_high", "must be in (OCG.tau_observable, 1)");
 }
 
 void ReadSettings(const SettingsFile& file, OcgOptions* options) {
-  VisitOcgOptionFields(*options, [&file](const char* name, auto& member) {
-    file.Read(std::string("OCG.") + name, &member);
-  });
+  ReadOptionFields(file, options);
 }
 
 }  // namespace ocg

@@ -73,12 +73,7 @@ struct Sim3ReprojectionCost {
 
 }  // namespace
 
-void Sim3EstimationOptions::Check() const {
-  RequireOption(iterations >= 1, "LoopClosing.sim3Iterations", "must be at least 1");
-  RequireOption(min_inliers >= 3, "LoopClosing.sim3MinInliers", "must be at least 3");
-  RequireOption(chi2 > 0, "LoopClosing.sim3Chi2", "must be positive");
-  RequireOption(refine_iterations >= 0, "LoopClosing.sim3RefineIterations", "must be non-negative");
-}
+void Sim3EstimationOptions::Check() const { CheckOptionFields(*this); }
 
 Sim3Estimate RefineSim3(const std::vector<Sim3Match>& matches, const PinholeCamera& camera,
                         const Sim3& S12, const std::vector<bool>& inliers,

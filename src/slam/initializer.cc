@@ -11,12 +11,11 @@ namespace ocg {
 void InitialMapOptions::Check() const {
   two_view.Check();
   bundle_adjustment.Check();
-  RequireOption(min_map_points >= 8, "Initializer.minMapPoints", "must be at least 8");
+  CheckOptionFields(*this);
 }
 
 void ReadSettings(const SettingsFile& file, InitialMapOptions* options) {
-  ReadSettings(file, &options->two_view);
-  file.Read("Initializer.minMapPoints", &options->min_map_points);
+  ReadOptionFields(file, options);
 }
 
 InitialMap InitializeFromTwoViews(const std::vector<Eigen::Vector2d>& pixels1,

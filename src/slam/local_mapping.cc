@@ -56,46 +56,10 @@ Eigen::Matrix<double, 3, 4> Projection(const Eigen::Matrix3d& K, const SE3& T_cw
 
 }  // namespace
 
-void LocalMappingOptions::Check() const {
-  RequireOption(triangulation_neighbours >= 1, "LocalMapping.triangulationNeighbours",
-                "must be positive");
-  RequireOption(min_baseline_ratio >= 0.0, "LocalMapping.minBaselineRatio", "must not be negative");
-  RequireOption(triangulation_ratio > 0.0 && triangulation_ratio <= 1.0,
-                "LocalMapping.triangulationRatio", "must be in (0, 1]");
-  RequireOption(max_cos_parallax > 0.0 && max_cos_parallax < 1.0, "LocalMapping.maxCosParallax",
-                "must be in (0, 1)");
-  RequireOption(scale_consistency >= 1.0, "LocalMapping.scaleConsistency", "must be at least 1");
-  RequireOption(min_found_ratio >= 0.0 && min_found_ratio <= 1.0, "LocalMapping.minFoundRatio",
-                "must be in [0, 1]");
-  RequireOption(fuse_radius > 0.0, "LocalMapping.fuseRadius", "must be positive");
-  RequireOption(local_ba_iterations >= 1, "LocalMapping.baIterations", "must be positive");
-  RequireOption(local_ba_refine_iterations >= 0, "LocalMapping.baRefineIterations",
-                "must not be negative");
-  RequireOption(local_ba_refine_min_chi2_decrease >= 0.0, "LocalMapping.baRefineMinChi2Decrease",
-                "must not be negative");
-  RequireOption(redundant_ratio > 0.0 && redundant_ratio <= 1.0, "LocalMapping.redundantRatio",
-                "must be in (0, 1]");
-  RequireOption(redundant_observers >= 1, "LocalMapping.redundantObservers", "must be positive");
-  RequireOption(queue_capacity >= 1, "LocalMapping.queueCapacity", "must be positive");
-}
+void LocalMappingOptions::Check() const { CheckOptionFields(*this); }
 
 void ReadSettings(const SettingsFile& file, LocalMappingOptions* options) {
-  file.Read("LocalMapping.triangulationNeighbours", &options->triangulation_neighbours);
-  file.Read("LocalMapping.minBaselineRatio", &options->min_baseline_ratio);
-  file.Read("LocalMapping.triangulationRatio", &options->triangulation_ratio);
-  file.Read("LocalMapping.maxCosParallax", &options->max_cos_parallax);
-  file.Read("LocalMapping.scaleConsistency", &options->scale_consistency);
-  file.Read("LocalMapping.minFoundRatio", &options->min_found_ratio);
-  file.Read("LocalMapping.fuseRadius", &options->fuse_radius);
-  file.Read("LocalMapping.baIterations", &options->local_ba_iterations);
-  file.Read("LocalMapping.baRefineIterations", &options->local_ba_refine_iterations);
-  file.Read("LocalMapping.baRefineMinChi2Decrease", &options->local_ba_refine_min_chi2_decrease);
-  file.Read("LocalMapping.redundantRatio", &options->redundant_ratio);
-  file.Read("LocalMapping.redundantObservers", &options->redundant_observers);
-  int capacity = static_cast<int>(options->queue_capacity);
-  if (file.Read("LocalMapping.queueCapacity", &capacity)) {
-    options->queue_capacity = static_cast<std::size_t>(std::max(capacity, 0));
-  }
+  ReadOptionFields(file, options);
 }
 
 LocalMapping::LocalMapping(const PinholeCamera& camera, const ScalePyramid& pyramid,

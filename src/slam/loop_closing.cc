@@ -20,41 +20,13 @@ SE3 ToSE3(const Sim3& S) { return SE3(S.rotation(), S.translation() / S.scale())
 }  // namespace
 
 void LoopClosingOptions::Check() const {
-  RequireOption(min_keyframes_between >= 0, "LoopClosing.minKeyFramesBetween",
-                "must be non-negative");
-  RequireOption(min_loop_age >= 1, "LoopClosing.minLoopAge", "must be at least 1");
-  RequireOption(consistency >= 0, "LoopClosing.consistency", "must be non-negative");
-  RequireOption(max_candidates >= 1, "LoopClosing.maxCandidates", "must be at least 1");
-  RequireOption(min_bow_matches >= 3, "LoopClosing.minBowMatches", "must be at least 3");
+  CheckOptionFields(*this);
   RequireOption(min_loop_matches >= sim3.min_inliers, "LoopClosing.minLoopMatches",
                 "must be at least LoopClosing.sim3MinInliers");
-  RequireOption(loop_search_radius > 0, "LoopClosing.searchRadius", "must be positive");
-  RequireOption(strong_covisibility >= 1, "LoopClosing.strongCovisibility", "must be positive");
-  RequireOption(pose_graph_iterations >= 1, "LoopClosing.poseGraphIterations",
-                "must be at least 1");
-  RequireOption(queue_capacity >= 1, "LoopClosing.queueCapacity", "must be at least 1");
-  RequireOption(global_ba_iterations >= 0, "LoopClosing.globalBAIterations",
-                "must be non-negative");
-  sim3.Check();
 }
 
 void ReadSettings(const SettingsFile& file, LoopClosingOptions* options) {
-  file.Read("LoopClosing.enabled", &options->enabled);
-  file.Read("LoopClosing.minKeyFramesBetween", &options->min_keyframes_between);
-  file.Read("LoopClosing.minLoopAge", &options->min_loop_age);
-  file.Read("LoopClosing.consistency", &options->consistency);
-  file.Read("LoopClosing.maxCandidates", &options->max_candidates);
-  file.Read("LoopClosing.minBowMatches", &options->min_bow_matches);
-  file.Read("LoopClosing.minLoopMatches", &options->min_loop_matches);
-  file.Read("LoopClosing.searchRadius", &options->loop_search_radius);
-  file.Read("LoopClosing.strongCovisibility", &options->strong_covisibility);
-  file.Read("LoopClosing.poseGraphIterations", &options->pose_graph_iterations);
-  file.Read("LoopClosing.globalBAIterations", &options->global_ba_iterations);
-  file.Read("LoopClosing.queueCapacity", &options->queue_capacity);  // Check(): at least 1
-  file.Read("LoopClosing.sim3Iterations", &options->sim3.iterations);
-  file.Read("LoopClosing.sim3MinInliers", &options->sim3.min_inliers);
-  file.Read("LoopClosing.sim3Chi2", &options->sim3.chi2);
-  file.Read("LoopClosing.sim3RefineIterations", &options->sim3.refine_iterations);
+  ReadOptionFields(file, options);
 }
 
 // The map lock of a loop correction, taken and given back between its steps, with how

@@ -41,46 +41,10 @@ int CountMatches(const std::vector<int>& matches) {
 
 }  // namespace
 
-void TrackingOptions::Check() const {
-  RequireOption(min_initialization_features >= 8, "Tracking.minInitFeatures", "must be at least 8");
-  RequireOption(min_initialization_matches >= 8, "Tracking.minInitMatches", "must be at least 8");
-  RequireOption(initialization_features_factor >= 1.0, "Tracking.initFeaturesFactor",
-                "must be at least 1");
-  RequireOption(motion_search_radius > 0.0, "Tracking.motionSearchRadius", "must be positive");
-  RequireOption(min_motion_matches >= 4, "Tracking.minMotionMatches", "must be at least 4");
-  RequireOption(min_tracked_matches >= 4, "Tracking.minTrackedMatches", "must be at least 4");
-  RequireOption(min_bow_matches >= 4, "Tracking.minBowMatches", "must be at least 4");
-  RequireOption(min_local_map_inliers >= 4, "Tracking.minLocalMapInliers", "must be at least 4");
-  RequireOption(min_inliers_after_relocalization >= 4, "Tracking.minRelocalizationInliers",
-                "must be at least 4");
-  RequireOption(keyframe_tracked_ratio > 0.0 && keyframe_tracked_ratio <= 1.0,
-                "Tracking.keyframeRatio", "must be in (0, 1]");
-  RequireOption(max_frames_between_keyframes >= 0, "Tracking.maxFramesBetweenKeyFrames",
-                "must not be negative");
-  RequireOption(min_frames_between_keyframes >= 0, "Tracking.minFramesBetweenKeyFrames",
-                "must not be negative");
-  RequireOption(min_keyframes_to_keep_map >= 2, "Tracking.minKeyFrames", "must be at least 2");
-  RequireOption(local_keyframes >= 2, "Tracking.localKeyFrames", "must be at least 2");
-  RequireOption(new_map_after_lost_seconds >= 0.0, "Tracking.newMapAfterLostSeconds",
-                "must not be negative (0: never start a new map)");
-}
+void TrackingOptions::Check() const { CheckOptionFields(*this); }
 
 void ReadSettings(const SettingsFile& file, TrackingOptions* options) {
-  file.Read("Tracking.minInitFeatures", &options->min_initialization_features);
-  file.Read("Tracking.minInitMatches", &options->min_initialization_matches);
-  file.Read("Tracking.initFeaturesFactor", &options->initialization_features_factor);
-  file.Read("Tracking.motionSearchRadius", &options->motion_search_radius);
-  file.Read("Tracking.minMotionMatches", &options->min_motion_matches);
-  file.Read("Tracking.minTrackedMatches", &options->min_tracked_matches);
-  file.Read("Tracking.minBowMatches", &options->min_bow_matches);
-  file.Read("Tracking.minLocalMapInliers", &options->min_local_map_inliers);
-  file.Read("Tracking.minRelocalizationInliers", &options->min_inliers_after_relocalization);
-  file.Read("Tracking.keyframeRatio", &options->keyframe_tracked_ratio);
-  file.Read("Tracking.maxFramesBetweenKeyFrames", &options->max_frames_between_keyframes);
-  file.Read("Tracking.minFramesBetweenKeyFrames", &options->min_frames_between_keyframes);
-  file.Read("Tracking.minKeyFrames", &options->min_keyframes_to_keep_map);
-  file.Read("Tracking.localKeyFrames", &options->local_keyframes);
-  file.Read("Tracking.newMapAfterLostSeconds", &options->new_map_after_lost_seconds);
+  ReadOptionFields(file, options);
 }
 
 const char* ToString(TrackingState state) {

@@ -229,40 +229,13 @@ Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& M) {
 }  // namespace
 
 void TwoViewOptions::Check() const {
-  RequireOption(ransac_iterations >= 1, "Initializer.ransacIterations", "must be positive");
-  RequireOption(sigma > 0.0, "Initializer.sigma", "must be positive");
-  RequireOption(chi2_one_dof > 0.0, "Initializer.chi2OneDof", "must be positive");
+  CheckOptionFields(*this);
   RequireOption(chi2_two_dof >= chi2_one_dof, "Initializer.chi2TwoDof",
                 "must be at least Initializer.chi2OneDof");
-  RequireOption(homography_ratio > 0.0 && homography_ratio < 1.0, "Initializer.homographyRatio",
-                "must be in (0, 1)");
-  RequireOption(min_parallax_degrees >= 0.0, "Initializer.minParallax", "must not be negative");
-  RequireOption(min_parallax_turning_degrees >= 0.0, "Initializer.minParallaxTurning",
-                "must not be negative");
-  RequireOption(turning_degrees >= 0.0, "Initializer.turningDegrees", "must not be negative");
-  RequireOption(min_triangulated >= 8, "Initializer.minTriangulated", "must be at least 8");
-  RequireOption(min_good_fraction > 0.0 && min_good_fraction <= 1.0, "Initializer.minGoodFraction",
-                "must be in (0, 1]");
-  RequireOption(max_ambiguity > 0.0 && max_ambiguity <= 1.0, "Initializer.maxAmbiguity",
-                "must be in (0, 1]");
-  RequireOption(max_ambiguity_homography > 0.0 && max_ambiguity_homography <= 1.0,
-                "Initializer.maxAmbiguityHomography", "must be in (0, 1]");
 }
 
 void ReadSettings(const SettingsFile& file, TwoViewOptions* options) {
-  file.Read("Initializer.ransacIterations", &options->ransac_iterations);
-  file.Read("Initializer.sigma", &options->sigma);
-  file.Read("Initializer.chi2OneDof", &options->chi2_one_dof);
-  file.Read("Initializer.chi2TwoDof", &options->chi2_two_dof);
-  file.Read("Initializer.homographyRatio", &options->homography_ratio);
-  file.Read("Initializer.minParallax", &options->min_parallax_degrees);
-  file.Read("Initializer.minParallaxTurning", &options->min_parallax_turning_degrees);
-  file.Read("Initializer.turningDegrees", &options->turning_degrees);
-  file.Read("Initializer.minTriangulated", &options->min_triangulated);
-  file.Read("Initializer.minGoodFraction", &options->min_good_fraction);
-  file.Read("Initializer.maxAmbiguity", &options->max_ambiguity);
-  file.Read("Initializer.maxAmbiguityHomography", &options->max_ambiguity_homography);
-  file.Read("Initializer.seed", &options->seed);
+  ReadOptionFields(file, options);
 }
 
 Eigen::Matrix3d HomographyFromPoints(const std::vector<Eigen::Vector2d>& p1,

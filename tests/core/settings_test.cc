@@ -1,11 +1,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <set>
+#include <sstream>
+#include <type_traits>
 
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/core/option_fields.h"
 #include "ocg/core/settings_file.h"
 #include "test_support.h"
 
@@ -446,6 +451,90 @@ TEST(Settings, EveryKnownKeyIsDocumented) {
                 docs.find("`" + name + "`") != std::string::npos)
         << key << " is not in docs/settings.md";
   }
+}
+
+// The tables of docs/settings.md are the field lists, as `ocg_slam settings --markdown`
+// prints them (tools/settings_docs.py writes them): a key, default or bound changed in a
+// field list without the docs fails here.
+TEST(Settings, DocsTablesAreTheFieldLists) {
+  const std::string docs = ReadTextFile(testing::SourceDir() + "/docs/settings.md");
+  for (const SettingsSection& section : DescribeSettings()) {
+    EXPECT_NE(docs.find(SettingsTableMarkdown(section)), std::string::npos)
+        << "docs/settings.md: the table of " << section.name
+        << " is not the field list's; run tools/settings_docs.py build/tools/ocg_slam";
+  }
+}
+
+// One list drives reading, checking and the known keys: every field of every section is a
+// known key, and a value just outside its bound (or NaN) is refused, naming the key, by the
+// reader of a settings file.
+TEST(Settings, EveryFieldIsReadAndEveryBoundIsEnforced) {
+  const std::vector<std::string> known = KnownSettingsKeys();
+  std::size_t bounds_tried = 0;
+  for (const SettingsSection& section : DescribeSettings()) {
+    ASSERT_FALSE(section.fields.empty()) << section.name;
+    for (const OptionFieldDescription& field : section.fields) {
+      EXPECT_EQ(field.key.rfind(section.name + ".", 0), 0u) << field.key;
+      EXPECT_NE(std::find(known.begin(), known.end(), field.key), known.end()) << field.key;
+      EXPECT_FALSE(field.meaning.empty()) << field.key;
+    }
+  }
+  const auto try_value = [&](const std::string& key, double value) {
+    std::ostringstream text;
+    if (std::isnan(value)) {
+      text << key << ": .nan\n";
+    } else {
+      text << key << ": " << value << "\n";
+    }
+    try {
+      ParseSettings(text.str(), "bounds.yaml");
+      ADD_FAILURE() << key << " accepted " << value;
+    } catch (const SettingsError& error) {
+      EXPECT_NE(std::string(error.what()).find(key), std::string::npos) << error.what();
+      ++bounds_tried;
+    }
+  };
+  const auto visit_bounds = [&](const char* key, const auto& member, const OptionBound& bound,
+                                const char*) {
+    using Member = std::decay_t<decltype(member)>;
+    if constexpr (std::is_arithmetic_v<Member> && !std::is_same_v<Member, bool>) {
+      for (double value : bound.RejectedExamples()) {
+        if (std::is_integral_v<Member> && std::isnan(value)) continue;  // not a whole number
+        try_value(key, value);
+      }
+    }
+  };
+  const Settings defaults;
+  TrackingOptions::VisitFields(defaults.tracking, visit_bounds);
+  LocalMappingOptions::VisitFields(defaults.local_mapping, visit_bounds);
+  LoopClosingOptions::VisitFields(defaults.loop_closing, visit_bounds);
+  InitialMapOptions::VisitFields(defaults.initializer, visit_bounds);
+  OrbExtractorOptions::VisitFields(defaults.orb, visit_bounds);
+  MatcherOptions::VisitFields(defaults.matcher, visit_bounds);
+  ObjectsOptions::VisitFields(defaults.objects, visit_bounds);
+  OcgOptions::VisitFields(defaults.ocg, visit_bounds);
+  ViewerOptions::VisitFields(defaults.viewer, visit_bounds);
+  EXPECT_GT(bounds_tried, 150u);
+}
+
+TEST(OptionBound, MessagesAndTextSayTheInterval) {
+  EXPECT_EQ(OptionBound::Between(0, true, 1, false).Message(), "must be in (0, 1]");
+  EXPECT_EQ(OptionBound::Between(0, true, 1, false).Text(), "(0, 1]");
+  EXPECT_EQ(OptionBound::Positive().Message(), "must be positive");
+  EXPECT_EQ(OptionBound::NonNegative().Message(), "must not be negative");
+  EXPECT_EQ(OptionBound::AtLeast(8).Message(), "must be at least 8");
+  EXPECT_EQ(OptionBound::AtLeast(8).Text(), ">= 8");
+  EXPECT_EQ(OptionBound::MoreThan(1).Message(), "must be more than 1");
+  EXPECT_EQ(OptionBound::AtLeast(2).Because("a centre needs two rays").Message(),
+            "must be at least 2 (a centre needs two rays)");
+  EXPECT_TRUE(OptionBound::Open(0, 1).Accepts(0.5));
+  EXPECT_FALSE(OptionBound::Open(0, 1).Accepts(0));
+  EXPECT_FALSE(OptionBound::Open(0, 1).Accepts(1));
+  EXPECT_TRUE(OptionBound::Closed(0, 1).Accepts(1));
+  EXPECT_FALSE(OptionBound::Positive().Accepts(std::numeric_limits<double>::infinity()));
+  EXPECT_FALSE(OptionBound::Positive().Accepts(std::nan("")));
+  EXPECT_TRUE(OptionBound::Any().Accepts(std::nan("")));
+  EXPECT_TRUE(OptionBound::Any().RejectedExamples().empty());
 }
 
 TEST(Settings, SettingsOfAnotherCameraNameTheFileAndBothImageSizes) {

@@ -78,6 +78,22 @@ void CheckCameraFitsImage(const LoadedSettings& loaded, const std::string& image
 // Every key the modules read, in reading order (the camera in ORB-SLAM2's layout).
 std::vector<std::string> KnownSettingsKeys();
 
+// One module's keys as its field list gives them (ocg/core/option_fields.h): the source of
+// the tables of docs/settings.md. The camera is not among them: its keys depend on the
+// file's layout (docs/settings.md describes both).
+struct SettingsSection {
+  std::string name;  // "Tracking", "LocalMapping", ...: the prefix of its keys
+  std::vector<OptionFieldDescription> fields;
+};
+std::vector<SettingsSection> DescribeSettings();
+
+// A section as the Markdown table of docs/settings.md, between its marker lines:
+//   <!-- settings-table NAME -->
+//   | key | default | values | meaning |
+//   ...
+//   <!-- end settings-table -->
+std::string SettingsTableMarkdown(const SettingsSection& section);
+
 // The SLAM system's part of the settings; the initializer's RANSAC seed mixed with
 // System.seed so that one seed changes every random choice of a run.
 SystemConfig MakeSystemConfig(const Settings& settings);

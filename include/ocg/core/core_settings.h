@@ -13,6 +13,7 @@
 #include <string>
 
 #include "ocg/core/camera.h"
+#include "ocg/core/option_fields.h"
 
 namespace ocg {
 
@@ -43,6 +44,15 @@ struct SystemOptions {
   // System.log_level: trace, debug, info, warn, error or off.
   std::string log_level = "info";
 
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("System.sequential", self.sequential, OptionBound::Any(),
+          "run all stages synchronously per keyframe: identical inputs, identical outputs");
+    visit("System.seed", self.seed, OptionBound::Any(), "seed of every random choice");
+    visit("System.log_level", self.log_level, OptionBound::Any(),
+          "trace, debug, info, warn, error, off");
+  }
   void Check() const;
 };
 

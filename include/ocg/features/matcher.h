@@ -9,6 +9,7 @@
 #include <opencv2/core/types.hpp>
 #include <vector>
 
+#include "ocg/core/option_fields.h"
 #include "ocg/features/descriptor.h"
 #include "ocg/features/orb_extractor.h"
 #include "ocg/features/vocabulary.h"
@@ -33,6 +34,31 @@ struct MatcherOptions {
   // its neighbouring levels) when initializing; false: level 0 only (ORB-SLAM2).
   bool initialization_all_levels = true;
 
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("Matcher.strictDistance", self.strict_distance, OptionBound::Closed(0, 256),
+          "largest Hamming distance accepted by BoW and initialization matching");
+    visit("Matcher.looseDistance", self.loose_distance, OptionBound::Closed(0, 256),
+          "largest Hamming distance accepted by projection search (at least `strictDistance`)");
+    visit("Matcher.checkOrientation", self.check_orientation, OptionBound::Any(),
+          "keep only matches in the three most popular rotation bins");
+    visit("Matcher.orientationBins", self.orientation_bins, OptionBound::Closed(1, 360),
+          "rotation histogram bins over 360 degrees");
+    visit("Matcher.initializationRatio", self.initialization_ratio,
+          OptionBound::Between(0, true, 1, false),
+          "best / second-best distance ratio, initialization");
+    visit("Matcher.projectionRatio", self.projection_ratio, OptionBound::Between(0, true, 1, false),
+          "ratio for map points projected onto a frame (same pyramid level)");
+    visit("Matcher.bowRatio", self.bow_ratio, OptionBound::Between(0, true, 1, false),
+          "ratio for keyframe-to-frame BoW matching");
+    visit("Matcher.initializationWindow", self.initialization_window, OptionBound::Positive(),
+          "search radius in pixels at initialization");
+    visit("Matcher.initializationAllLevels", self.initialization_all_levels, OptionBound::Any(),
+          "initialization matches every pyramid level against its neighbouring levels (false: "
+          "level 0 alone, as ORB-SLAM2): a blurred view under a fast turn keeps its matches "
+          "long enough to build parallax");
+  }
   void Check() const;  // throws OptionError naming the key
 };
 

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "ocg/core/option_fields.h"
 #include "ocg/features/descriptor.h"
 
 namespace ocg {
@@ -139,6 +140,15 @@ class Vocabulary {
 struct VocabularyOptions {
   // Vocabulary.path: binary or ORB-SLAM2 text vocabulary; empty: DefaultVocabularyPath().
   std::string path;
+
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("Vocabulary.path", self.path, OptionBound::Any(),
+          "binary or ORB-SLAM2 text vocabulary; empty: `$OCG_VOCABULARY`, then the installed "
+          "`share/ocg/ocg_orb_vocabulary.ocgvoc`, then the source tree's "
+          "`thirdparty/vocabulary/`");
+  }
   void Check() const {}  // the file is checked when it is loaded
   // path, or the default; throws std::runtime_error listing where it looked when none.
   std::string Resolve() const;

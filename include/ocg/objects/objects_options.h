@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include "ocg/core/option_fields.h"
 
 namespace ocg {
 
@@ -153,6 +154,125 @@ struct ObjectsOptions {
   // Whether detections of this class are mapped.
   bool MapsClass(int class_id) const;
   // Throws OptionError naming the key.
+
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    const auto share = OptionBound::Between(0, true, 1, false);  // (0, 1]
+    visit("Objects.classes", self.classes, OptionBound::Any(),
+          "COCO-80 ids to map; empty: every class but person (0)");
+    visit("Objects.min_confidence", self.min_confidence, OptionBound::Closed(0, 1),
+          "detections below it are ignored");
+    visit("Objects.border_margin", self.border_margin, OptionBound::NonNegative(),
+          "pixels: a box this close to the image edge is truncated (associates, but gives "
+          "neither centre ray nor size)");
+    visit("Objects.nms_iou", self.nms_iou, share,
+          "same-class boxes overlapping more than this: the less confident is dropped");
+    visit("Objects.min_association_score", self.min_association_score, share,
+          "least mean IoU of the cues for an association");
+    visit("Objects.predicted_box_frames", self.predicted_box_frames, OptionBound::NonNegative(),
+          "the predicted-box cue is used while the last sighting is at most this many frames "
+          "old");
+    visit("Objects.max_ray_distance", self.max_ray_distance, OptionBound::Positive(),
+          "the ray through the box centre must pass within this share of the object's largest "
+          "extent of its centre");
+    visit("Objects.min_reacquire_iou", self.min_reacquire_iou, OptionBound::Closed(0, 1),
+          "after a gap (no predicted box), the detection must overlap the projected cuboid by "
+          "this IoU");
+    visit("Objects.candidate_min_observations", self.candidate_min_observations,
+          OptionBound::AtLeast(2).Because("a centre needs two rays"),
+          "untruncated sightings a candidate needs to become a map object");
+    visit("Objects.candidate_min_parallax_deg", self.candidate_min_parallax_deg,
+          OptionBound::Between(0, false, 90, true), "spread of its rays, degrees");
+    visit("Objects.candidate_max_missed_frames", self.candidate_max_missed_frames,
+          OptionBound::AtLeast(1),
+          "a candidate not detected for this many frames is dropped (but see the next key)");
+    visit("Objects.candidate_gap_seconds", self.candidate_gap_seconds, OptionBound::NonNegative(),
+          "a candidate whose predicted box is gone (older than `Objects.predicted_box_frames`) "
+          "still takes an unassociated box that continues its track (at some depth on its rays "
+          "its boxes' object projects onto it, IoU >= `Objects.min_reacquire_iou`, seen from "
+          "within `Objects.candidate_min_parallax_deg` of one of its views or its own spread of "
+          "views) for this many seconds after its last box, and is kept that long; kept "
+          "candidates whose boxes fit a map object's projection join it at the next keyframe. 0: "
+          "the rule before it (predicted box only, dropped after "
+          "`Objects.candidate_max_missed_frames`)");
+    visit("Objects.min_inlier_share", self.min_inlier_share, share,
+          "share of a candidate's rays that must meet at its centre");
+    visit("Objects.min_sightings", self.min_sightings, OptionBound::NonNegative(),
+          "a map object with fewer sightings after `Objects.probation_keyframes` keyframes is "
+          "dropped (hygiene); sightings whose box shares area with a more confident box of its "
+          "class do not count (objects.md)");
+    visit("Objects.probation_keyframes", self.probation_keyframes, OptionBound::NonNegative(),
+          "keyframes after which `min_sightings` applies");
+    visit("Objects.max_rays", self.max_rays, OptionBound::AtLeast(2),
+          "rays used per triangulation (evenly thinned beyond; at least "
+          "`candidate_min_observations`)");
+    visit("Objects.merge_distance", self.merge_distance, OptionBound::NonNegative(),
+          "two objects never seen in the same frame, closer than this share of the larger one's "
+          "largest extent (of the smaller one's when their classes differ: one object under two "
+          "classes has one size), are merged (the majority class wins)");
+    visit("Objects.merge_overlap", self.merge_overlap, share,
+          "two objects of one class whose boxes (world-axis extents) share more than this share "
+          "of the smaller one's volume are merged even when seen in the same frame (a detector's "
+          "nested double boxes); 1 turns it off");
+    visit("Objects.duplicate_box_iou", self.duplicate_box_iou, share,
+          "two objects detected in one frame count as \"seen together\" (never merged as one "
+          "object seen twice, nor joined) only when their boxes there overlap by less than this "
+          "IoU: a detector's second box on an object (IoU below `Objects.nms_iou`, so both kept) "
+          "feeds another object, and that frame kept the two apart for good; 1 turns it off");
+    visit("Objects.merge_along_rays", self.merge_along_rays, OptionBound::Any(),
+          "an object never seen in the same frame as another, whose boxes fit the other's "
+          "projected cuboid (IoU >= `Objects.min_reacquire_iou`, or of one class a partial view: "
+          "inside it and spanning it across one axis; for `Objects.min_inlier_share` of them) is "
+          "merged into it, any class (a persistent class flip, a stand-in triangulated at the "
+          "wrong depth)");
+    visit("Objects.join_candidates", self.join_candidates, OptionBound::Any(),
+          "before a candidate becomes a map object, it joins the map object (never detected in "
+          "the same frame) whose projected cuboid its boxes fit as above: a re-detection that "
+          "missed the re-acquire gate (a partly hidden object, a class flip) is that object, not "
+          "a new one on its rays; the partial views join as truncated sightings");
+    visit("Objects.restore_window", self.restore_window, OptionBound::NonNegative(),
+          "`OCG.mode` `restore`: an object the OCG removed comes back (its id, history, edges) "
+          "when within this many seconds of the removal a map object of its class, first "
+          "detected after its last sighting, takes up its place (`Objects.restore_overlap`)");
+    visit("Objects.restore_overlap", self.restore_overlap, share,
+          "`OCG.mode` `restore`: ... their boxes (world-axis extents) share more than this share "
+          "of the smaller one's volume");
+    visit("Objects.up", self.up, OptionBound::Any(),
+          "pose-given mode: the world's up direction (gravity-aligned cuboids); SLAM runs find "
+          "it from the map");
+    visit("Objects.point_box_shrink", self.point_box_shrink,
+          OptionBound::Between(0, false, 0.5, true),
+          "SLAM runs: map points count as inside a box shrunk by this share of its size on "
+          "every side");
+    visit("Objects.min_point_votes", self.min_point_votes, OptionBound::AtLeast(1),
+          "SLAM runs: boxes a map point must have been inside to belong to the object");
+    visit("Objects.presence_min_points", self.presence_min_points, OptionBound::AtLeast(1),
+          "`OCG.mode` `points` (SLAM runs): an object not detected in a keyframe is present by "
+          "its points when the keyframe's frame shows at least this many of its point set "
+          "(tracked, or found by descriptor near their projections) "
+          "([ocg.md](ocg.md#modes-ocgmode))");
+    visit("Objects.presence_min_share", self.presence_min_share, share,
+          "`OCG.mode` `points`: ... and at least this share of those of its points that project "
+          "into the image");
+    visit("Objects.presence_search_radius", self.presence_search_radius, OptionBound::Positive(),
+          "`OCG.mode` `points` (SLAM runs): an object point is searched among the keyframe's "
+          "keypoints within this many pixels of its projection");
+    visit("Objects.yaw_min_points", self.yaw_min_points, OptionBound::AtLeast(3),
+          "SLAM runs: an object's yaw comes from its point set's smallest footprint rectangle "
+          "once the set has this many points");
+    visit("Objects.yaw_min_elongation", self.yaw_min_elongation, OptionBound::AtLeast(1),
+          "... and the rectangle is this many times longer than wide (rounder footprints "
+          "leave yaw to the boxes)");
+    visit("Objects.plane_max_tilt_deg", self.plane_max_tilt_deg, OptionBound::Open(0, 90),
+          "SLAM runs: the supporting plane's normal is within this angle of the cameras' up");
+    visit("Objects.plane_inlier_share", self.plane_inlier_share, OptionBound::Positive(),
+          "SLAM runs: plane inliers lie within this share of the map's robust spread");
+    visit("Objects.plane_iterations", self.plane_iterations, OptionBound::AtLeast(1),
+          "SLAM runs: RANSAC hypotheses (seeded from `System.seed`)");
+    visit("Objects.keyframe_interval", self.keyframe_interval, OptionBound::AtLeast(1),
+          "every N-th (tracked) frame is a keyframe for the OCG");
+  }
   void Check() const;
 };
 

@@ -2,6 +2,9 @@
 // Options of the Object Covisibility Graph (settings section OCG.*).
 
 #include <string>
+#include <type_traits>
+
+#include "ocg/core/option_fields.h"
 
 namespace ocg {
 
@@ -113,34 +116,73 @@ struct OcgOptions {
   // The parsed mode. Throws OptionError when mode is invalid.
   OcgModes modes() const { return ParseOcgMode(mode); }
 
+  // The settings keys, once (ocg/core/option_fields.h); ocg.json names them without
+  // "OCG." (VisitOcgOptionFields).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("OCG.mode", self.mode, OptionBound::Any(),
+          "`improved` (`fallback`, `in_image`, `guard`, `view`, `restore`, `dropout`, "
+          "`occlusion`, `points`; the default: no removal on the static fr3 long_office with "
+          "real detections, where `paper` removes 14), `paper` (the paper's OCG exactly), or "
+          "`fallback`, `in_image`, `guard`, `view`, `reliability`, `restore`, `dropout`, "
+          "`points`, `occlusion` joined with `+` (also `improved+reliability`, "
+          "`improved+points`); baselines `off` (nothing removed, like EAO-SLAM) and `visibility` "
+          "(the naive test); see [ocg.md](ocg.md) |");
+    visit("OCG.tau_observable", self.tau_observable, OptionBound::Open(0, 1),
+          "ActiveEdgeRate threshold");
+    visit("OCG.tau_doubt", self.tau_doubt, OptionBound::NonNegative(),
+          "DoubtValue threshold for removal");
+    visit("OCG.increment_full", self.increment_full, OptionBound::NonNegative(),
+          "Eq. (2) increment at r = 1");
+    visit("OCG.increment_high", self.increment_high, OptionBound::NonNegative(),
+          "increment for r in [`rate_high`, 1)");
+    visit("OCG.increment_low", self.increment_low, OptionBound::NonNegative(),
+          "increment for r in (`tau_observable`, `rate_high`)");
+    visit("OCG.rate_high", self.rate_high, OptionBound::Open(0, 1),
+          "lower bound of the middle band (above `tau_observable`)");
+    visit("OCG.isolated_rate", self.isolated_rate, OptionBound::Closed(0, 1),
+          "`fallback`: rate given to a visible neighbourless object");
+    visit("OCG.image_margin", self.image_margin, OptionBound::NonNegative(),
+          "`fallback`: pixels the centroid must be inside the image border");
+    visit("OCG.distance_slack", self.distance_slack, OptionBound::AtLeast(1),
+          "`fallback` and `view`: visible up to this times the farthest observation distance");
+    visit("OCG.min_box_fraction", self.min_box_fraction, OptionBound::Between(0, true, 1, false),
+          "`in_image`: share of the projected box inside the image for P = 1");
+    visit("OCG.guard_min_neighbours", self.guard_min_neighbours, OptionBound::AtLeast(1),
+          "`guard`: detected neighbours needed for an increment");
+    visit("OCG.view_max_angle_deg", self.view_max_angle_deg,
+          OptionBound::Between(0, true, 180, false),
+          "`view`: P = 1 only within this angle (at the object) of a direction it was detected "
+          "from");
+    visit("OCG.reliable_detection_rate", self.reliable_detection_rate, OptionBound::Open(0, 1),
+          "`reliability`: an object detected at least this share of the keyframes it was "
+          "expected in takes the full increment");
+    visit("OCG.dropout_full_share", self.dropout_full_share, OptionBound::Open(0, 1),
+          "`dropout`: a miss counts fully when at least this share of the in-view neighbours' "
+          "edge weight was detected; below, it weighs ln(1 − s) / ln(1 − this)");
+    visit("OCG.max_occluded_share", self.max_occluded_share,
+          OptionBound::Between(0, true, 1, false),
+          "`occlusion`: P is 0 for an object not detected when at least this share of its image "
+          "rectangle is covered by objects wholly in front of it");
+    visit("OCG.visibility_keyframes", self.visibility_keyframes, OptionBound::AtLeast(1),
+          "`visibility`: keyframes since the last detection in which the object was visible (as "
+          "for `fallback`) and not detected, after which it is removed");
+  }
+
   // Throws OptionError naming the key.
   void Check() const;
 };
 
 void ReadSettings(const SettingsFile& file, OcgOptions* options);
 
-// Calls visit(name, member) for every field, in one fixed order; the one list of fields
-// behind the settings reader and ocg.json (name without the "OCG." prefix). Options may
-// be const.
+// Calls visit(name, member) for every field of OcgOptions::VisitFields, with the name
+// without the "OCG." prefix: the names of ocg.json's options. Options may be const.
 template <typename Options, typename Visitor>
 void VisitOcgOptionFields(Options& options, Visitor&& visit) {
-  visit("mode", options.mode);
-  visit("tau_observable", options.tau_observable);
-  visit("tau_doubt", options.tau_doubt);
-  visit("increment_full", options.increment_full);
-  visit("increment_high", options.increment_high);
-  visit("increment_low", options.increment_low);
-  visit("rate_high", options.rate_high);
-  visit("isolated_rate", options.isolated_rate);
-  visit("image_margin", options.image_margin);
-  visit("distance_slack", options.distance_slack);
-  visit("min_box_fraction", options.min_box_fraction);
-  visit("guard_min_neighbours", options.guard_min_neighbours);
-  visit("view_max_angle_deg", options.view_max_angle_deg);
-  visit("reliable_detection_rate", options.reliable_detection_rate);
-  visit("dropout_full_share", options.dropout_full_share);
-  visit("max_occluded_share", options.max_occluded_share);
-  visit("visibility_keyframes", options.visibility_keyframes);
+  std::remove_const_t<Options>::VisitFields(
+      options, [&visit](const char* key, auto& member, const OptionBound&, const char*) {
+        visit(key + 4, member);  // past "OCG."
+      });
 }
 
 }  // namespace ocg

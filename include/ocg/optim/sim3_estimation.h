@@ -9,6 +9,7 @@
 
 #include "ocg/core/camera.h"
 #include "ocg/core/lie.h"
+#include "ocg/core/option_fields.h"
 
 namespace ocg {
 
@@ -28,7 +29,20 @@ struct Sim3EstimationOptions {
   double chi2 = 9.210;   // 99 % of a 2-D residual: the inlier test in each image
   int refine_iterations = 10;
   std::uint64_t seed = 0;  // RANSAC's; derive it from System.seed
-  void Check() const;      // throws OptionError naming the LoopClosing.* key
+
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("LoopClosing.sim3Iterations", self.iterations, OptionBound::AtLeast(1),
+          "Sim(3) RANSAC samples (seeded from `System.seed`)");
+    visit("LoopClosing.sim3MinInliers", self.min_inliers, OptionBound::AtLeast(3),
+          "Sim(3) inliers in both images");
+    visit("LoopClosing.sim3Chi2", self.chi2, OptionBound::Positive(),
+          "Sim(3) inlier bound on the squared reprojection error over the level's variance");
+    visit("LoopClosing.sim3RefineIterations", self.refine_iterations, OptionBound::NonNegative(),
+          "iterations refining the Sim(3) on its inliers");
+  }
+  void Check() const;  // throws OptionError naming the LoopClosing.* key
 };
 
 struct Sim3Estimate {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ocg/core/option_fields.h"
 #include "ocg/optim/bundle_adjustment.h"
 #include "ocg/slam/two_view.h"
 
@@ -17,6 +18,14 @@ struct InitialMapOptions {
   // Initializer.minMapPoints: fewer points after bundle adjustment is a weak map, and
   // tracking starts over with a new first view (ORB-SLAM2: 100).
   int min_map_points = 100;
+
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    TwoViewOptions::VisitFields(self.two_view, visit);
+    visit("Initializer.minMapPoints", self.min_map_points, OptionBound::AtLeast(8),
+          "fewer points after bundle adjustment: weak map, start over");
+  }
   void Check() const;
 };
 

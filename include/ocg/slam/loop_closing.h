@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "ocg/core/option_fields.h"
 #include "ocg/features/bow_database.h"
 #include "ocg/features/matcher.h"
 #include "ocg/features/scale_pyramid.h"
@@ -55,6 +56,39 @@ struct LoopClosingOptions {
   int global_ba_iterations = 10;     // LoopClosing.globalBAIterations (0: none)
   std::size_t queue_capacity = 8;    // LoopClosing.queueCapacity (threaded mode)
   Sim3EstimationOptions sim3;        // LoopClosing.sim3* keys
+
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("LoopClosing.enabled", self.enabled, OptionBound::Any(),
+          "recognize revisited places and correct the map");
+    visit("LoopClosing.minKeyFramesBetween", self.min_keyframes_between, OptionBound::NonNegative(),
+          "no loop in the map's first keyframes nor within this many keyframes of the last "
+          "loop");
+    visit("LoopClosing.minLoopAge", self.min_loop_age, OptionBound::AtLeast(1),
+          "keyframes between a place and its recognition (a moment ago is no loop)");
+    visit("LoopClosing.consistency", self.consistency, OptionBound::NonNegative(),
+          "consecutive keyframes whose candidates must overlap (a candidate and its covisible "
+          "keyframes)");
+    visit("LoopClosing.maxCandidates", self.max_candidates, OptionBound::AtLeast(1),
+          "database candidates per keyframe at most");
+    visit("LoopClosing.minBowMatches", self.min_bow_matches, OptionBound::AtLeast(3),
+          "BoW matches of distinct points before Sim(3) estimation");
+    visit("LoopClosing.minLoopMatches", self.min_loop_matches, OptionBound::AtLeast(3),
+          "matches after guided search through the similarity: fewer, no loop (at least "
+          "`sim3MinInliers`)");
+    visit("LoopClosing.searchRadius", self.loop_search_radius, OptionBound::Positive(),
+          "pixels (times scale) of the guided search");
+    visit("LoopClosing.strongCovisibility", self.strong_covisibility, OptionBound::AtLeast(1),
+          "shared points that make a covisibility edge part of the essential graph");
+    visit("LoopClosing.poseGraphIterations", self.pose_graph_iterations, OptionBound::AtLeast(1),
+          "Sim(3) pose graph iterations");
+    visit("LoopClosing.globalBAIterations", self.global_ba_iterations, OptionBound::NonNegative(),
+          "global bundle adjustment after a loop (0: none)");
+    visit("LoopClosing.queueCapacity", self.queue_capacity, OptionBound::AtLeast(1),
+          "keyframes waiting for the loop closing thread (threaded mode)");
+    Sim3EstimationOptions::VisitFields(self.sim3, visit);
+  }
   void Check() const;
 };
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "ocg/core/option_fields.h"
 #include "ocg/features/bow_database.h"
 #include "ocg/features/matcher.h"
 #include "ocg/features/orb_extractor.h"
@@ -51,6 +52,51 @@ struct TrackingOptions {
   // trying to relocalize.
   double new_map_after_lost_seconds = 2.0;
   int local_keyframes = 80;  // Tracking.localKeyFrames: at most
+
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("Tracking.minInitFeatures", self.min_initialization_features, OptionBound::AtLeast(8),
+          "features per view needed to try initialization");
+    visit("Tracking.minInitMatches", self.min_initialization_matches, OptionBound::AtLeast(8),
+          "window matches needed to try initialization");
+    visit("Tracking.initFeaturesFactor", self.initialization_features_factor,
+          OptionBound::AtLeast(1), "until the map exists, extract this many times `nFeatures`");
+    visit("Tracking.motionSearchRadius", self.motion_search_radius, OptionBound::Positive(),
+          "pixels (times the level's scale) around the motion model's prediction");
+    visit("Tracking.minMotionMatches", self.min_motion_matches, OptionBound::AtLeast(4),
+          "fewer: search again with twice the radius, then fall back to BoW");
+    visit("Tracking.minTrackedMatches", self.min_tracked_matches, OptionBound::AtLeast(4),
+          "inliers after pose optimization for the motion model / BoW / PnP stage");
+    visit("Tracking.minBowMatches", self.min_bow_matches, OptionBound::AtLeast(4),
+          "BoW matches with the reference keyframe or a relocalization candidate");
+    visit("Tracking.minLocalMapInliers", self.min_local_map_inliers, OptionBound::AtLeast(4),
+          "inliers after tracking the local map (else lost)");
+    visit("Tracking.minRelocalizationInliers", self.min_inliers_after_relocalization,
+          OptionBound::AtLeast(4), "the same, during the second after a relocalization");
+    visit("Tracking.keyframeRatio", self.keyframe_tracked_ratio,
+          OptionBound::Between(0, true, 1, false),
+          "new keyframe when tracked inliers fall below this share of the reference "
+          "keyframe's points");
+    visit("Tracking.maxFramesBetweenKeyFrames", self.max_frames_between_keyframes,
+          OptionBound::NonNegative(), "0: one camera second (`Camera.fps`)");
+    visit("Tracking.minFramesBetweenKeyFrames", self.min_frames_between_keyframes,
+          OptionBound::NonNegative(),
+          "while local mapping is idle, a keyframe at the earliest this many frames after the "
+          "last (ORB-SLAM2's 0 relies on a mapper still busy with the last keyframe; "
+          "sequential mode never is)");
+    visit("Tracking.minKeyFrames", self.min_keyframes_to_keep_map, OptionBound::AtLeast(2),
+          "lost with at most this many live keyframes (culled ones do not count): reset the "
+          "map");
+    visit("Tracking.localKeyFrames", self.local_keyframes, OptionBound::AtLeast(2),
+          "local map size at most");
+    visit("Tracking.newMapAfterLostSeconds", self.new_map_after_lost_seconds,
+          OptionBound::NonNegative().Because("0: never start a new map"),
+          "lost this long (camera time) in a map of more than `minKeyFrames` live keyframes "
+          "without relocalizing: start a new map, keeping the old one's trajectory "
+          "([slam.md](slam.md))");
+  }
+  // Throws OptionError naming the key.
   void Check() const;
 };
 

@@ -11,6 +11,7 @@
 
 #include "ocg/core/camera.h"
 #include "ocg/core/lie.h"
+#include "ocg/core/option_fields.h"
 
 namespace ocg {
 
@@ -42,6 +43,39 @@ struct TwoViewOptions {
   double max_ambiguity_homography = 0.75;  // Initializer.maxAmbiguityHomography: same, for H
   std::uint64_t seed = 42;                 // Initializer.seed: RANSAC samples
 
+  // The settings keys, once (ocg/core/option_fields.h).
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor&& visit) {
+    visit("Initializer.ransacIterations", self.ransac_iterations, OptionBound::AtLeast(1),
+          "8-point RANSAC samples, shared by the homography and the fundamental matrix");
+    visit("Initializer.sigma", self.sigma, OptionBound::Positive(),
+          "keypoint position noise in pixels");
+    visit("Initializer.chi2OneDof", self.chi2_one_dof, OptionBound::Positive(),
+          "95 % bound of the epipolar distance");
+    visit("Initializer.chi2TwoDof", self.chi2_two_dof, OptionBound::Positive(),
+          "95 % bound of the homography transfer (at least `chi2OneDof`)");
+    visit("Initializer.homographyRatio", self.homography_ratio, OptionBound::Open(0, 1),
+          "choose the homography when S_H / (S_H + S_F) exceeds it");
+    visit("Initializer.minParallax", self.min_parallax_degrees, OptionBound::NonNegative(),
+          "degrees, of the 50th smallest parallax");
+    visit("Initializer.minParallaxTurning", self.min_parallax_turning_degrees,
+          OptionBound::NonNegative(),
+          "degrees: the parallax needed instead of `minParallax` when the two views are turned "
+          "more than `turningDegrees` apart (a turn with little baseline gives a badly scaled "
+          "first map)");
+    visit("Initializer.turningDegrees", self.turning_degrees, OptionBound::NonNegative(),
+          "rotation between the two views, degrees, above which `minParallaxTurning` applies");
+    visit("Initializer.minTriangulated", self.min_triangulated, OptionBound::AtLeast(8),
+          "points that must triangulate");
+    visit("Initializer.minGoodFraction", self.min_good_fraction,
+          OptionBound::Between(0, true, 1, false),
+          "share of the model's inliers that must triangulate");
+    visit("Initializer.maxAmbiguity", self.max_ambiguity, OptionBound::Between(0, true, 1, false),
+          "reject when the second-best pose explains this share of the best one's points");
+    visit("Initializer.maxAmbiguityHomography", self.max_ambiguity_homography,
+          OptionBound::Between(0, true, 1, false), "the same, for the homography's poses");
+    visit("Initializer.seed", self.seed, OptionBound::Any(), "RANSAC seed");
+  }
   void Check() const;  // throws OptionError naming the key
 };
 
