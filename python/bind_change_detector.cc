@@ -14,6 +14,7 @@
 #include "ocg/core/camera.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/ocg/change_detector.h"
+#include "ocg/ocg/replay_format.h"
 #include "ocg/ocg/state_machine.h"
 
 namespace py = pybind11;

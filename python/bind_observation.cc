@@ -192,13 +192,6 @@ py::object Encode(const PinholeCamera& camera) {
   return std::move(fields);
 }
 
-std::string FieldHelp(const ObservationField& field, const char* type) {
-  std::string text = std::string(field.name) + ": " + type;
-  if (field.unit[0] != '\0') text += ", " + std::string(field.unit);
-  text += std::string(field.optional() ? " (optional)" : "") + "; " + field.meaning + ".\n";
-  return text;
-}
-
 }  // namespace
 
 KeyframeObservation ObservationFromPython(py::handle value) {
@@ -259,23 +252,6 @@ py::dict ObservationToPython(const KeyframeObservation& observation) {
         update);
   }
   return fields;
-}
-
-std::string ObservationFieldsHelp() {
-  std::string text;
-  KeyframeObservation observation;
-  VisitObservationFields(
-      [&](const ObservationField& field, const auto& member) {
-        text += FieldHelp(field, ObservationFieldType(member));
-      },
-      observation);
-  ObjectGeometryUpdate update;
-  VisitObjectUpdateFields(
-      [&](const ObservationField& field, const auto& member) {
-        text += FieldHelp(field, ObservationFieldType(member));
-      },
-      update);
-  return text;
 }
 
 void BindObservation(py::module_& module) {

@@ -24,8 +24,6 @@ void BindObservation(pybind11::module_& module);
 // wrong.
 KeyframeObservation ObservationFromPython(pybind11::handle value);
 pybind11::dict ObservationToPython(const KeyframeObservation& observation);
-// One line per field: name, type, unit, optional, meaning (for docstrings).
-std::string ObservationFieldsHelp();
 // ocg.read_tum_trajectory, ocg.ate, ocg.object_metrics.
 void BindEvaluation(pybind11::module_& module);
 // ocg.ObjectSlam: SLAM, objects and the OCG fed frame by frame.

@@ -160,6 +160,14 @@ ObjectId ParseObjectKey(const std::string& key, const char* field) {
   throw ReplayFormatError(std::string("\"") + field + "\" key '" + key + "' is not an object id");
 }
 
+std::string FieldHelp(const ObservationField& field, const char* type) {
+  std::string text = std::string(field.name) + ": " + type;
+  if (field.unit[0] != '\0') text += ", " + std::string(field.unit);
+  if (field.non_negative) text += ", not negative";
+  text += std::string(field.optional() ? " (optional)" : "") + "; " + field.meaning + ".\n";
+  return text;
+}
+
 std::string Quoted(const char* name) { return std::string("\"") + name + "\""; }
 
 }  // namespace
@@ -175,6 +183,18 @@ SE3 RigidMotionFromMatrix(const Eigen::Matrix4d& matrix) {
     throw std::invalid_argument("rotation block is not a rotation");
   }
   return SE3::FromMatrix(matrix);
+}
+
+std::string ObservationFieldsHelp() {
+  std::string text;
+  const auto add = [&text](const ObservationField& field, const auto& member) {
+    text += FieldHelp(field, ObservationFieldType(member));
+  };
+  const KeyframeObservation observation;
+  VisitObservationFields(add, observation);
+  const ObjectGeometryUpdate update;
+  VisitObjectUpdateFields(add, update);
+  return text;
 }
 
 KeyframeObservation ParseObservationJson(const std::string& line) {

@@ -291,3 +291,10 @@ def test_observation_errors_name_the_field():
     with pytest.raises(TypeError, match="multiple values for 'keyframe'"):
         detector.process(1, keyframe=2)
     assert len(detector) == 0  # nothing half-applied
+
+
+def test_ocg_replay_lists_the_same_fields(tools):
+    listed = run_tool(tools, "ocg_replay", "--fields").splitlines()
+    assert [line.split(":")[0] for line in listed] == \
+        [field["name"] for field in ocg.observation_fields()]
+    assert "present_by_points: list of object ids (optional);" in "\n".join(listed)

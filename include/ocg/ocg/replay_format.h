@@ -25,6 +25,10 @@ KeyframeObservation ParseObservationJson(const std::string& line);
 // replay format has always had (keys in alphabetical order, empty optional lists left out).
 std::string ObservationToJson(const KeyframeObservation& observation);
 
+// One line per field of the observation, in the list's order: "name: type, unit
+// (optional); meaning." (ocg_replay --fields, Python's help).
+std::string ObservationFieldsHelp();
+
 // T_cw from a 4x4 matrix (world to camera), refusing what is not a rigid motion rather
 // than re-orthonormalising a wrong matrix: throws std::invalid_argument saying what is
 // wrong, the caller names the field.
