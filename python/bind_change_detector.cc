@@ -14,6 +14,7 @@
 #include "ocg/core/camera.h"
 #include "ocg/core/settings_file.h"
 #include "ocg/ocg/change_detector.h"
+#include "ocg/ocg/replay_format.h"
 #include "ocg/ocg/state_machine.h"
 
 namespace py = pybind11;
@@ -24,25 +25,10 @@ namespace {
 // What process() returns: the whole graph after one keyframe.
 struct KeyframeStates {
   std::int64_t keyframe = 0;
+  KeyframeObservation observation;    // what was processed
   std::vector<ObjectStatus> objects;  // ascending id
   std::vector<RemovalEvent> removed;  // this keyframe's, ascending id
 };
-
-// Python's T_cw as an SE3, refusing what is not a rigid motion instead of silently
-// re-orthonormalising a wrong matrix (the replay format's rule).
-SE3 RigidPose(const Eigen::Matrix4d& matrix, const char* name) {
-  if (!matrix.allFinite())
-    throw py::value_error(std::string(name) + " has NaN or infinite entries");
-  if ((matrix.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9) {
-    throw py::value_error(std::string(name) + " last row must be [0, 0, 0, 1]");
-  }
-  const Eigen::Matrix3d rotation = matrix.topLeftCorner<3, 3>();
-  if ((rotation * rotation.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 ||
-      rotation.determinant() < 0) {
-    throw py::value_error(std::string(name) + " rotation block is not a rotation");
-  }
-  return SE3::FromMatrix(matrix);
-}
 
 template <typename Field>
 void BindOptionField(py::class_<OcgOptions>& options, const char* name) {
@@ -193,6 +179,10 @@ void BindResults(py::module_& module) {
   py::class_<KeyframeStates>(module, "KeyframeStates",
                              "What ChangeDetector.process returns for one keyframe.")
       .def_readonly("keyframe", &KeyframeStates::keyframe)
+      .def_property_readonly(
+          "observation",
+          [](const KeyframeStates& self) { return ObservationToPython(self.observation); },
+          "the observation processed, as a dict of every field (ocg.observation_fields())")
       .def_readonly("objects", &KeyframeStates::objects,
                     "every object in the graph after the keyframe, ascending id")
       .def_readonly("removed", &KeyframeStates::removed,
@@ -210,9 +200,45 @@ void BindResults(py::module_& module) {
           "{object id: (state, doubt, active_edge_rate)}");
 }
 
+// process()'s arguments as one observation dict: one dict, or the first fields
+// positionally (keyframe, T_cw, camera, observed, centroids) and any field by keyword.
+py::dict ProcessArguments(const py::args& args, const py::kwargs& kwargs) {
+  if (args.size() == 1 && kwargs.size() == 0 && py::isinstance<py::dict>(args[0])) {
+    return args[0].cast<py::dict>();
+  }
+  static const char* const kPositional[] = {"keyframe", "T_cw", "camera", "observed", "centroids"};
+  if (args.size() > std::size(kPositional)) {
+    throw py::type_error("process() takes at most " + std::to_string(std::size(kPositional)) +
+                         " positional arguments (keyframe, T_cw, camera, observed, centroids), " +
+                         std::to_string(args.size()) + " given");
+  }
+  py::dict fields;
+  for (std::size_t i = 0; i < args.size(); ++i) fields[kPositional[i]] = args[i];
+  for (const auto& [key, value] : kwargs) {
+    if (fields.contains(key)) {
+      throw py::type_error("process() got multiple values for '" + std::string(py::str(key)) + "'");
+    }
+    fields[key] = value;
+  }
+  return fields;
+}
+
 }  // namespace
 
 void BindChangeDetector(py::module_& module) {
+  const std::string process_help =
+      "process(observation) or process(keyframe, T_cw, camera, observed, centroids={}, "
+      "**fields): updates the graph with one keyframe and returns every object's state.\n\n"
+      "The observation is a dict, or arguments, of the replay format's fields (SPEC 3.1; "
+      "ocg.observation_fields()):\n" +
+      ObservationFieldsHelp() +
+      "T_cw: a (4, 4) array or 16 numbers, row-major; camera: an ocg.PinholeCamera or a "
+      "dict of its fields (fx, fy, cx, cy, width, height, optional k1, k2, k3, p1, p2); "
+      "per-object fields: {object id: value}, ids as int or str.\n"
+      "Returns KeyframeStates (objects: state 1-4, doubt, active_edge_rate; removed; "
+      "observation, the dict processed).\n"
+      "Raises ValueError naming the field that is missing, unknown or wrong (T_cw not a "
+      "rigid motion, a centroid not finite, ...); nothing is applied then.";
   BindCamera(module);
   BindOptions(module);
   BindResults(module);
@@ -225,62 +251,17 @@ void BindChangeDetector(py::module_& module) {
            py::arg("options") = OcgOptions())
       .def(
           "process",
-          [](ObjectChangeDetector& self, std::int64_t keyframe, const Eigen::Matrix4d& T_cw,
-             const PinholeCamera& camera, const std::vector<ObjectId>& observed,
-             const std::map<ObjectId, Eigen::Vector3d>& centroids, double timestamp,
-             const std::map<ObjectId, Eigen::Vector3d>& sizes,
-             const std::map<ObjectId, int>& classes, const std::vector<ObjectId>& forgotten,
-             const std::vector<ObjectId>& restored) {
-            KeyframeObservation observation;
-            observation.keyframe_id = keyframe;
-            observation.timestamp = timestamp;
-            observation.T_cw = RigidPose(T_cw, "T_cw");
-            camera.Check();
-            observation.camera = camera;
-            observation.observed = observed;
-            observation.forgotten = forgotten;
-            observation.restored = restored;
-            for (const auto& [id, centroid] : centroids) {
-              if (!centroid.allFinite()) {
-                throw py::value_error("centroids[" + std::to_string(id) + "] is not finite");
-              }
-              observation.updates[id].centroid = centroid;
-            }
-            for (const auto& [id, size] : sizes) {
-              if (!size.allFinite() || (size.array() < 0).any()) {
-                throw py::value_error("sizes[" + std::to_string(id) +
-                                      "] must be finite and non-negative");
-              }
-              observation.updates[id].size = size;
-            }
-            for (const auto& [id, class_id] : classes) observation.updates[id].class_id = class_id;
+          [](ObjectChangeDetector& self, const py::args& args, const py::kwargs& kwargs) {
+            const KeyframeObservation observation =
+                ObservationFromPython(ProcessArguments(args, kwargs));
             KeyframeStates states;
-            states.keyframe = keyframe;
+            states.keyframe = observation.keyframe_id;
+            states.observation = observation;
             states.removed = self.Process(observation).removed;
             states.objects = self.Snapshot();
             return states;
           },
-          py::arg("keyframe"), py::arg("T_cw"), py::arg("camera"), py::arg("observed"),
-          py::arg("centroids") = std::map<ObjectId, Eigen::Vector3d>{}, py::kw_only(),
-          py::arg("timestamp") = 0.0, py::arg("sizes") = std::map<ObjectId, Eigen::Vector3d>{},
-          py::arg("classes") = std::map<ObjectId, int>{},
-          py::arg("forgotten") = std::vector<ObjectId>{},
-          py::arg("restored") = std::vector<ObjectId>{},
-          "Updates the graph with one keyframe and returns every object's state.\n\n"
-          "keyframe: int, increasing keyframe id.\n"
-          "T_cw: (4, 4) float array, world to camera (camera x right, y down, z forward), "
-          "metres.\n"
-          "camera: PinholeCamera of the keyframe's image.\n"
-          "observed: ids of the map objects matched to a detection in this keyframe.\n"
-          "centroids: {id: (3,) world-frame centroid, metres} for objects whose centroid is "
-          "new or changed; others keep their last one.\n"
-          "timestamp: seconds (for the change log); sizes: {id: (3,) world-axis extents, "
-          "metres} (mode in_image); classes: {id: COCO-80 id}; forgotten: ids the map "
-          "dropped (merged duplicates), removed without a change-log entry; restored: ids of "
-          "removed objects found again at their place (mode restore), back with their "
-          "edges in state 1.\n"
-          "Returns KeyframeStates (objects: state 1-4, doubt, active_edge_rate; removed).\n"
-          "Raises ValueError when T_cw is not a rigid motion or a centroid is not finite.")
+          process_help.c_str())
       .def("status", &ObjectChangeDetector::Status, py::arg("id"),
            "ObjectStatus of one object, or None when it is not in the graph")
       .def("snapshot", &ObjectChangeDetector::Snapshot, "every object, ascending id")

@@ -5,9 +5,11 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <string>
 #include <vector>
 
 #include "ocg/io/trajectory.h"
+#include "ocg/ocg/observation.h"
 
 namespace ocg::python {
 
@@ -15,6 +17,13 @@ namespace ocg::python {
 void BindErrors(pybind11::module_& module);
 // ocg.PinholeCamera, ocg.OcgOptions, ocg.ChangeDetector and its results.
 void BindChangeDetector(pybind11::module_& module);
+// ocg.observation_fields, ocg.observation_to_json, ocg.observation_from_json.
+void BindObservation(pybind11::module_& module);
+// The OCG's keyframe input from and to a dict keyed by the replay format's field names
+// (VisitObservationFields); raises ValueError naming the field that is missing, unknown or
+// wrong.
+KeyframeObservation ObservationFromPython(pybind11::handle value);
+pybind11::dict ObservationToPython(const KeyframeObservation& observation);
 // ocg.read_tum_trajectory, ocg.ate, ocg.object_metrics.
 void BindEvaluation(pybind11::module_& module);
 // ocg.ObjectSlam: SLAM, objects and the OCG fed frame by frame.

@@ -9,6 +9,7 @@ PYBIND11_MODULE(_ocg, module) {
       "system, TUM trajectories, ATE and the object-map metrics (docs/python.md).";
   ocg::python::BindErrors(module);
   ocg::python::BindChangeDetector(module);
+  ocg::python::BindObservation(module);
   ocg::python::BindEvaluation(module);
   ocg::python::BindObjectSlam(module);
   ocg::python::BindDetector(module);

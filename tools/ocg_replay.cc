@@ -27,6 +27,13 @@ int main(int argc, char** argv) {
   app.add_option("--out", output, "output folder (created if missing)")->required();
   app.add_option("--settings", settings_path, "settings file (OCG.* keys)")
       ->check(CLI::ExistingFile);
+  app.add_flag_callback(
+      "--fields",
+      [] {
+        std::cout << ocg::ObservationFieldsHelp();
+        throw CLI::Success();
+      },
+      "print the fields of an input line (name, type, unit, optional, meaning) and exit");
   app.add_option("--mode", mode,
                  "overrides OCG.mode: paper, improved, or fallback/in_image/guard joined with '+'");
 

@@ -4,7 +4,9 @@
   timestamp, detections) -> TrackResult (state, pose T_cw or None, keyframe, ...);
   read_image gives the pixels ocg_slam run uses.
 - ChangeDetector: the Object Covisibility Graph change detector, fed once per keyframe by
-  any SLAM system (pose T_cw, camera, observed object ids, centroids).
+  any SLAM system (pose T_cw, camera, observed object ids, centroids, ...: a dict or
+  keywords of the fields observation_fields() lists; observation_to_json and
+  observation_from_json give and read ocg_replay's lines).
 - read_tum_trajectory, ate, object_metrics: the numbers of `ocg_eval`.
 
 Errors from the library keep their message (file, line, key): ocg.FileError (an OSError),

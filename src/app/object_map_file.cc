@@ -14,6 +14,7 @@
 #include <string>
 
 #include "ocg/core/cereal_types.h"
+#include "ocg/ocg/observation.h"
 
 namespace ocg {
 
@@ -56,9 +57,12 @@ void serialize(Archive& archive, ObjectGeometry& geometry) {
   archive(geometry.centroid, geometry.size, geometry.max_observed_distance,
           geometry.view_directions, geometry.detected_keyframes, geometry.missed_keyframes);
 }
+// The OCG's per-object values as its one field list orders them (the map file keeps those
+// of objects not in the graph). A new field changes this layout: kMapFileVersion.
 template <class Archive>
 void serialize(Archive& archive, ObjectGeometryUpdate& update) {
-  archive(update.centroid, update.size, update.class_id);
+  VisitObjectUpdateFields([&archive](const ObservationField&, auto& value) { archive(value); },
+                          update);
 }
 template <class Archive>
 void serialize(Archive& archive, StateAndDoubt& state) {

@@ -1,9 +1,13 @@
 #include "ocg/ocg/replay_format.h"
 
+#include <algorithm>
+#include <cstring>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "ocg/core/coco.h"
 #include "ocg/core/whole_number.h"
@@ -13,25 +17,10 @@ namespace {
 
 using nlohmann::json;
 
-const json& Field(const json& object, const char* name) {
-  const auto it = object.find(name);
-  if (it == object.end()) throw ReplayFormatError(std::string("missing field \"") + name + "\"");
-  return *it;
-}
+// The JSON form of each type a field of the observation has (VisitObservationFields);
+// `what` names the field in errors. A field of a new type needs its Decode and Encode here.
 
-Eigen::Vector3d Vector3FromJson(const json& value, const std::string& what) {
-  if (!value.is_array() || value.size() != 3) {
-    throw ReplayFormatError(what + " must be a list of 3 numbers");
-  }
-  Eigen::Vector3d vector;
-  for (int i = 0; i < 3; ++i) {
-    if (!value[i].is_number()) throw ReplayFormatError(what + " must be a list of 3 numbers");
-    vector[i] = value[i].get<double>();
-  }
-  return vector;
-}
-
-// A whole number of type Int; what names the field in the error.
+// A whole number of type Int.
 template <typename Int>
 Int WholeNumberField(const json& value, const std::string& what) {
   const std::optional<Int> number = JsonWholeNumberAs<Int>(value);
@@ -44,12 +33,121 @@ Int WholeNumberField(const json& value, const std::string& what) {
   return *number;
 }
 
-std::vector<ObjectId> ObjectIdList(const json& value, const std::string& what) {
+double NumberField(const json& value, const std::string& what) {
+  if (!value.is_number()) {
+    throw ReplayFormatError("wrong type: " + what + " must be a number, got " + value.dump());
+  }
+  return value.get<double>();
+}
+
+void Decode(const json& value, const ObservationField&, const std::string& what,
+            std::int64_t* number) {
+  *number = WholeNumberField<std::int64_t>(value, what);
+}
+void Decode(const json& value, const ObservationField&, const std::string& what, int* number) {
+  *number = WholeNumberField<int>(value, what);
+}
+void Decode(const json& value, const ObservationField&, const std::string& what, double* number) {
+  *number = NumberField(value, what);
+}
+
+void Decode(const json& value, const ObservationField&, const std::string& what, SE3* pose) {
+  if (!value.is_array() || value.size() != 16) {
+    throw ReplayFormatError(what + " must be 16 numbers, a row-major 4x4 matrix");
+  }
+  Eigen::Matrix4d matrix;
+  for (int i = 0; i < 16; ++i) matrix(i / 4, i % 4) = NumberField(value[i], what + " entry");
+  try {
+    *pose = RigidMotionFromMatrix(matrix);
+  } catch (const std::invalid_argument& error) {
+    throw ReplayFormatError(what + " " + error.what());
+  }
+}
+
+void Decode(const json& value, const ObservationField&, const std::string& what,
+            std::vector<ObjectId>* ids) {
   if (!value.is_array()) throw ReplayFormatError(what + " must be a list of object ids");
-  std::vector<ObjectId> ids;
-  ids.reserve(value.size());
-  for (const json& id : value) ids.push_back(WholeNumberField<ObjectId>(id, what + " entry"));
-  return ids;
+  ids->clear();
+  ids->reserve(value.size());
+  for (const json& id : value) ids->push_back(WholeNumberField<ObjectId>(id, what + " entry"));
+}
+
+void Decode(const json& value, const ObservationField& field, const std::string& what,
+            std::optional<Eigen::Vector3d>* vector) {
+  if (!value.is_array() || value.size() != 3 ||
+      !std::all_of(value.begin(), value.end(), [](const json& x) { return x.is_number(); })) {
+    throw ReplayFormatError(what + " must be a list of 3 numbers");
+  }
+  vector->emplace(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
+  if (field.non_negative && ((*vector)->array() < 0).any()) {
+    throw ReplayFormatError(what + " must be non-negative, got " + value.dump());
+  }
+}
+
+void Decode(const json& value, const ObservationField& field, const std::string& what,
+            std::optional<int>* number) {
+  Decode(value, field, what, &number->emplace());
+}
+
+// Throws when object holds a key that is not one of the fields visit_fields lists.
+template <typename VisitFields>
+void CheckKeysKnown(const json& object, const std::string& where, VisitFields&& visit_fields) {
+  for (const auto& [key, value] : object.items()) {
+    if (const auto known = KnownNamesIfUnlisted(key, visit_fields)) {
+      throw ReplayFormatError("unknown field \"" + key + "\"" + where + " (known: " + *known + ")");
+    }
+  }
+}
+
+void Decode(const json& value, const ObservationField&, const std::string& what,
+            PinholeCamera* camera) {
+  if (!value.is_object()) throw ReplayFormatError(what + " must be an object");
+  CheckKeysKnown(value, " in " + what,
+                 [camera](auto&& visit) { VisitCameraFields(visit, *camera); });
+  VisitCameraFields(
+      [&](const ObservationField& field, auto& member) {
+        const auto it = value.find(field.name);
+        if (it == value.end()) {
+          if (field.optional()) return;
+          throw ReplayFormatError(std::string("missing field \"") + field.name + "\" in " + what);
+        }
+        Decode(*it, field, what + " " + field.name, &member);
+      },
+      *camera);
+  try {
+    camera->Check();
+  } catch (const std::invalid_argument& error) {
+    throw ReplayFormatError(what + ": " + error.what());
+  }
+}
+
+json Encode(std::int64_t number) { return number; }
+json Encode(double number) { return number; }
+json Encode(const SE3& pose) {
+  json matrix_json = json::array();
+  const Eigen::Matrix4d matrix = pose.Matrix();
+  for (int i = 0; i < 16; ++i) matrix_json.push_back(matrix(i / 4, i % 4));
+  return matrix_json;
+}
+json Encode(const std::vector<ObjectId>& ids) { return ids; }
+json Encode(const Eigen::Vector3d& vector) { return {vector.x(), vector.y(), vector.z()}; }
+json Encode(int number) { return number; }
+json Encode(const PinholeCamera& camera) {
+  json camera_json = json::object();
+  VisitCameraFields(
+      [&](const ObservationField& field, const auto& member) {
+        // The distortion coefficients go together: all when the camera has distortion.
+        if (field.written_when_empty() || camera.HasDistortion())
+          camera_json[field.name] = Encode(member);
+      },
+      camera);
+  return camera_json;
+}
+
+bool IsEmpty(const std::vector<ObjectId>& ids) { return ids.empty(); }
+template <typename Value>
+bool IsEmpty(const Value&) {
+  return false;
 }
 
 ObjectId ParseObjectKey(const std::string& key, const char* field) {
@@ -62,7 +160,42 @@ ObjectId ParseObjectKey(const std::string& key, const char* field) {
   throw ReplayFormatError(std::string("\"") + field + "\" key '" + key + "' is not an object id");
 }
 
+std::string FieldHelp(const ObservationField& field, const char* type) {
+  std::string text = std::string(field.name) + ": " + type;
+  if (field.unit[0] != '\0') text += ", " + std::string(field.unit);
+  if (field.non_negative) text += ", not negative";
+  text += std::string(field.optional() ? " (optional)" : "") + "; " + field.meaning + ".\n";
+  return text;
+}
+
+std::string Quoted(const char* name) { return std::string("\"") + name + "\""; }
+
 }  // namespace
+
+SE3 RigidMotionFromMatrix(const Eigen::Matrix4d& matrix) {
+  if (!matrix.allFinite()) throw std::invalid_argument("has NaN or infinite entries");
+  if ((matrix.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9) {
+    throw std::invalid_argument("last row must be [0, 0, 0, 1]");
+  }
+  const Eigen::Matrix3d rotation = matrix.topLeftCorner<3, 3>();
+  if ((rotation * rotation.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 ||
+      rotation.determinant() < 0) {
+    throw std::invalid_argument("rotation block is not a rotation");
+  }
+  return SE3::FromMatrix(matrix);
+}
+
+std::string ObservationFieldsHelp() {
+  std::string text;
+  const auto add = [&text](const ObservationField& field, const auto& member) {
+    text += FieldHelp(field, ObservationFieldType(member));
+  };
+  const KeyframeObservation observation;
+  VisitObservationFields(add, observation);
+  const ObjectGeometryUpdate update;
+  VisitObjectUpdateFields(add, update);
+  return text;
+}
 
 KeyframeObservation ParseObservationJson(const std::string& line) {
   json root;
@@ -72,114 +205,70 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
     throw ReplayFormatError(std::string("not valid JSON: ") + error.what());
   }
   if (!root.is_object()) throw ReplayFormatError("expected a JSON object");
-  try {
-    KeyframeObservation observation;
-    observation.keyframe_id =
-        WholeNumberField<std::int64_t>(Field(root, "keyframe"), "\"keyframe\"");
-    observation.timestamp = root.value("timestamp", 0.0);
-    const json& pose = Field(root, "T_cw");
-    if (!pose.is_array() || pose.size() != 16) {
-      throw ReplayFormatError("\"T_cw\" must be 16 numbers, a row-major 4x4 matrix");
-    }
-    Eigen::Matrix4d matrix;
-    for (int i = 0; i < 16; ++i) matrix(i / 4, i % 4) = pose[i].get<double>();
-    const Eigen::Matrix3d rotation = matrix.topLeftCorner<3, 3>();
-    if ((rotation * rotation.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 ||
-        rotation.determinant() < 0) {
-      throw ReplayFormatError("\"T_cw\" rotation block is not a rotation");
-    }
-    observation.T_cw = SE3::FromMatrix(matrix);
-    const json& camera = Field(root, "camera");
-    observation.camera.fx = Field(camera, "fx").get<double>();
-    observation.camera.fy = Field(camera, "fy").get<double>();
-    observation.camera.cx = Field(camera, "cx").get<double>();
-    observation.camera.cy = Field(camera, "cy").get<double>();
-    observation.camera.width = WholeNumberField<int>(Field(camera, "width"), "\"camera\" width");
-    observation.camera.height = WholeNumberField<int>(Field(camera, "height"), "\"camera\" height");
-    PinholeCamera& model = observation.camera;
-    const std::pair<const char*, double*> distortion[] = {{"k1", &model.k1},
-                                                          {"k2", &model.k2},
-                                                          {"k3", &model.k3},
-                                                          {"p1", &model.p1},
-                                                          {"p2", &model.p2}};
-    for (const auto& [name, coefficient] : distortion) {
-      if (camera.contains(name)) *coefficient = camera.at(name).get<double>();
-    }
-    try {
-      observation.camera.Check();
-    } catch (const std::invalid_argument& error) {
-      throw ReplayFormatError(std::string("\"camera\": ") + error.what());
-    }
-    observation.observed = ObjectIdList(Field(root, "observed"), "\"observed\"");
-    if (root.contains("centroids")) {
-      for (const auto& [key, value] : root.at("centroids").items()) {
-        observation.updates[ParseObjectKey(key, "centroids")].centroid =
-            Vector3FromJson(value, "centroid of object " + key);
-      }
-    }
-    if (root.contains("sizes")) {
-      for (const auto& [key, value] : root.at("sizes").items()) {
-        observation.updates[ParseObjectKey(key, "sizes")].size =
-            Vector3FromJson(value, "size of object " + key);
-      }
-    }
-    if (root.contains("classes")) {
-      for (const auto& [key, value] : root.at("classes").items()) {
-        observation.updates[ParseObjectKey(key, "classes")].class_id =
-            WholeNumberField<int>(value, "class of object " + key);
-      }
-    }
-    if (root.contains("forgotten")) {
-      observation.forgotten = ObjectIdList(root.at("forgotten"), "\"forgotten\"");
-    }
-    if (root.contains("present_by_points")) {
-      observation.present_by_points =
-          ObjectIdList(root.at("present_by_points"), "\"present_by_points\"");
-    }
-    if (root.contains("restored")) {
-      observation.restored = ObjectIdList(root.at("restored"), "\"restored\"");
-    }
-    return observation;
-  } catch (const json::exception& error) {
-    throw ReplayFormatError(std::string("wrong type: ") + error.what());
-  }
+  KeyframeObservation observation;
+  ObjectGeometryUpdate prototype;
+  CheckKeysKnown(root, "", [&](auto&& visit) {
+    VisitObservationFields(visit, observation);
+    VisitObjectUpdateFields(visit, prototype);
+  });
+  VisitObservationFields(
+      [&](const ObservationField& field, auto& member) {
+        const auto it = root.find(field.name);
+        if (it == root.end()) {
+          if (field.optional()) return;
+          throw ReplayFormatError("missing field " + Quoted(field.name));
+        }
+        Decode(*it, field, Quoted(field.name), &member);
+      },
+      observation);
+  VisitObjectUpdateFields(
+      [&](const ObservationField& field, const auto&) {
+        const auto entries = root.find(field.name);
+        if (entries == root.end()) return;
+        if (!entries->is_object()) {
+          throw ReplayFormatError(Quoted(field.name) +
+                                  " must be an object {object id: " + field.entry + "}");
+        }
+        for (const auto& [key, value] : entries->items()) {
+          // This field's member of the object's update.
+          VisitObjectUpdateFields(
+              [&](const ObservationField& other, auto& member) {
+                if (std::strcmp(other.name, field.name) == 0)
+                  Decode(value, field, std::string(field.entry) + " of object " + key, &member);
+              },
+              observation.updates[ParseObjectKey(key, field.name)]);
+        }
+      },
+      prototype);
+  return observation;
 }
 
 std::string ObservationToJson(const KeyframeObservation& observation) {
-  json pose = json::array();
-  const Eigen::Matrix4d matrix = observation.T_cw.Matrix();
-  for (int i = 0; i < 16; ++i) pose.push_back(matrix(i / 4, i % 4));
-  const PinholeCamera& camera = observation.camera;
-  json camera_json = {{"fx", camera.fx}, {"fy", camera.fy},       {"cx", camera.cx},
-                      {"cy", camera.cy}, {"width", camera.width}, {"height", camera.height}};
-  if (camera.HasDistortion()) {
-    camera_json.update({{"k1", camera.k1},
-                        {"k2", camera.k2},
-                        {"k3", camera.k3},
-                        {"p1", camera.p1},
-                        {"p2", camera.p2}});
-  }
-  json root = {{"keyframe", observation.keyframe_id},
-               {"timestamp", observation.timestamp},
-               {"T_cw", pose},
-               {"camera", camera_json},
-               {"observed", observation.observed}};
-  json centroids = json::object(), sizes = json::object(), classes = json::object();
+  json root = json::object();
+  VisitObservationFields(
+      [&](const ObservationField& field, const auto& member) {
+        if (field.written_when_empty() || !IsEmpty(member)) root[field.name] = Encode(member);
+      },
+      observation);
+  // Per-object values, one {id: value} map per field.
+  json per_object = json::object();
   for (const auto& [id, update] : observation.updates) {
-    const std::string key = std::to_string(id);
-    if (update.centroid) {
-      centroids[key] = {update.centroid->x(), update.centroid->y(), update.centroid->z()};
-    }
-    if (update.size) sizes[key] = {update.size->x(), update.size->y(), update.size->z()};
-    if (update.class_id) classes[key] = *update.class_id;
+    VisitObjectUpdateFields(
+        [&, &id = id](const ObservationField& field, const auto& member) {
+          if (member) per_object[field.name][std::to_string(id)] = Encode(*member);
+        },
+        update);
   }
-  root["centroids"] = centroids;
-  if (!sizes.empty()) root["sizes"] = sizes;
-  if (!classes.empty()) root["classes"] = classes;
-  if (!observation.forgotten.empty()) root["forgotten"] = observation.forgotten;
-  if (!observation.restored.empty()) root["restored"] = observation.restored;
-  if (!observation.present_by_points.empty())
-    root["present_by_points"] = observation.present_by_points;
+  const ObjectGeometryUpdate prototype;
+  VisitObjectUpdateFields(
+      [&](const ObservationField& field, const auto&) {
+        if (per_object.contains(field.name)) {
+          root[field.name] = per_object[field.name];
+        } else if (field.written_when_empty()) {
+          root[field.name] = json::object();
+        }
+      },
+      prototype);
   return root.dump();
 }
 

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <string>
 
 #include "ocg/ocg/replay_format.h"
 #include "ocg_test_scene.h"
@@ -44,6 +47,123 @@ TEST(ReplayFormat, RoundTrip) {
   EXPECT_TRUE(parsed.T_cw.Matrix().isApprox(observation.T_cw.Matrix(), 1e-12));
   EXPECT_DOUBLE_EQ(parsed.camera.k1, 0.1);
   EXPECT_TRUE(parsed.updates.at(5).size->isApprox(Eigen::Vector3d(1, 2, 3)));
+}
+
+// A value unlike the default for each type a field of the observation has; `n` makes the
+// fields of one type differ from each other. A field of a new type fails to compile here
+// until the test knows it.
+void SetSample(std::int64_t* value, int n) { *value = 1000 + n; }
+void SetSample(int* value, int n) { *value = 40 + n; }
+void SetSample(double* value, int n) { *value = 0.375 + n; }
+void SetSample(SE3* value, int n) { *value = testing::LookAt({1.0 + n, 2, 3}, {0, 0.5, 0}); }
+void SetSample(PinholeCamera* camera, int n) {
+  int k = n;
+  VisitCameraFields([&k](const ObservationField&, auto& member) { SetSample(&member, ++k); },
+                    *camera);
+  camera->cx = 300, camera->cy = 200, camera->width = 640, camera->height = 480;
+}
+void SetSample(std::vector<ObjectId>* ids, int n) { *ids = {n, 2 * n + 1}; }
+void SetSample(std::optional<Eigen::Vector3d>* vector, int n) {
+  *vector = Eigen::Vector3d(0.5 * n, 0.25, 1.125);
+}
+void SetSample(std::optional<int>* value, int n) { *value = 40 + n; }
+
+bool Same(const SE3& a, const SE3& b) { return a.Matrix().isApprox(b.Matrix(), 1e-12); }
+bool Same(const PinholeCamera& a, const PinholeCamera& b) {
+  bool same = true;
+  VisitCameraFields(
+      [&same](const ObservationField&, const auto& x, const auto& y) { same = same && x == y; }, a,
+      b);
+  return same;
+}
+template <typename Value>
+bool Same(const Value& a, const Value& b) {
+  return a == b;
+}
+
+// Every field VisitObservationFields and VisitObjectUpdateFields list, each set, comes
+// back from a replay line: what a new field gets from the one list without more code.
+TEST(ReplayFormat, EveryListedFieldRoundTrips) {
+  KeyframeObservation observation;
+  int n = 0;
+  VisitObservationFields([&n](const ObservationField&, auto& member) { SetSample(&member, ++n); },
+                         observation);
+  for (const ObjectId id : {3, 7}) {
+    VisitObjectUpdateFields(
+        [&n](const ObservationField&, auto& member) { SetSample(&member, ++n); },
+        observation.updates[id]);
+  }
+  const std::string line = ObservationToJson(observation);
+  const KeyframeObservation parsed = ParseObservationJson(line);
+
+  std::set<std::string> names;
+  VisitObservationFields(
+      [&names](const ObservationField& field, const auto& written, const auto& read) {
+        names.insert(field.name);
+        EXPECT_TRUE(Same(written, read)) << field.name;
+      },
+      observation, parsed);
+  ASSERT_EQ(parsed.updates.size(), 2u);
+  for (const ObjectId id : {3, 7}) {
+    VisitObjectUpdateFields(
+        [&names, id](const ObservationField& field, const auto& written, const auto& read) {
+          names.insert(field.name);
+          ASSERT_TRUE(read.has_value()) << field.name << " of object " << id;
+          EXPECT_EQ(*written, *read) << field.name << " of object " << id;
+        },
+        observation.updates.at(id), parsed.updates.at(id));
+  }
+  // Each under its own name: the line holds exactly the listed fields.
+  std::set<std::string> keys;
+  const nlohmann::json written = nlohmann::json::parse(line);
+  for (const auto& [key, value] : written.items()) keys.insert(key);
+  EXPECT_EQ(keys, names);
+  EXPECT_EQ(ObservationToJson(parsed), line);
+}
+
+// The error a line gives, or "accepted".
+std::string ErrorOf(const nlohmann::json& line) {
+  try {
+    ParseObservationJson(line.dump());
+  } catch (const ReplayFormatError& error) {
+    return error.what();
+  }
+  return "accepted";
+}
+
+TEST(ReplayFormat, UnknownFieldIsAnErrorNamingIt) {
+  nlohmann::json root = nlohmann::json::parse(kLine);
+  EXPECT_NO_THROW(ParseObservationJson(root.dump()));
+  nlohmann::json misspelt = root;
+  misspelt["present_by_point"] = nlohmann::json::array({3});
+  EXPECT_NE(ErrorOf(misspelt).find("unknown field \"present_by_point\""), std::string::npos)
+      << ErrorOf(misspelt);
+  EXPECT_NE(ErrorOf(misspelt).find("present_by_points"), std::string::npos);  // the known ones
+  nlohmann::json camera = root;
+  camera["camera"]["k4"] = 0.1;
+  EXPECT_NE(ErrorOf(camera).find("unknown field \"k4\" in \"camera\""), std::string::npos)
+      << ErrorOf(camera);
+}
+
+TEST(ReplayFormat, FieldErrorsNameTheField) {
+  nlohmann::json root = nlohmann::json::parse(kLine);
+  nlohmann::json negative = root;
+  negative["sizes"] = {{"3", {0.1, -0.2, 0.3}}};
+  EXPECT_NE(ErrorOf(negative).find("size of object 3 must be non-negative"), std::string::npos)
+      << ErrorOf(negative);
+  nlohmann::json last_row = root;
+  last_row["T_cw"][12] = 1.0;
+  EXPECT_NE(ErrorOf(last_row).find("\"T_cw\" last row must be [0, 0, 0, 1]"), std::string::npos)
+      << ErrorOf(last_row);
+  nlohmann::json not_a_map = root;
+  not_a_map["classes"] = nlohmann::json::array({41});
+  EXPECT_NE(ErrorOf(not_a_map).find("\"classes\" must be an object {object id: class}"),
+            std::string::npos)
+      << ErrorOf(not_a_map);
+  nlohmann::json timestamp = root;
+  timestamp["timestamp"] = "noon";
+  EXPECT_NE(ErrorOf(timestamp).find("\"timestamp\" must be a number"), std::string::npos)
+      << ErrorOf(timestamp);
 }
 
 TEST(ReplayFormat, MalformedLinesSayWhatIsWrong) {

@@ -18,9 +18,21 @@ class ReplayFormatError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Parses one line; throws ReplayFormatError saying which field is wrong.
+// Parses one line; throws ReplayFormatError naming the field that is wrong, missing or
+// unknown. Reads every field VisitObservationFields and VisitObjectUpdateFields list.
 KeyframeObservation ParseObservationJson(const std::string& line);
+// One line (no newline) holding every field those lists give; its bytes are those the
+// replay format has always had (keys in alphabetical order, empty optional lists left out).
 std::string ObservationToJson(const KeyframeObservation& observation);
+
+// One line per field of the observation, in the list's order: "name: type, unit
+// (optional); meaning." (ocg_replay --fields, Python's help).
+std::string ObservationFieldsHelp();
+
+// T_cw from a 4x4 matrix (world to camera), refusing what is not a rigid motion rather
+// than re-orthonormalising a wrong matrix: throws std::invalid_argument saying what is
+// wrong, the caller names the field.
+SE3 RigidMotionFromMatrix(const Eigen::Matrix4d& matrix);
 
 // {"keyframe": K, "objects": [{"id", "state", "doubt", "active_edge_rate"}...], "removed": [...]}
 std::string StatesLineJson(std::int64_t keyframe_id, const std::vector<ObjectStatus>& objects,
