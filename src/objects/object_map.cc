@@ -975,20 +975,42 @@ std::map<ObjectId, ColourHistogram> ObjectMap::ColourAppearances(int min_signatu
   return colours;
 }
 
+namespace {
+
+// Sessions (map files): the first and the last that saw the object (0 and 0 without
+// sightings).
+std::pair<int, int> SessionsOf(const MapObject& object) {
+  if (object.sightings.empty()) return {0, 0};
+  const auto [first, last] = std::minmax_element(
+      object.sightings.begin(), object.sightings.end(),
+      [](const ObjectSighting& a, const ObjectSighting& b) { return a.session < b.session; });
+  return {first->session, last->session};
+}
+
+}  // namespace
+
+std::vector<ObjectRecord> LiveObjectRecords(const ObjectMap& map) {
+  std::vector<ObjectRecord> records;
+  for (const auto& [id, object] : map.objects()) {
+    ObjectRecord record;
+    record.id = id;
+    record.class_id = object.class_id;
+    record.cuboid = object.cuboid;
+    record.first_seen = object.first_timestamp;
+    record.last_seen = object.last_timestamp;
+    record.first_session = SessionsOf(object).first;
+    record.observations = static_cast<int>(object.sightings.size());
+    records.push_back(record);
+  }
+  return records;
+}
+
 std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states) {
   std::map<ObjectId, const ObjectStatus*> by_id;
   for (const ObjectStatus& status : states) by_id[status.id] = &status;
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& [id, object] : map.objects()) {
-    // Sessions (map files): the first and the last that saw it.
-    int first_session = 0, last_session = 0;
-    if (!object.sightings.empty()) {
-      const auto [first, last] = std::minmax_element(
-          object.sightings.begin(), object.sightings.end(),
-          [](const ObjectSighting& a, const ObjectSighting& b) { return a.session < b.session; });
-      first_session = first->session;
-      last_session = last->session;
-    }
+    const auto [first_session, last_session] = SessionsOf(object);
     nlohmann::json entry = {
         {"id", id},
         {"class_id", object.class_id},
@@ -1017,38 +1039,6 @@ std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& s
                          {"objects", objects}})
              .dump(1) +
          "\n";
-}
-
-std::string ObjectChangesJson(const std::vector<ObjectChange>& changes) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const ObjectChange& change : changes) {
-    nlohmann::json entry = {{"type", change.type},
-                            {"session", change.session},
-                            {"keyframe", change.keyframe_id},
-                            {"timestamp", change.timestamp},
-                            {"object_id", change.object_id},
-                            {"class_id", change.class_id},
-                            {"class", CocoClassName(change.class_id)},
-                            {"centroid", VectorJson(change.cuboid.centre)},
-                            {"cuboid", CuboidJson(change.cuboid)},
-                            {"observations", change.sightings}};
-    if (change.type == "removed") {
-      entry["doubt"] = change.doubt;
-      entry["last_seen"] = change.last_seen;
-      entry["reason"] = change.reason.empty() ? "outlier" : change.reason;
-    } else if (change.type == "merged") {
-      entry["merged_into"] = change.merged_into;
-      entry["reason"] = "duplicate";
-    } else if (change.type == "restored") {
-      entry["recreated_as"] = change.recreated_as;
-      entry["removed_at"] = change.removed_at;
-      entry["reason"] = "detected again at its place";
-    } else {
-      entry["reason"] = "too few sightings";
-    }
-    list.push_back(entry);
-  }
-  return nlohmann::json({{"changes", list}}).dump(1) + "\n";
 }
 
 }  // namespace ocg

@@ -155,9 +155,14 @@ std::string ObjectMapper::ObjectsJson() const {
   return ocg::ObjectsJson(map_, states);
 }
 
-std::string ObjectMapper::ChangesJson() const {
+std::vector<ObjectChange> ObjectMapper::Changes() const {
   std::lock_guard<std::mutex> lock(map_mutex_);
-  return ObjectChangesJson(map_.changes());
+  return map_.changes();
+}
+
+std::vector<ObjectRecord> ObjectMapper::LiveObjects() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return LiveObjectRecords(map_);
 }
 
 std::string ObjectMapper::ObservationsJsonl() const {

@@ -20,6 +20,7 @@
 #include "ocg/objects/colour_signature.h"
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/map_diff.h"
+#include "ocg/objects/object_change.h"
 #include "ocg/objects/object_geometry.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/objects/point_presence.h"
@@ -108,29 +109,6 @@ std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes)
 bool PresentByPoints(const MapObject& object, const std::vector<std::uint64_t>& tracked,
                      const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options,
                      const FrameFeatureSearch* frame = nullptr);
-
-struct ObjectChange {
-  // "removed" (by the OCG), "merged" (a duplicate, hygiene), "dropped" (too few
-  // sightings, hygiene) or "restored" (a removed object found again at its place)
-  std::string type;
-  std::int64_t keyframe_id = 0;
-  double timestamp = 0.0;
-  ObjectId object_id = 0;
-  ObjectId merged_into = 0;  // "merged" only
-  int class_id = 0;
-  Cuboid cuboid;  // the last estimate
-  std::size_t sightings = 0;
-  double doubt = 0.0;      // "removed" only
-  double last_seen = 0.0;  // "removed" only: timestamp of the last sighting
-  // "restored" only: the object that was found at its place (merged into it) and when it
-  // had been removed
-  ObjectId recreated_as = 0;
-  double removed_at = 0.0;
-  int session = 0;  // the session that made the change (StartSession)
-  // "removed" only: why the OCG removed it (RemovalEvent::reason). Not kept in map files:
-  // the revised change log they keep holds it.
-  std::string reason;
-};
 
 struct FrameAssociation {
   std::vector<ObjectDetection> detections;  // the frame's detections after filtering
@@ -331,7 +309,8 @@ class ObjectMap {
 
 // objects.json (SPEC 5): the live objects with their cuboid and OCG state.
 std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states);
-// changes.json: {"changes": [{"type": "removed" | "merged" | "dropped" | "restored", ...}]}.
-std::string ObjectChangesJson(const std::vector<ObjectChange>& changes);
+// The live objects as the change log's revision reads them (ReviseChangeLog): what
+// objects.json says of each, in id order.
+std::vector<ObjectRecord> LiveObjectRecords(const ObjectMap& map);
 
 }  // namespace ocg
