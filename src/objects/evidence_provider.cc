@@ -1,5 +1,7 @@
 #include "ocg/objects/evidence_provider.h"
 
+#include "ocg/objects/point_evidence.h"
+
 namespace ocg {
 
 void DetectionEvidence::Fill(const KeyframeEvidence& keyframe, KeyframeObservation* observation) {
@@ -18,6 +20,14 @@ void GeometryEvidence::Fill(const KeyframeEvidence& keyframe, KeyframeObservatio
     update.size = WorldExtent(it->second.cuboid, keyframe.map.R_wg);
     update.class_id = it->second.class_id;
   }
+}
+
+std::vector<std::unique_ptr<EvidenceProvider>> EvidenceProvidersFor(const OcgModes& modes) {
+  std::vector<std::unique_ptr<EvidenceProvider>> providers;
+  providers.push_back(std::make_unique<DetectionEvidence>());
+  if (modes.point_presence) providers.push_back(std::make_unique<PointPresenceEvidence>());
+  providers.push_back(std::make_unique<GeometryEvidence>());
+  return providers;
 }
 
 }  // namespace ocg

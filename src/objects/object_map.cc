@@ -1,12 +1,9 @@
 #include "ocg/objects/object_map.h"
 
 #include <algorithm>
-#include <nlohmann/json.hpp>
 #include <optional>
 
-#include "ocg/core/coco.h"
 #include "ocg/objects/candidate_tracker.h"
-#include "ocg/objects/cuboid_json.h"
 #include "ocg/objects/detection_association.h"
 #include "ocg/objects/map_hygiene.h"
 #include "ocg/objects/object_restore.h"
@@ -16,21 +13,15 @@ namespace ocg {
 ObjectMap::ObjectMap(ObjectsOptions options, PinholeCamera camera)
     : options_(std::move(options)), camera_(camera), R_wg_(GravityFrame(options_.up)) {
   options_.Check();
-  evidence_.push_back(std::make_unique<DetectionEvidence>());
-  evidence_.push_back(std::make_unique<GeometryEvidence>());
+  SetEvidence(EvidenceProvidersFor(OcgModes{}));
 }
 
-void ObjectMap::SetPointPresence(bool point_presence) {
-  if (point_presence == (point_evidence_ != nullptr)) return;
-  if (point_presence) {
-    auto provider = std::make_unique<PointPresenceEvidence>();
-    point_evidence_ = provider.get();
-    evidence_.push_back(std::move(provider));
-  } else {
-    evidence_.erase(std::find_if(evidence_.begin(), evidence_.end(), [this](const auto& provider) {
-      return provider.get() == point_evidence_;
-    }));
-    point_evidence_ = nullptr;
+void ObjectMap::SetEvidence(std::vector<std::unique_ptr<EvidenceProvider>> providers) {
+  evidence_ = std::move(providers);
+  point_evidence_ = nullptr;
+  for (const auto& provider : evidence_) {
+    if (const auto* points = dynamic_cast<const PointPresenceEvidence*>(provider.get()))
+      point_evidence_ = points;
   }
 }
 
@@ -344,72 +335,6 @@ int ObjectMap::SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
 
 std::map<ObjectId, ColourHistogram> ObjectMap::ColourAppearances(int min_signatures) const {
   return ColourAppearancesOf(SessionView(), min_signatures);
-}
-
-namespace {
-
-// Sessions (map files): the first and the last that saw the object (0 and 0 without
-// sightings).
-std::pair<int, int> SessionsOf(const MapObject& object) {
-  if (object.sightings.empty()) return {0, 0};
-  const auto [first, last] = std::minmax_element(
-      object.sightings.begin(), object.sightings.end(),
-      [](const ObjectSighting& a, const ObjectSighting& b) { return a.session < b.session; });
-  return {first->session, last->session};
-}
-
-}  // namespace
-
-std::vector<ObjectRecord> LiveObjectRecords(const ObjectMap& map) {
-  std::vector<ObjectRecord> records;
-  for (const auto& [id, object] : map.objects()) {
-    ObjectRecord record;
-    record.id = id;
-    record.class_id = object.class_id;
-    record.cuboid = object.cuboid;
-    record.first_seen = object.first_timestamp;
-    record.last_seen = object.last_timestamp;
-    record.first_session = SessionsOf(object).first;
-    record.observations = static_cast<int>(object.sightings.size());
-    records.push_back(record);
-  }
-  return records;
-}
-
-std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states) {
-  std::map<ObjectId, const ObjectStatus*> by_id;
-  for (const ObjectStatus& status : states) by_id[status.id] = &status;
-  nlohmann::json objects = nlohmann::json::array();
-  for (const auto& [id, object] : map.objects()) {
-    const auto [first_session, last_session] = SessionsOf(object);
-    nlohmann::json entry = {
-        {"id", id},
-        {"class_id", object.class_id},
-        {"class", CocoClassName(object.class_id)},
-        {"cuboid", CuboidJson(object.cuboid)},
-        {"yaw_from", object.yaw_from_points ? "map points" : "boxes"},
-        {"observations", object.sightings.size()},
-        {"map_points", ObjectPointSet(object, map.options().min_point_votes).size()},
-        {"first_seen", object.first_timestamp},
-        {"last_seen", object.last_timestamp},
-        {"first_session", first_session},
-        {"last_session", last_session},
-        {"state", nullptr},
-        {"doubt", nullptr}};
-    const auto status = by_id.find(id);
-    if (status != by_id.end()) {
-      entry["state"] = static_cast<int>(status->second->state);
-      entry["doubt"] = status->second->doubt;
-    }
-    objects.push_back(entry);
-  }
-  const Eigen::Vector3d up = map.gravity_frame().col(2);
-  return nlohmann::json({{"format", "ocg-objects"},
-                         {"version", 1},
-                         {"up", VectorJson(up)},
-                         {"objects", objects}})
-             .dump(1) +
-         "\n";
 }
 
 }  // namespace ocg

@@ -11,7 +11,7 @@ ObjectMapper::ObjectMapper(ObjectsOptions objects, OcgOptions ocg, PinholeCamera
                            bool sequential)
     : map_(std::move(objects), camera), manager_(ocg, sequential) {
   map_.SetRestore(ocg.modes().restore);
-  map_.SetPointPresence(ocg.modes().point_presence);
+  map_.SetEvidence(EvidenceProvidersFor(ocg.modes()));
   // Runs on the OCG's thread (in sequential mode inside Submit()): never hold map_mutex_
   // while submitting.
   manager_.SetRemovalCallback([this](const KeyframeResult& result) {

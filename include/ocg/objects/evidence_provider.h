@@ -4,16 +4,19 @@
 // field by one judgement term (ocg/ocg/judgement.h, ObjectEvidence). The object map holds
 // its providers in one list and asks each at every keyframe (ObjectMap::
 // MakeKeyframeObservation); a new source is a provider, its field and its judgement term.
-// In the manner of OpenVINS's one class per updater.
+// In the manner of OpenVINS's one class per updater. EvidenceProvidersFor is the one list
+// of the sources and the OCG modes that turn them on.
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/map_object.h"
 #include "ocg/objects/point_presence.h"
 #include "ocg/ocg/observation.h"
+#include "ocg/ocg/options.h"
 
 namespace ocg {
 
@@ -58,5 +61,9 @@ class GeometryEvidence : public EvidenceProvider {
   const char* Field() const override { return "updates"; }
   void Fill(const KeyframeEvidence& keyframe, KeyframeObservation* observation) override;
 };
+
+// The providers of the sources modes asks for, in the order the object map asks them:
+// "observed" and "updates" always, "present_by_points" with "points".
+std::vector<std::unique_ptr<EvidenceProvider>> EvidenceProvidersFor(const OcgModes& modes);
 
 }  // namespace ocg

@@ -104,9 +104,10 @@ class ObjectMap {
   // the next keyframe (MakeKeyframeObservation: a "restored" change, the object found
   // there merged into it, the OCG told through observation.restored).
   void SetRestore(bool restore) { restore_ = restore; }
-  // OCG.mode "points": each keyframe observation lists the objects not detected that the
-  // last frame shows by their points (PointPresenceEvidence).
-  void SetPointPresence(bool point_presence);
+  // The evidence sources asked at each keyframe, in order (EvidenceProvidersFor the OCG's
+  // modes); without a call: "observed" and "updates" alone.
+  void SetEvidence(std::vector<std::unique_ptr<EvidenceProvider>> providers);
+  // OCG.mode "points": the evidence's counts so far (all 0 without it).
   using PointPresenceStats = ocg::PointPresenceStats;
   const PointPresenceStats& point_presence_stats() const;
 
@@ -185,10 +186,10 @@ class ObjectMap {
   std::map<ObjectId, bool> geometry_changed_;
   std::vector<ObjectChange> changes_;
   bool restore_ = false;
-  // The evidence sources, asked in this order at each keyframe; point_evidence_ is the
-  // "points" one when OCG.mode has it (else null).
+  // The evidence sources, asked in this order at each keyframe; point_evidence_: the
+  // "points" one among them, else null.
   std::vector<std::unique_ptr<EvidenceProvider>> evidence_;
-  PointPresenceEvidence* point_evidence_ = nullptr;
+  const PointPresenceEvidence* point_evidence_ = nullptr;
   struct RemovedObject {
     MapObject object;
     double removed_at = 0.0;  // timestamp

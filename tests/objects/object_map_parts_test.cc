@@ -1,5 +1,6 @@
-// The evidence sources (evidence_provider.h): each provider fills the one field of the
-// keyframe observation it names, from what the object map shows it at the keyframe.
+// Parts of the object map, tested directly: the evidence sources (evidence_provider.h),
+// each filling the one field of the keyframe observation it names from what the object map
+// shows it at the keyframe, and the candidates (candidate_tracker.h).
 
 #include <gtest/gtest.h>
 
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ocg/objects/candidate_tracker.h"
 #include "ocg/objects/evidence_provider.h"
 #include "ocg/objects/point_evidence.h"
 #include "test_support.h"
@@ -82,6 +84,19 @@ TEST(EvidenceProvider, EachFillsTheFieldItNamesAndNoOther) {
   }
 }
 
+// One list of the sources: what the OCG's modes turn on is asked, and nothing else.
+TEST(EvidenceProvider, TheModesChooseTheSources) {
+  const auto fields = [](const OcgModes& modes) {
+    std::vector<std::string> names;
+    for (const auto& provider : EvidenceProvidersFor(modes)) names.push_back(provider->Field());
+    return names;
+  };
+  OcgModes modes;
+  EXPECT_EQ(fields(modes), (std::vector<std::string>{"observed", "updates"}));
+  modes.point_presence = true;
+  EXPECT_EQ(fields(modes), (std::vector<std::string>{"observed", "present_by_points", "updates"}));
+}
+
 TEST(EvidenceProvider, EachReadsWhatTheMapShowsIt) {
   const Scene scene;
   DetectionEvidence detections;
@@ -102,6 +117,36 @@ TEST(EvidenceProvider, EachReadsWhatTheMapShowsIt) {
       {scene.objects, scene.detected, scene.geometry_changed, 10, scene.T_cw, nullptr, context},
       &observation);
   EXPECT_TRUE(observation.present_by_points.empty());
+}
+
+// A candidate (candidate_tracker.h) waits for another box for
+// Objects.candidate_max_missed_frames frames or candidate_gap_seconds, the longer, and is
+// handed on only when detected in the frame and its rays meet.
+TEST(CandidateTracker, ACandidateWaitsTheLongerOfItsFramesAndSecondsThenEnds) {
+  const Scene scene;
+  const ObjectMapContext context{scene.options, scene.camera, scene.R_wg};
+  std::map<ObjectId, MapObject> candidates;
+  ObjectId next_id = -1;
+  CandidateTracker tracker(&candidates, &next_id, context);
+  ObjectSighting sighting;
+  sighting.class_id = 41;
+  sighting.box = {300, 200, 340, 260};
+  tracker.Start(sighting, {});
+  ASSERT_EQ(candidates.size(), 1u);
+  EXPECT_EQ(candidates.begin()->first, -1);
+  EXPECT_EQ(next_id, -2);
+  int handed_on = 0;
+  const auto ready = [&handed_on](MapObject&) { return ++handed_on > 0; };
+  tracker.Update(10, 1.0, ready);   // 10 frames, 1 s
+  tracker.Update(20, 20.0, ready);  // past its frames (15), within its seconds (30)
+  EXPECT_EQ(candidates.size(), 1u);
+  tracker.Update(40, 31.0, ready);
+  EXPECT_TRUE(candidates.empty());
+  // Detected in the frame, but one box's ray meets nothing: not handed on.
+  tracker.Start(sighting, {});
+  tracker.Update(0, 0.0, ready);
+  EXPECT_EQ(candidates.size(), 1u);
+  EXPECT_EQ(handed_on, 0);
 }
 
 }  // namespace
