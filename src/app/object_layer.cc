@@ -45,12 +45,16 @@ nlohmann::json Timing(const std::vector<double>& seconds) {
            seconds.empty() ? 0.0 : 1000.0 * *std::max_element(seconds.begin(), seconds.end())}};
 }
 
+std::vector<ChangeEntry> RevisedChangeLog(const ObjectMapper& mapper,
+                                          const ChangeLogContext& context) {
+  return ReviseChangeLog(mapper.Changes(), mapper.LiveObjects(), context);
+}
+
 nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder,
                               const ChangeLogContext& change_log) {
-  const std::string objects = mapper.ObjectsJson();
-  WriteFileAtomically(folder + "/objects.json", objects);
+  WriteFileAtomically(folder + "/objects.json", mapper.ObjectsJson());
   WriteFileAtomically(folder + "/changes.json",
-                      ReviseChangeLog(mapper.ChangesJson(), objects, change_log));
+                      ChangeLogJson(RevisedChangeLog(mapper, change_log)));
   WriteFileAtomically(folder + "/ocg.json", mapper.GraphJson());
   WriteFileAtomically(folder + "/ocg_observations.jsonl", mapper.ObservationsJsonl());
   const ObjectLayerStats stats = mapper.Stats();
@@ -216,8 +220,7 @@ cv::Mat ObjectLayer::ColourImageOf(std::int64_t frame) const {
 
 std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }
 std::string ObjectLayer::Changes() const {
-  return enabled_ ? ReviseChangeLog(mapper_->ChangesJson(), mapper_->ObjectsJson(), ChangeLog())
-                  : "";
+  return enabled_ ? ChangeLogJson(RevisedChangeLog(*mapper_, ChangeLog())) : "";
 }
 
 nlohmann::json ObjectLayer::Write(const std::string& output) const {
@@ -269,15 +272,17 @@ ChangeLogContext ObjectLayer::ChangeLog() const {
 void ObjectLayer::SaveState(std::ostream& out) const {
   // "time" counts from the first frame of the session that reads the log: a later
   // session gives earlier entries none.
-  nlohmann::json log = nlohmann::json::parse(Changes());
-  for (nlohmann::json& entry : log.at("changes")) entry.erase("time");
-  SaveObjectMapper(*mapper_, {keyframes_, tracked_frames_, log.dump(1) + "\n"}, out);
+  SaveObjectMapper(*mapper_,
+                   {keyframes_, tracked_frames_,
+                    ChangeLogJson(RevisedChangeLog(*mapper_, ChangeLog()), /*with_time=*/false)},
+                   out);
 }
 
 void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_offset,
                             std::uint32_t file_version) {
   const ObjectLayerCounters counters = LoadObjectMapper(in, mapper_.get(), file_version);
-  earlier_changes_ = counters.change_log;
+  if (counters.change_log)
+    earlier_changes_ = ParseChangeLog(*counters.change_log, "the map file's change log");
   StartSession(session, frame_offset);
   keyframes_ = counters.keyframes;
   tracked_frames_ = loaded_tracked_frames_ = counters.tracked_frames;

@@ -30,6 +30,10 @@ namespace ocg::app_detail {
 
 // Writes the object map's files (objects.json, changes.json revised as ReviseChangeLog says,
 // ocg.json, ocg_observations.jsonl) into folder; returns the counts run.json reports of it.
+// changes.json's entries: the mapper's change log revised as ReviseChangeLog says.
+std::vector<ChangeEntry> RevisedChangeLog(const ObjectMapper& mapper,
+                                          const ChangeLogContext& context);
+
 nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder,
                               const ChangeLogContext& change_log);
 
@@ -110,8 +114,8 @@ class ObjectLayer {
   std::optional<std::vector<ObjectView>> first_removal_;
   bool removal_seen_ = false;
   std::vector<double> seconds_;
-  std::optional<double> session_start_;         // timestamp of the first frame given
-  std::optional<std::string> earlier_changes_;  // the loaded map file's change log
+  std::optional<double> session_start_;                      // timestamp of the first frame given
+  std::optional<std::vector<ChangeEntry>> earlier_changes_;  // the loaded map file's log
   // Finish(): ObjectMap::BoxAppearances() over every keyframe of the SLAM map.
   std::map<ObjectId, std::vector<Descriptor>> box_appearance_;
   // This session's image files of frames with detections, by frame (over all sessions).

@@ -4,7 +4,6 @@
 #include <iomanip>
 #include <limits>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -12,10 +11,7 @@
 #include <string>
 #include <utility>
 
-#include "ocg/core/coco.h"
-#include "ocg/io/change_entries.h"
 #include "ocg/objects/assignment.h"
-#include "ocg/objects/cuboid_json.h"
 
 namespace ocg {
 namespace {
@@ -124,12 +120,6 @@ double TimeOr(const std::map<ObjectId, double>& times, ObjectId id, double fallb
   return found != times.end() ? found->second : fallback;
 }
 
-nlohmann::json AppearanceJson(const AppearanceMatch& match) {
-  return {{"matched", match.matched},
-          {"compared", match.compared},
-          {"median_distance", match.median_distance}};
-}
-
 }  // namespace
 
 AppearanceMatch MatchAppearance(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
@@ -165,27 +155,26 @@ void AppearanceOptions::Check() const {
     throw std::invalid_argument("appearance.min_colour_signatures must be at least 1");
 }
 
-std::string ReviseChangeLog(const std::string& changes_json, const std::string& objects_json,
-                            const ChangeLogContext& context) {
-  nlohmann::json root = nlohmann::json::parse(changes_json);
-  const SavedObjectMap live = ParseObjectsJson(objects_json, "objects.json");
+std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& changes,
+                                         const std::vector<ObjectRecord>& live,
+                                         const ChangeLogContext& context) {
   // Each removal is paired once, by the session that made it: an earlier session's
   // removals were paired when that session wrote its changes.json, and pairing them again
   // against a later map linked them to what the later session found (they stay removals
   // here). This session's removals of objects it saw pair by the in-session rule; those of
   // objects last seen in an earlier session by the between-session rule.
   std::vector<ObjectRecord> seen_now, seen_before;
+  const std::vector<ChangeEntry> own = EntriesOf(changes);
   // A removal undone by a restore (the object found again at its place) moved nowhere.
-  const std::vector<bool> standing = StandingRemovals(root.at("changes"));
-  for (std::size_t i = 0; i < root.at("changes").size(); ++i) {
-    const nlohmann::json& entry = root.at("changes")[i];
-    if (entry.at("type") != "removed" || !standing[i] || entry.at("cuboid").is_null()) continue;
-    if (entry.value("session", context.session) != context.session) continue;
+  const std::vector<bool> standing = StandingRemovals(own);
+  for (std::size_t i = 0; i < own.size(); ++i) {
+    const ChangeEntry& entry = own[i];
+    if (entry.type != "removed" || !standing[i] || entry.session != context.session) continue;
     ObjectRecord record;
-    record.id = entry.at("object_id").get<ObjectId>();
-    record.class_id = entry.at("class_id").get<int>();
-    record.cuboid = CuboidFromJson(entry.at("cuboid"));
-    record.last_seen = entry.value("last_seen", entry.at("timestamp").get<double>());
+    record.id = entry.object_id;
+    record.class_id = entry.class_id;
+    record.cuboid = entry.cuboid;
+    record.last_seen = entry.last_seen.value_or(entry.timestamp);
     const bool earlier = context.session > 0 && record.last_seen < context.session_start;
     (earlier ? seen_before : seen_now).push_back(record);
   }
@@ -194,7 +183,7 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   std::set<ObjectId> between_sessions;  // moves_from's keys linked by the between-session rule
   context.appearance_options.Check();
   std::vector<ObjectRecord> appeared;
-  for (const ObjectRecord& object : live.objects) {
+  for (const ObjectRecord& object : live) {
     if (object.first_session == context.session) appeared.push_back(object);
   }
   std::vector<BetweenSessionCandidate> candidates;
@@ -205,31 +194,26 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
   }
   // The evidence of a between-session removal: every same-class object it could have
   // become, how far and how alike.
-  std::map<ObjectId, nlohmann::json> alternatives;
-  // (from, to): the appearance evidence of the pair, as changes.json gives it.
-  std::map<std::pair<ObjectId, ObjectId>, nlohmann::json> looks;
+  std::map<ObjectId, std::vector<PairingCandidate>> alternatives;
+  // (from, to): the appearance evidence of the pair.
+  std::map<std::pair<ObjectId, ObjectId>, PairingLook> looks;
   for (const BetweenSessionCandidate& candidate : candidates) {
     const ObjectRecord& from = seen_before[candidate.removed];
     const ObjectRecord& to = appeared[candidate.appeared];
-    nlohmann::json entry = {{"object_id", to.id},
-                            {"distance", (from.cuboid.centre - to.cuboid.centre).norm()},
-                            {"observations", to.observations}};
-    if (candidate.appearance) {
-      entry["appearance"] = AppearanceJson(*candidate.appearance);
-      entry["appearance"]["from"] = candidate.from_boxes ? "boxes" : "map points";
+    PairingCandidate evidence{to.id, (from.cuboid.centre - to.cuboid.centre).norm(),
+                              to.observations, std::nullopt};
+    if (candidate.appearance || candidate.colour) {
+      evidence.appearance = PairingLook{
+          candidate.appearance, candidate.appearance && candidate.from_boxes, candidate.colour};
+      looks[{from.id, to.id}] = *evidence.appearance;
     }
-    if (candidate.colour) {
-      if (!entry.contains("appearance")) entry["appearance"] = nlohmann::json::object();
-      entry["appearance"]["colour_similarity"] = *candidate.colour;
-    }
-    if (entry.contains("appearance")) looks[{from.id, to.id}] = entry["appearance"];
-    alternatives[from.id].push_back(entry);
+    alternatives[from.id].push_back(evidence);
   }
   // In a session, ordered by when each was seen as its class; entries keep their times.
   std::vector<ObjectRecord> removed_as_class = seen_now, rest_live, rest_as_class;
   for (ObjectRecord& record : removed_as_class)
     record.last_seen = TimeOr(context.seen_as_class.last, record.id, record.last_seen);
-  for (const ObjectRecord& object : live.objects) {
+  for (const ObjectRecord& object : live) {
     if (moved_to.count(object.id) > 0) continue;
     rest_live.push_back(object);
     rest_as_class.push_back(object);
@@ -245,70 +229,62 @@ std::string ReviseChangeLog(const std::string& changes_json, const std::string& 
                                               original(rest_live, move.to.id), move.distance});
     moved_to.insert(move.to.id);
   }
-  nlohmann::json list = nlohmann::json::array();
+  std::vector<ChangeEntry> revised;
   // Entries kept from a loaded map carry their own session; their clock was another
   // session's, so they get no time.
-  const auto stamp = [&](nlohmann::json entry) {
-    if (!entry.contains("session")) entry["session"] = context.session;
-    entry["time"] =
-        entry.at("session").get<int>() == context.session
-            ? nlohmann::json(entry.at("timestamp").get<double>() - context.session_start)
-            : nlohmann::json(nullptr);
-    list.push_back(std::move(entry));
+  const auto stamp = [&](ChangeEntry entry) {
+    entry.time = entry.session == context.session
+                     ? std::optional<double>(entry.timestamp - context.session_start)
+                     : std::nullopt;
+    revised.push_back(std::move(entry));
   };
   // The earlier sessions' entries as they revised them: what this session's object map
   // says of them would lose their moves and additions.
   if (context.earlier_changes) {
-    const nlohmann::json earlier = nlohmann::json::parse(*context.earlier_changes);
-    for (nlohmann::json entry : earlier.at("changes")) {
-      if (entry.at("session").get<int>() < context.session) stamp(std::move(entry));
+    for (const ChangeEntry& entry : *context.earlier_changes) {
+      if (entry.session < context.session) stamp(entry);
     }
   }
-  for (nlohmann::json entry : root.at("changes")) {
-    if (context.earlier_changes && entry.value("session", context.session) < context.session)
-      continue;
-    const auto move = entry.at("type") == "removed"
-                          ? moves_from.find(entry.at("object_id").get<ObjectId>())
-                          : moves_from.end();
+  for (ChangeEntry entry : own) {
+    if (context.earlier_changes && entry.session < context.session) continue;
+    const auto move = entry.type == "removed" ? moves_from.find(entry.object_id) : moves_from.end();
     if (move != moves_from.end()) {
       const ObjectRecord& to = move->second.to;
-      entry["type"] = "moved";
-      entry["reason"] = between_sessions.count(move->first) > 0
-                            ? "removed from its place, last seen before session " +
-                                  std::to_string(context.session) +
-                                  "; same class first seen in session " +
-                                  std::to_string(context.session) + ", " +
-                                  Rounded(move->second.distance) + " away (map units)"
-                            : "removed here, same class appeared near after its last sighting";
-      entry["to"] = {
-          {"object_id", to.id}, {"cuboid", CuboidJson(to.cuboid)}, {"first_seen", to.first_seen}};
-      entry["distance"] = move->second.distance;
+      entry.type = "moved";
+      entry.reason = between_sessions.count(move->first) > 0
+                         ? "removed from its place, last seen before session " +
+                               std::to_string(context.session) +
+                               "; same class first seen in session " +
+                               std::to_string(context.session) + ", " +
+                               Rounded(move->second.distance) + " away (map units)"
+                         : "removed here, same class appeared near after its last sighting";
+      entry.to = MoveDestination{to.id, to.cuboid, to.first_seen};
+      entry.distance = move->second.distance;
       const auto look = looks.find({move->first, to.id});
-      if (look != looks.end()) entry["appearance"] = look->second;
+      if (look != looks.end()) entry.appearance = look->second;
     }
-    if (entry.at("type") == "removed" || entry.at("type") == "moved") {
-      const auto evidence = alternatives.find(entry.at("object_id").get<ObjectId>());
-      if (evidence != alternatives.end() &&
-          entry.value("session", context.session) == context.session)
-        entry["candidates"] = evidence->second;
+    if (entry.type == "removed" || entry.type == "moved") {
+      const auto evidence = alternatives.find(entry.object_id);
+      if (evidence != alternatives.end() && entry.session == context.session)
+        entry.candidates = evidence->second;
     }
     stamp(std::move(entry));
   }
   if (context.session > 0) {
-    for (const ObjectRecord& object : live.objects) {
+    for (const ObjectRecord& object : live) {
       if (object.first_session != context.session || moved_to.count(object.id) > 0) continue;
-      stamp({{"type", "added"},
-             {"timestamp", object.first_seen},
-             {"object_id", object.id},
-             {"class_id", object.class_id},
-             {"class", CocoClassName(object.class_id)},
-             {"centroid", VectorJson(object.cuboid.centre)},
-             {"cuboid", CuboidJson(object.cuboid)},
-             {"reason", "first seen in session " + std::to_string(context.session)}});
+      ChangeEntry added;
+      added.type = "added";
+      added.session = context.session;
+      added.timestamp = object.first_seen;
+      added.object_id = object.id;
+      added.class_id = object.class_id;
+      added.cuboid = object.cuboid;
+      added.reason = "first seen in session " + std::to_string(context.session);
+      stamp(std::move(added));
     }
   }
-  root["changes"] = list;
-  return root.dump(1) + "\n";
+  return revised;
 }
 
 }  // namespace ocg

@@ -11,7 +11,7 @@ ObjectMapper::ObjectMapper(ObjectsOptions objects, OcgOptions ocg, PinholeCamera
                            bool sequential)
     : map_(std::move(objects), camera), manager_(ocg, sequential) {
   map_.SetRestore(ocg.modes().restore);
-  map_.SetPointPresence(ocg.modes().point_presence);
+  map_.SetEvidence(EvidenceProvidersFor(ocg.modes()));
   // Runs on the OCG's thread (in sequential mode inside Submit()): never hold map_mutex_
   // while submitting.
   manager_.SetRemovalCallback([this](const KeyframeResult& result) {
@@ -155,9 +155,14 @@ std::string ObjectMapper::ObjectsJson() const {
   return ocg::ObjectsJson(map_, states);
 }
 
-std::string ObjectMapper::ChangesJson() const {
+std::vector<ObjectChange> ObjectMapper::Changes() const {
   std::lock_guard<std::mutex> lock(map_mutex_);
-  return ObjectChangesJson(map_.changes());
+  return map_.changes();
+}
+
+std::vector<ObjectRecord> ObjectMapper::LiveObjects() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return LiveObjectRecords(map_);
 }
 
 std::string ObjectMapper::ObservationsJsonl() const {

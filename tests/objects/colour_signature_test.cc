@@ -119,32 +119,31 @@ ObjectChange RemovedRemote(ObjectId id, double x) {
   change.sightings = 20;
   return change;
 }
-nlohmann::json LiveRemote(ObjectId id, double x) {
-  return {{"id", id},
-          {"class_id", 65},
-          {"cuboid", {{"centre", {x, 0.0, 0.8}}, {"size", {0.15, 0.05, 0.02}}, {"yaw", 0.0}}},
-          {"first_seen", 2005},
-          {"last_seen", 2010},
-          {"first_session", 1}};
+ObjectRecord LiveRemote(ObjectId id, double x) {
+  ObjectRecord record;
+  record.id = id;
+  record.class_id = 65;
+  record.cuboid.centre = Eigen::Vector3d(x, 0, 0.8);
+  record.cuboid.size = Eigen::Vector3d(0.15, 0.05, 0.02);
+  record.first_seen = 2005;
+  record.last_seen = 2010;
+  record.first_session = 1;
+  return record;
 }
 
 // Session 1 removed remotes 3 (red) and 4 (yellow), last seen in session 0, and found
 // remotes 9 and 10 each 0.2 from the other's old place (pair 2 of issue 19). Their boxes'
 // descriptors match nothing of either; their colours tell which is which.
 TEST(ChangeLog, BetweenSessionsFlatObjectsPairByColourWhereDescriptorsTellNothing) {
-  const std::string changes = ObjectChangesJson({RemovedRemote(3, 0.0), RemovedRemote(4, 1.0)});
-  const std::string objects =
-      nlohmann::json({{"format", "ocg-objects"},
-                      {"version", 1},
-                      {"objects", {LiveRemote(9, 1.2), LiveRemote(10, -0.2)}}})
-          .dump();
+  const std::vector<ObjectChange> changes = {RemovedRemote(3, 0.0), RemovedRemote(4, 1.0)};
+  const std::vector<ObjectRecord> objects = {LiveRemote(9, 1.2), LiveRemote(10, -0.2)};
   ChangeLogContext context;
   context.session = 1;
   context.session_start = 2000;
   const auto moved_to = [&] {
     std::map<ObjectId, ObjectId> to;
     const nlohmann::json revised =
-        nlohmann::json::parse(ReviseChangeLog(changes, objects, context));
+        nlohmann::json::parse(ChangeLogJson(ReviseChangeLog(changes, objects, context)));
     for (const nlohmann::json& entry : revised.at("changes")) {
       if (entry["type"] == "moved")
         to[entry["object_id"].get<ObjectId>()] = entry["to"]["object_id"].get<ObjectId>();
@@ -161,7 +160,8 @@ TEST(ChangeLog, BetweenSessionsFlatObjectsPairByColourWhereDescriptorsTellNothin
   context.colour = {{3, red}, {4, yellow}, {9, red_again}, {10, yellow_again}};
   EXPECT_EQ(moved_to(), (std::map<ObjectId, ObjectId>{{3, 9}, {4, 10}}));
   // The evidence says so.
-  const nlohmann::json revised = nlohmann::json::parse(ReviseChangeLog(changes, objects, context));
+  const nlohmann::json revised =
+      nlohmann::json::parse(ChangeLogJson(ReviseChangeLog(changes, objects, context)));
   const nlohmann::json& move = revised["changes"][0];
   ASSERT_EQ(move["type"], "moved");
   EXPECT_GT(move["appearance"]["colour_similarity"].get<double>(), 0.8);

@@ -63,7 +63,7 @@ TEST(ObjectMapper, MapsEachObjectOnceAtItsPlaceAndKeepsAStaticSceneWhole) {
               0.15 * truth.size.maxCoeff())
         << truth.class_id;
   }
-  EXPECT_TRUE(nlohmann::json::parse(mapper.ChangesJson())["changes"].empty());
+  EXPECT_TRUE(mapper.Changes().empty());
   const ObjectLayerStats stats = mapper.Stats();
   EXPECT_EQ(stats.frames, scene.options.frames);
   EXPECT_EQ(stats.keyframes, scene.options.frames / kKeyframeInterval);
@@ -90,7 +90,8 @@ TEST(ObjectMapper, AnObjectTakenAwayIsRemovedWhenTheCameraLeavesItsNeighbours) {
     const auto live = LiveByClass(again);
     EXPECT_EQ(live.size(), 3u);
     EXPECT_EQ(live.count(41), 0u);
-    const nlohmann::json changes = nlohmann::json::parse(again.ChangesJson())["changes"];
+    const nlohmann::json changes =
+        nlohmann::json::parse(ChangeLogJson(EntriesOf(again.Changes())))["changes"];
     ASSERT_EQ(changes.size(), 1u);
     EXPECT_EQ(changes[0]["type"], "removed");
     EXPECT_EQ(changes[0]["class_id"], 41);

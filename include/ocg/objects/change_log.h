@@ -10,19 +10,12 @@
 #include "ocg/features/descriptor.h"
 #include "ocg/objects/colour_signature.h"
 #include "ocg/objects/map_diff.h"
+#include "ocg/objects/object_change.h"
 
 namespace ocg {
 
-// How much two objects look alike by the ORB descriptors of their map points: of the
-// smaller set, how many have a descriptor of the other set within max_distance bits.
-struct AppearanceMatch {
-  int compared = 0;
-  int matched = 0;
-  // Median over the smaller set of the distance to its nearest descriptor in the other,
-  // bits (256 when compared is 0): how far apart the two looks are when few match.
-  int median_distance = kDescriptorBits;
-  double Share() const { return compared > 0 ? static_cast<double>(matched) / compared : 0.0; }
-};
+// How much two objects look alike (AppearanceMatch, object_change.h): of the smaller set,
+// how many have a descriptor of the other set within max_distance bits.
 AppearanceMatch MatchAppearance(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
                                 int max_distance);
 // The same with from's descriptors compared (whatever the sizes): how much of from is
@@ -66,18 +59,19 @@ struct ChangeLogContext {
   // appearance by when the two were seen as their class (objects left out: by
   // objects.json's first_seen and the removal's last_seen).
   SeenAsClass seen_as_class;
-  // Map files: changes.json as the session that saved the loaded map revised it. Earlier
+  // Map files: the change log as the session that saved the loaded map revised it. Earlier
   // sessions' entries are taken from it (their moves, additions and reasons as that
   // session found them) instead of the object map's own entries. None: the object map's.
-  std::optional<std::string> earlier_changes;
+  std::optional<std::vector<ChangeEntry>> earlier_changes;
 };
 
-// changes.json as ObjectChangesJson writes it, revised against the live objects of
-// objects.json (ObjectsJson's text). This session's removals become "moved" entries
-// holding both ids and cuboids ("centroid" and "cuboid" stay the old place's) when:
+// The object map's change log (changes, in order) revised against its live objects (live:
+// LiveObjectRecords, object_map.h): the entries of changes.json (ChangeLogJson writes them).
+// This session's removals become "moved" entries holding both ids and cuboids (the entry's
+// cuboid stays the old place's) when:
 //  - the object was last seen in an earlier session (last_seen before session_start, a
 //    later session only) and a live object of its class was first seen in this session
-//    ("first_session"), at any distance, all such pairs chosen together: one assignment
+//    (first_session), at any distance, all such pairs chosen together: one assignment
 //    of least total cost, objects that look alike (context.box_appearance, MatchFrom, or
 //    else context.appearance, MatchAppearance) before nearer ones (between-session
 //    entries list their candidates as evidence), and, where both have one, whose colours
@@ -89,14 +83,12 @@ struct ChangeLogContext {
 //    than its new place was first seen.
 // Earlier sessions' removals are not paired again: their session paired them (with
 // context.earlier_changes, their entries are that session's, moves included; without, they
-// stay "removed"). In a later
-// session, live objects first seen in it and not part of a move get an "added" entry.
-// Every entry gets "session" (kept when the entry has one: a change an earlier session
-// made) and "time" (seconds from session_start; null for earlier sessions' changes).
-// Other entries pass unchanged.
-// Throws ParseError, nlohmann::json::exception or std::invalid_argument on texts those
-// functions did not write.
-std::string ReviseChangeLog(const std::string& changes_json, const std::string& objects_json,
-                            const ChangeLogContext& context);
+// stay "removed"). In a later session, live objects first seen in it and not part of a move
+// get an "added" entry. Every entry gets a time (seconds from session_start; none for
+// earlier sessions' changes). Other entries pass unchanged (EntryOf).
+// Throws std::invalid_argument when context.appearance_options fail their Check().
+std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& changes,
+                                         const std::vector<ObjectRecord>& live,
+                                         const ChangeLogContext& context);
 
 }  // namespace ocg

@@ -3,11 +3,18 @@
 // candidates promoted once they are triangulated, duplicates merged, and removals of the
 // OCG applied. Feeds the OCG one KeyframeObservation per keyframe.
 //
+// The map holds the state (objects, candidates, what changed since the last keyframe, the
+// change log) and runs the steps; each rule is a part of its own: association
+// (detection_association.h), candidates (candidate_tracker.h), hygiene (map_hygiene.h),
+// restore (object_restore.h), the session pairing's appearances (session_appearance.h) and
+// the evidence sources, one provider each (evidence_provider.h, point_evidence.h).
+//
 // Not thread-safe: ObjectMapper serialises every call (see object_mapper.h).
 
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,63 +25,21 @@
 #include "ocg/objects/box.h"
 #include "ocg/objects/box_appearance.h"
 #include "ocg/objects/colour_signature.h"
+#include "ocg/objects/evidence_provider.h"
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/map_diff.h"
-#include "ocg/objects/object_geometry.h"
+#include "ocg/objects/map_object.h"
+#include "ocg/objects/object_change.h"
 #include "ocg/objects/objects_options.h"
+#include "ocg/objects/point_evidence.h"
 #include "ocg/objects/point_presence.h"
+#include "ocg/objects/session_appearance.h"
 #include "ocg/ocg/change_detector.h"
 #include "ocg/ocg/observation.h"
 
 namespace ocg {
 
 struct MapFileAccess;  // map files (src/app/object_map_file.cc) save and restore the state
-
-struct ObjectSighting {
-  std::int64_t frame = 0;
-  SE3 T_cw;
-  Box2 box;
-  bool truncated = false;
-  // The box shares area with a more confident box of its class in the frame
-  // (BesideAMoreConfidentBoxOfItsClass): its centre may be on the other object (a second
-  // box on it, or a box sliding onto it as the view changes). It neither helps a candidate
-  // become an object nor keeps an object through the hygiene (Objects.min_sightings); a
-  // map object's geometry uses it like any other. Not saved in map files.
-  bool crowded = false;
-  int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
-  int session = 0;   // the session (map files: 0 for the first run) that saw it
-  // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
-  // the sightings at that session's keyframes (ObjectMap::SetSightingColours).
-  std::optional<ColourHistogram> colour;
-  // Seconds, the frame's timestamp (SeenAsClass()). Not saved in map files: 0 in sightings
-  // loaded from one.
-  double timestamp = 0.0;
-};
-
-// A SLAM map point seen inside an object's boxes (SLAM runs only).
-struct ObjectPoint {
-  int votes = 0;                                       // boxes it was inside
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, when last tracked
-  // The map point's ORB descriptor as of the last FollowMap that gave one. Not kept in map
-  // files (the SLAM map holds it; the next FollowMap gives it back).
-  std::optional<Descriptor> descriptor;
-};
-
-// A map object, or a candidate (id < 0) not yet triangulated.
-struct MapObject {
-  ObjectId id = 0;
-  int class_id = 0;                       // the most frequent class of its sightings
-  std::vector<ObjectSighting> sightings;  // every one, in frame order
-  Cuboid cuboid;
-  bool has_cuboid = false;
-  bool yaw_from_points = false;  // else from the boxes' widths
-  std::int64_t first_frame = 0;
-  std::int64_t last_frame = 0;
-  double first_timestamp = 0.0;
-  double last_timestamp = 0.0;
-  std::int64_t keyframes_in_map = 0;            // keyframes since promotion
-  std::map<std::uint64_t, ObjectPoint> points;  // by SLAM map point id
-};
 
 // An object as viewers and reports show it: live or removed, with its OCG state.
 struct ObjectView {
@@ -83,53 +48,6 @@ struct ObjectView {
   Cuboid cuboid;
   int state = 0;         // OCG state 1-4; 0 before the object's first keyframe
   bool removed = false;  // left the map (the change log's last cuboid)
-};
-
-// The object's point set: its map points with at least min_votes votes, within its largest
-// extent of its centre once it has a cuboid, and within 3 robust sigmas of their median
-// (the background caught in its boxes left out).
-std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes);
-// The same points' ids (SLAM map point ids), in id order.
-std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes);
-// The object's appearance: the descriptors of its point set (points without one left
-// out). An object keeps its texture when it is carried elsewhere, so the points of its new
-// place match these far better than those of another object of its class.
-std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes);
-
-// OCG.mode "points": whether a frame still shows the object by its own map points. Of its
-// point set (ObjectPointIds) the points that project inside the image from T_cw, at least
-// Objects.presence_min_points and a share Objects.presence_min_share were tracked in the
-// frame (tracked: its tracked map point ids, sorted) or, with frame, found by their
-// descriptors near their projections (SearchPointsInFrame). A detector that misses an
-// object does not change its texture; an object carried away takes its points with it,
-// and what is left at its place (the table behind) was never most of its set. Tracking
-// alone rarely sees them again: it follows its local map, and an object's points were made
-// in the few frames it was detected in.
-bool PresentByPoints(const MapObject& object, const std::vector<std::uint64_t>& tracked,
-                     const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options,
-                     const FrameFeatureSearch* frame = nullptr);
-
-struct ObjectChange {
-  // "removed" (by the OCG), "merged" (a duplicate, hygiene), "dropped" (too few
-  // sightings, hygiene) or "restored" (a removed object found again at its place)
-  std::string type;
-  std::int64_t keyframe_id = 0;
-  double timestamp = 0.0;
-  ObjectId object_id = 0;
-  ObjectId merged_into = 0;  // "merged" only
-  int class_id = 0;
-  Cuboid cuboid;  // the last estimate
-  std::size_t sightings = 0;
-  double doubt = 0.0;      // "removed" only
-  double last_seen = 0.0;  // "removed" only: timestamp of the last sighting
-  // "restored" only: the object that was found at its place (merged into it) and when it
-  // had been removed
-  ObjectId recreated_as = 0;
-  double removed_at = 0.0;
-  int session = 0;  // the session that made the change (StartSession)
-  // "removed" only: why the OCG removed it (RemovalEvent::reason). Not kept in map files:
-  // the revised change log they keep holds it.
-  std::string reason;
 };
 
 struct FrameAssociation {
@@ -186,19 +104,12 @@ class ObjectMap {
   // the next keyframe (MakeKeyframeObservation: a "restored" change, the object found
   // there merged into it, the OCG told through observation.restored).
   void SetRestore(bool restore) { restore_ = restore; }
-  // OCG.mode "points": each keyframe observation lists the objects not detected that the
-  // last frame shows by their points (PresentByPoints).
-  void SetPointPresence(bool point_presence) { point_presence_ = point_presence; }
-  // The "points" evidence so far: keyframes given a frame to search, objects searched,
-  // objects found present, and the thread CPU time it took.
-  struct PointPresenceStats {
-    std::int64_t keyframes = 0;
-    std::int64_t keyframes_with_presence = 0;
-    std::int64_t objects_searched = 0;
-    std::int64_t objects_present = 0;
-    double cpu_seconds = 0.0;
-  };
-  const PointPresenceStats& point_presence_stats() const { return point_presence_stats_; }
+  // The evidence sources asked at each keyframe, in order (EvidenceProvidersFor the OCG's
+  // modes); without a call: "observed" and "updates" alone.
+  void SetEvidence(std::vector<std::unique_ptr<EvidenceProvider>> providers);
+  // OCG.mode "points": the evidence's counts so far (all 0 without it).
+  using PointPresenceStats = ocg::PointPresenceStats;
+  const PointPresenceStats& point_presence_stats() const;
 
   const std::map<ObjectId, MapObject>& objects() const { return objects_; }
   std::size_t CandidateCount() const { return candidates_.size(); }
@@ -241,63 +152,30 @@ class ObjectMap {
 
  private:
   friend struct MapFileAccess;
-  // The objects a between-session pairing weighs (a later session only): visit(object,
-  // removed) for each one removed in this run and last seen in an earlier session
-  // (removed true) and each live one seen in this session alone (removed false).
-  template <typename Visit>
-  void ForEachBetweenSessionCandidate(Visit&& visit) const;
-  // Re-estimates centre and cuboid from the sightings (yaw from the point set when it
-  // tells one); false when they do not meet.
-  bool Reestimate(MapObject& object, bool candidate) const;
-  std::optional<double> PointSetYaw(const MapObject& object) const;
-  // The candidate an unassociated, untruncated box continues after a detector gap (longer
-  // than Objects.predicted_box_frames, within Objects.candidate_gap_seconds; the box fits
-  // its track: FitOfBoxToTrack), the best fitting one; null when none.
-  MapObject* CandidateAcrossGap(const ObjectDetection& detection, std::int64_t frame,
-                                double timestamp, const SE3& T_cw);
-  // Whether a box at point, seen from T_cw, is predicted sharply by the track's views
-  // (Objects.candidate_gap_seconds): the view is within candidate_min_parallax_deg of one
-  // of them (from nearly one place the depth does not matter: the box is where the last
-  // one was), or within the track's own spread of views (which fixes the depth). From
-  // farther round, the object of a track whose depth is free could be anywhere along a
-  // line across the image, and a box of its class there is as likely another object.
-  bool PredictsSharply(const std::vector<BoxView>& track, const Eigen::Vector3d& point,
-                       const SE3& T_cw) const;
-  // The map object whose projected cuboid a candidate's untruncated boxes fit (see
-  // Objects.join_candidates), or null; the boxes that fit as partial views are marked
-  // truncated.
-  MapObject* HostOf(MapObject& candidate);
+  ObjectMapContext Context() const { return {options_, camera_, R_wg_}; }
+  SessionObjects SessionView() const;
+  // A candidate whose rays met in frame: joins the map object it is (JoinCandidate) or
+  // becomes one.
+  void Promote(MapObject& candidate, std::int64_t frame, FrameAssociation* result);
+  // A candidate about to be promoted that is a map object seen again (its boxes fit the
+  // object's projection: Objects.join_candidates) joins it; returns the object's id.
+  std::optional<ObjectId> JoinCandidate(MapObject& candidate, std::int64_t frame);
   // Candidates waiting for a box across a gap (not detected for more than
   // candidate_max_missed_frames) whose boxes fit a map object's projection join it: the
   // boxes a hard object got before it was mapped (issue 18: a vase found in runs seconds
   // apart, mapped from a later run, then dropped for too few sightings).
   void JoinWaitingCandidates();
-  // A candidate about to be promoted that is a map object seen again (its boxes fit the
-  // object's projection: Objects.join_candidates) joins it; returns the object's id.
-  std::optional<ObjectId> JoinCandidate(MapObject& candidate, std::int64_t frame);
-  // The sightings of stand_in that are partial views of object's projected cuboid (a part
-  // of it, the rest hidden by something nearer) become truncated: their centres and extents
-  // do not tell the object's. As a joining candidate's, so an object merged into another
-  // does not pull its centre towards the visible part's.
-  void MarkPartialViews(MapObject& stand_in, const MapObject& object) const;
+  // Hygiene at a keyframe: merges every pair FindDuplicate finds; drops the objects with
+  // too little evidence (TooLittleEvidence). Each change into merges.
+  void MergeDuplicates(std::int64_t keyframe_id, double timestamp,
+                       std::vector<ObjectChange>* merges);
+  void DropUnsupported(std::int64_t keyframe_id, double timestamp,
+                       std::vector<ObjectChange>* merges);
   void Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id, double timestamp,
              std::vector<ObjectChange>* merges);
   // Brings back the removed objects a map object now stands in for; returns their ids.
   std::vector<ObjectId> RestoreRemoved(std::int64_t keyframe_id, double timestamp,
                                        std::vector<ObjectChange>* merges);
-  // OCG.mode "points": the objects not detected since the last keyframe that the frame at
-  // T_cw shows by their points (PresentByPoints), into observation->present_by_points.
-  void AddPresentByPoints(const SE3& T_cw, const FrameFeatureSearch* frame,
-                          KeyframeObservation* observation);
-  struct PointCue;
-  // Whether one of box_points is a point on the object (voted for, within its largest
-  // extent of its centre).
-  bool HoldsOwnPoint(const MapObject& object,
-                     const std::vector<const PointObservation*>& box_points) const;
-  double AssociationScore(const MapObject& object, const ObjectDetection& detection,
-                          std::int64_t frame, const SE3& T_cw,
-                          const std::vector<const PointObservation*>& box_points,
-                          const PointCue* object_points) const;
 
   ObjectsOptions options_;
   PinholeCamera camera_;
@@ -305,14 +183,13 @@ class ObjectMap {
   std::map<ObjectId, MapObject> objects_;
   std::map<ObjectId, MapObject> candidates_;                  // negative ids
   std::map<ObjectId, std::int64_t> observed_since_keyframe_;  // id -> last frame
-  // The map point ids the last frame tracked, sorted ("points" evidence); empty without a
-  // SLAM map.
-  std::vector<std::uint64_t> last_tracked_points_;
   std::map<ObjectId, bool> geometry_changed_;
   std::vector<ObjectChange> changes_;
   bool restore_ = false;
-  bool point_presence_ = false;
-  PointPresenceStats point_presence_stats_;
+  // The evidence sources, asked in this order at each keyframe; point_evidence_: the
+  // "points" one among them, else null.
+  std::vector<std::unique_ptr<EvidenceProvider>> evidence_;
+  const PointPresenceEvidence* point_evidence_ = nullptr;
   struct RemovedObject {
     MapObject object;
     double removed_at = 0.0;  // timestamp
@@ -331,7 +208,8 @@ class ObjectMap {
 
 // objects.json (SPEC 5): the live objects with their cuboid and OCG state.
 std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& states);
-// changes.json: {"changes": [{"type": "removed" | "merged" | "dropped" | "restored", ...}]}.
-std::string ObjectChangesJson(const std::vector<ObjectChange>& changes);
+// The live objects as the change log's revision reads them (ReviseChangeLog): what
+// objects.json says of each, in id order.
+std::vector<ObjectRecord> LiveObjectRecords(const ObjectMap& map);
 
 }  // namespace ocg

@@ -75,7 +75,10 @@ class ObjectMapper {
   void Finish();
 
   std::string ObjectsJson() const;
-  std::string ChangesJson() const;
+  // The object map's change log, and its live objects as the log's revision reads them
+  // (ReviseChangeLog, change_log.h).
+  std::vector<ObjectChange> Changes() const;
+  std::vector<ObjectRecord> LiveObjects() const;
   std::string GraphJson() const;
   ObjectLayerStats Stats() const;
   // The live objects with their OCG state, and the removed ones (for viewers).

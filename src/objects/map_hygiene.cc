@@ -1,0 +1,155 @@
+#include "ocg/objects/map_hygiene.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace ocg {
+namespace {
+
+// Whether a box that fits a projected cuboid so counts as a view of that object. A partial
+// view counts only for an object of the box's class: a box inside a larger object's
+// projection is as often a smaller object of another class in front of it.
+bool CountsAsFit(BoxFit fit, bool same_class) {
+  return fit == BoxFit::kWhole || (fit == BoxFit::kPartial && same_class);
+}
+
+// Whether stand_in's untruncated boxes fit object's projected cuboid (FitOfBox: whole, or
+// partial views when of one class; for at least share of them): its detections fit object,
+// at object's depth and size, wherever their own rays met.
+bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, double min_iou,
+                        double share, const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
+  const auto usable = std::count_if(stand_in.sightings.begin(), stand_in.sightings.end(),
+                                    [](const ObjectSighting& s) { return !s.truncated; });
+  // Most pairs fail at their first boxes: stop once too many missed.
+  const double allowed_misses = (1.0 - share) * static_cast<double>(usable);
+  int misses = 0;
+  for (const ObjectSighting& sighting : stand_in.sightings) {
+    if (sighting.truncated) continue;
+    const std::optional<Box2> projected = ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
+    const BoxFit fit = projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone;
+    const bool covered = CountsAsFit(fit, stand_in.class_id == object.class_id);
+    if (!covered && ++misses > allowed_misses) return false;
+  }
+  return usable > 0;
+}
+
+// How each sighting of track fits object's projected cuboid (truncated ones: kNone).
+std::vector<BoxFit> FitsOfTrack(const MapObject& track, const MapObject& object, double min_iou,
+                                const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
+  std::vector<BoxFit> fits;
+  for (const ObjectSighting& sighting : track.sightings) {
+    const std::optional<Box2> projected =
+        sighting.truncated ? std::nullopt
+                           : ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
+    fits.push_back(projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone);
+  }
+  return fits;
+}
+
+}  // namespace
+
+std::optional<std::pair<ObjectId, ObjectId>> FindDuplicate(
+    const std::map<ObjectId, MapObject>& objects, const ObjectMapContext& context) {
+  for (auto a = objects.begin(); a != objects.end(); ++a) {
+    for (auto b = std::next(a); b != objects.end(); ++b) {
+      const MapObject& first = a->second;
+      const MapObject& second = b->second;
+      if (!first.has_cuboid || !second.has_cuboid) continue;
+      const double larger = std::max(first.cuboid.size.maxCoeff(), second.cuboid.size.maxCoeff());
+      const double smaller = std::min(first.cuboid.size.maxCoeff(), second.cuboid.size.maxCoeff());
+      // One object seen under two classes has one size: of two classes, the smaller one's
+      // (a cup within half a television's width of its centre is a cup beside it).
+      const double reach =
+          context.options.merge_distance * (first.class_id == second.class_id ? larger : smaller);
+      const bool one_space =
+          first.class_id == second.class_id &&
+          OverlapShare(first.cuboid.centre, WorldExtent(first.cuboid, context.R_wg),
+                       second.cuboid.centre,
+                       WorldExtent(second.cuboid, context.R_wg)) > context.options.merge_overlap;
+      bool keep_first = first.sightings.size() >= second.sightings.size();
+      if (!one_space) {
+        // Most pairs were detected together at some time: the cheap test first.
+        if (SeenTogether(first, second, context.options.duplicate_box_iou)) continue;
+        // Two objects of different classes are one object the detector named twice
+        // only when a session saw both. Seen in different sessions, the new one near
+        // the old one's place is more likely what was put there between the visits:
+        // merged, it would count as the old object seen again and reset its doubt.
+        if (first.class_id != second.class_id && !SeenInOneSession(first, second)) continue;
+        const auto along_rays = [&](const MapObject& stand_in, const MapObject& object) {
+          return context.options.merge_along_rays &&
+                 SeenAsProjectionOf(stand_in, object, context.options.min_reacquire_iou,
+                                    context.options.min_inlier_share, context.R_wg, context.camera);
+        };
+        if (along_rays(second, first)) {
+          keep_first = true;
+        } else if (along_rays(first, second)) {
+          keep_first = false;
+        } else if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) {
+          continue;
+        }
+      }
+      return std::make_pair(keep_first ? first.id : second.id, keep_first ? second.id : first.id);
+    }
+  }
+  return std::nullopt;
+}
+
+bool TooLittleEvidence(const MapObject& object, const ObjectsOptions& options) {
+  // Crowded boxes (beside a more confident box of the class) may be the neighbour's: they
+  // are no evidence that this object exists (issue 18, fr3: a bottle in mid-air, promoted from 8
+  // boxes of two bottles, kept by 13 boxes beside the front bottle's).
+  const auto own_sightings =
+      std::count_if(object.sightings.begin(), object.sightings.end(),
+                    [](const ObjectSighting& sighting) { return !sighting.crowded; });
+  return object.keyframes_in_map >= options.probation_keyframes &&
+         own_sightings < options.min_sightings;
+}
+
+MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,
+                  const ObjectMapContext& context) {
+  const auto usable = std::count_if(candidate.sightings.begin(), candidate.sightings.end(),
+                                    [](const ObjectSighting& s) { return !s.truncated; });
+  if (usable == 0) return nullptr;
+  // The host: its class before any other (a class flip is the rarer story), then the
+  // largest share of fitting boxes.
+  MapObject* host = nullptr;
+  std::vector<BoxFit> host_fits;
+  std::pair<bool, double> best{false, context.options.min_inlier_share};
+  for (auto& [id, object] : objects) {
+    if (!object.has_cuboid || SeenTogether(candidate, object, context.options.duplicate_box_iou))
+      continue;
+    const bool same_class = object.class_id == candidate.class_id;
+    // As in the keyframe hygiene: another class is the same object misnamed only when
+    // one session saw both; across sessions it is what was put at the old one's place.
+    if (!same_class && !SeenInOneSession(candidate, object)) continue;
+    std::vector<BoxFit> fits = FitsOfTrack(candidate, object, context.options.min_reacquire_iou,
+                                           context.R_wg, context.camera);
+    const double share = static_cast<double>(std::count_if(
+                             fits.begin(), fits.end(),
+                             [same_class](BoxFit fit) { return CountsAsFit(fit, same_class); })) /
+                         static_cast<double>(usable);
+    const std::pair<bool, double> rank{same_class, share};
+    if (share >= context.options.min_inlier_share && rank >= best) {
+      best = rank;
+      host = &object;
+      host_fits = std::move(fits);
+    }
+  }
+  if (host == nullptr) return nullptr;
+  for (std::size_t i = 0; i < candidate.sightings.size(); ++i) {
+    if (host_fits[i] == BoxFit::kPartial) candidate.sightings[i].truncated = true;
+  }
+  return host;
+}
+
+void MarkPartialViews(MapObject& stand_in, const MapObject& object,
+                      const ObjectMapContext& context) {
+  if (!object.has_cuboid) return;
+  const std::vector<BoxFit> fits = FitsOfTrack(stand_in, object, context.options.min_reacquire_iou,
+                                               context.R_wg, context.camera);
+  for (std::size_t i = 0; i < stand_in.sightings.size(); ++i) {
+    if (fits[i] == BoxFit::kPartial) stand_in.sightings[i].truncated = true;
+  }
+}
+
+}  // namespace ocg

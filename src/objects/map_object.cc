@@ -1,0 +1,212 @@
+#include "ocg/objects/map_object.h"
+
+#include <algorithm>
+#include <iterator>
+#include <set>
+
+#include "ocg/objects/object_geometry.h"
+
+namespace ocg {
+namespace {
+
+// The yaw the point set's footprint tells (its minimum-area rectangle, when elongated
+// enough), else none.
+std::optional<double> PointSetYaw(const MapObject& object, const ObjectMapContext& context) {
+  const std::vector<Eigen::Vector3d> point_set =
+      ObjectPointSet(object, context.options.min_point_votes);
+  if (static_cast<int>(point_set.size()) < context.options.yaw_min_points) return std::nullopt;
+  std::vector<Eigen::Vector2d> footprint;
+  for (const Eigen::Vector3d& point : point_set)
+    footprint.push_back((context.R_wg.transpose() * point).head<2>());
+  const Rectangle2 rectangle = MinAreaRectangle(footprint);
+  const double long_side = std::max(rectangle.length, rectangle.width);
+  const double short_side = std::min(rectangle.length, rectangle.width);
+  if (!rectangle.valid || long_side < context.options.yaw_min_elongation * short_side)
+    return std::nullopt;
+  return rectangle.yaw;
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes) {
+  // Where the boxes' rays meet says which of the points in them are on the object: the
+  // background behind it can hold most of them when the camera moves little.
+  const double reach = object.has_cuboid ? object.cuboid.size.maxCoeff() : 0.0;
+  std::vector<std::uint64_t> voted_ids;
+  std::vector<Eigen::Vector3d> voted;
+  for (const auto& [id, point] : object.points) {
+    if (point.votes < min_votes) continue;
+    if (object.has_cuboid && (point.position - object.cuboid.centre).norm() > reach) continue;
+    voted_ids.push_back(id);
+    voted.push_back(point.position);
+  }
+  const RobustBounds bounds = RobustPointBounds(voted, 3.0);
+  if (!bounds.valid) return voted_ids;
+  std::vector<std::uint64_t> kept;
+  for (std::size_t i = 0; i < voted.size(); ++i) {
+    if (bounds.Contains(voted[i])) kept.push_back(voted_ids[i]);
+  }
+  return kept;
+}
+
+std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes) {
+  std::vector<Eigen::Vector3d> positions;
+  for (std::uint64_t id : ObjectPointIds(object, min_votes))
+    positions.push_back(object.points.at(id).position);
+  return positions;
+}
+
+std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes) {
+  std::vector<Descriptor> descriptors;
+  for (std::uint64_t id : ObjectPointIds(object, min_votes)) {
+    const ObjectPoint& point = object.points.at(id);
+    if (point.descriptor) descriptors.push_back(*point.descriptor);
+  }
+  return descriptors;
+}
+
+bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& context) {
+  std::vector<const ObjectSighting*> usable;
+  for (const ObjectSighting& sighting : object.sightings) {
+    // A candidate triangulates from its uncrowded boxes alone: the centre of a box beside a
+    // more confident one of its class may be on that object (a detector's second box on
+    // it, or a box sliding onto it as the view changes), and its ray then meets the others
+    // in front of both (issue 18, fr3: a bottle 1.3 m short, from second boxes on
+    // another).
+    if (!sighting.truncated && !(candidate && sighting.crowded)) usable.push_back(&sighting);
+  }
+  if (candidate && static_cast<int>(usable.size()) < context.options.candidate_min_observations) {
+    return false;
+  }
+  std::vector<Ray> rays;
+  std::vector<const ObjectSighting*> used;
+  for (std::size_t index :
+       Thinned(usable.size(), static_cast<std::size_t>(context.options.max_rays))) {
+    used.push_back(usable[index]);
+    rays.push_back(PixelRay(usable[index]->box.Centre(), usable[index]->T_cw, context.camera));
+  }
+  const RayIntersection intersection =
+      IntersectRays(rays, 0.01, candidate ? context.options.min_inlier_share : 0.5);
+  if (!intersection.valid) return false;
+  if (candidate && (intersection.inlier_count < context.options.candidate_min_observations ||
+                    intersection.parallax_deg < context.options.candidate_min_parallax_deg)) {
+    return false;
+  }
+  std::vector<BoxView> views;
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    if (intersection.inliers[i]) views.push_back({used[i]->T_cw, used[i]->box});
+  }
+  const std::optional<double> yaw = PointSetYaw(object, context);
+  object.cuboid = EstimateCuboid(intersection.point, views, context.camera, context.R_wg, yaw);
+  object.yaw_from_points = yaw.has_value();
+  object.has_cuboid = true;
+  return true;
+}
+
+void Absorb(MapObject& into, const MapObject& from) {
+  std::vector<ObjectSighting> sightings;
+  std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
+             from.sightings.end(), std::back_inserter(sightings),
+             [](const ObjectSighting& a, const ObjectSighting& b) { return a.frame < b.frame; });
+  into.sightings = std::move(sightings);
+  for (const auto& [id, point] : from.points) {
+    ObjectPoint& entry = into.points[id];
+    if (entry.votes == 0) entry.position = point.position;
+    entry.votes += point.votes;
+  }
+  into.class_id = MajorityClass(into.sightings);
+  into.first_frame = std::min(into.first_frame, from.first_frame);
+  into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
+  into.last_frame = std::max(into.last_frame, from.last_frame);
+  into.last_timestamp = std::max(into.last_timestamp, from.last_timestamp);
+}
+
+void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
+  for (const PointObservation* point : box_points) {
+    ObjectPoint& entry = object.points[point->id];
+    ++entry.votes;
+    entry.position = point->position;
+  }
+}
+
+int MajorityClass(const std::vector<ObjectSighting>& sightings) {
+  std::map<int, int> votes;
+  for (const ObjectSighting& sighting : sightings) ++votes[sighting.class_id];
+  int best = sightings.front().class_id, best_votes = 0;
+  for (const auto& [class_id, count] : votes) {
+    if (count > best_votes) {
+      best = class_id;
+      best_votes = count;
+    }
+  }
+  return best;
+}
+
+std::vector<std::size_t> Thinned(std::size_t count, std::size_t limit) {
+  std::vector<std::size_t> indices;
+  if (count <= limit) {
+    for (std::size_t i = 0; i < count; ++i) indices.push_back(i);
+    return indices;
+  }
+  for (std::size_t k = 0; k < limit; ++k) indices.push_back(k * (count - 1) / (limit - 1));
+  return indices;
+}
+
+Eigen::Vector3d WorldExtent(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg) {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e300), high = -low;
+  for (const Eigen::Vector3d& corner : CuboidCorners(cuboid, R_wg)) {
+    low = low.cwiseMin(corner);
+    high = high.cwiseMax(corner);
+  }
+  return high - low;
+}
+
+double OverlapShare(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& extent_a,
+                    const Eigen::Vector3d& centre_b, const Eigen::Vector3d& extent_b) {
+  const Eigen::Vector3d low = (centre_a - 0.5 * extent_a).cwiseMax(centre_b - 0.5 * extent_b);
+  const Eigen::Vector3d high = (centre_a + 0.5 * extent_a).cwiseMin(centre_b + 0.5 * extent_b);
+  const double smaller = std::min(extent_a.prod(), extent_b.prod());
+  if (smaller <= 0.0 || (high - low).minCoeff() <= 0.0) return 0.0;
+  return (high - low).prod() / smaller;
+}
+
+bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_iou) {
+  auto i = a.sightings.begin();
+  auto j = b.sightings.begin();
+  while (i != a.sightings.end() && j != b.sightings.end()) {
+    if (i->frame == j->frame) {
+      if (IntersectionOverUnion(i->box, j->box) < duplicate_box_iou) return true;
+      ++i;
+      ++j;
+    } else if (i->frame < j->frame) {
+      ++i;
+    } else {
+      ++j;
+    }
+  }
+  return false;
+}
+
+bool SeenInOneSession(const MapObject& a, const MapObject& b) {
+  std::set<int> sessions;
+  for (const ObjectSighting& sighting : a.sightings) sessions.insert(sighting.session);
+  return std::any_of(b.sightings.begin(), b.sightings.end(), [&](const ObjectSighting& sighting) {
+    return sessions.count(sighting.session) > 0;
+  });
+}
+
+ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timestamp,
+                      const MapObject& object, int session) {
+  ObjectChange change;
+  change.type = type;
+  change.keyframe_id = keyframe_id;
+  change.timestamp = timestamp;
+  change.object_id = object.id;
+  change.class_id = object.class_id;
+  change.cuboid = object.cuboid;
+  change.sightings = object.sightings.size();
+  change.session = session;
+  return change;
+}
+
+}  // namespace ocg
