@@ -7,6 +7,7 @@
 #include <cereal/types/string.hpp>
 #include <cereal/types/utility.hpp>
 #include <cereal/types/vector.hpp>
+#include <cstring>
 #include <istream>
 #include <limits>
 #include <new>
@@ -36,6 +37,29 @@ void SaveBlock(cereal::BinaryOutputArchive& archive, const std::vector<T>& value
   for (std::size_t i = 0; i < values.size(); ++i) new (bytes.data() + i * sizeof(T)) T(values[i]);
   archive(cereal::binary_data(bytes.data(), bytes.size()));
 }
+// A pair is written member by member into zeroed bytes: its implicit copy may move the
+// whole 16 bytes of a pair<uint32_t, double>, padding included, so the generic copy above
+// carried the uninitialised padding of BoW entries into the file and two runs wrote
+// different map files. The layout is that of the vector's storage, as before.
+template <class A, class B>
+void SaveBlock(cereal::BinaryOutputArchive& archive, const std::vector<std::pair<A, B>>& values) {
+  using T = std::pair<A, B>;
+  static_assert(std::is_standard_layout_v<T> && std::is_trivially_copyable_v<A> &&
+                    std::is_trivially_copyable_v<B>,
+                "blocks of plain values only");
+  archive(cereal::make_size_tag(static_cast<cereal::size_type>(values.size())));
+  std::vector<unsigned char> bytes(sizeof(T) * values.size(), 0);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const auto* base = reinterpret_cast<const unsigned char*>(&values[i]);
+    const auto* first = reinterpret_cast<const unsigned char*>(&values[i].first);
+    const auto* second = reinterpret_cast<const unsigned char*>(&values[i].second);
+    unsigned char* out = bytes.data() + i * sizeof(T);
+    std::memcpy(out + (first - base), first, sizeof(A));
+    std::memcpy(out + (second - base), second, sizeof(B));
+  }
+  archive(cereal::binary_data(bytes.data(), bytes.size()));
+}
+
 template <class T>
 void LoadBlock(cereal::BinaryInputArchive& archive, std::vector<T>* values) {
   cereal::size_type size = 0;

@@ -135,11 +135,14 @@ TEST(SlamMapFile, PaddingBytesDoNotReachTheFile) {
   int entries = 0;
   for (const auto& [id, keyframe] : map.keyframes()) {
     std::vector<std::pair<WordId, double>>& kept = keyframe->bow.entries;
-    std::vector<std::pair<WordId, double>> dirty;
-    dirty.reserve(kept.size());
-    // The same values, built in storage whose padding holds 0xAB.
-    std::memset(static_cast<void*>(dirty.data()), 0xAB, sizeof(kept[0]) * dirty.capacity());
-    for (const auto& entry : kept) dirty.push_back(entry);
+    std::vector<std::pair<WordId, double>> dirty(kept.size());
+    // The same values, set member by member in storage whose padding holds 0xAB (a copy of
+    // a whole pair would carry the source's padding instead).
+    std::memset(static_cast<void*>(dirty.data()), 0xAB, sizeof(kept[0]) * dirty.size());
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      dirty[i].first = kept[i].first;
+      dirty[i].second = kept[i].second;
+    }
     kept.swap(dirty);
     entries += static_cast<int>(kept.size());
   }
