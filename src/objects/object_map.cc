@@ -623,6 +623,24 @@ std::optional<double> ObjectMap::PointSetYaw(const MapObject& object) const {
   return rectangle.yaw;
 }
 
+std::optional<Eigen::Vector3d> ObjectMap::AlongRaysByPoints(const MapObject& object,
+                                                            const std::vector<Ray>& rays,
+                                                            const RayIntersection& meet) const {
+  const std::vector<Eigen::Vector3d> point_set = ObjectPointSet(object, options_.min_point_votes);
+  if (static_cast<int>(point_set.size()) < options_.candidate_min_points) return std::nullopt;
+  std::size_t last = rays.size();
+  while (last > 0 && !meet.inliers[last - 1]) --last;
+  if (last == 0) return std::nullopt;
+  const Ray& ray = rays[last - 1];  // the latest inlier view
+  std::vector<double> ranges;
+  for (const Eigen::Vector3d& point : point_set)
+    ranges.push_back((point - ray.origin).dot(ray.direction));
+  std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
+  const double range = ranges[ranges.size() / 2];
+  if (range <= 0.0) return std::nullopt;
+  return ray.origin + range * ray.direction;
+}
+
 bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
   std::vector<const ObjectSighting*> usable;
   for (const ObjectSighting& sighting : object.sightings) {
@@ -642,12 +660,20 @@ bool ObjectMap::Reestimate(MapObject& object, bool candidate) const {
     used.push_back(usable[index]);
     rays.push_back(PixelRay(usable[index]->box.Centre(), usable[index]->T_cw, camera_));
   }
-  const RayIntersection intersection =
+  RayIntersection intersection =
       IntersectRays(rays, 0.01, candidate ? options_.min_inlier_share : 0.5);
   if (!intersection.valid) return false;
-  if (candidate && (intersection.inlier_count < options_.candidate_min_observations ||
-                    intersection.parallax_deg < options_.candidate_min_parallax_deg)) {
-    return false;
+  if (candidate && intersection.inlier_count < options_.candidate_min_observations) return false;
+  if (intersection.parallax_deg < options_.candidate_min_parallax_deg) {
+    // A camera turning on the spot (hand-held video) gives rays that barely diverge: where
+    // they meet is noise. SLAM's map points in the boxes were triangulated over the whole
+    // track's baseline, so they tell how far along the rays the object is.
+    const std::optional<Eigen::Vector3d> along = AlongRaysByPoints(object, rays, intersection);
+    if (along) {
+      intersection.point = *along;
+    } else if (candidate) {
+      return false;
+    }
   }
   std::vector<BoxView> views;
   for (std::size_t i = 0; i < used.size(); ++i) {

@@ -38,6 +38,7 @@ void ObjectsOptions::Check() const {
                 "Objects.candidate_gap_seconds", "must be a non-negative number of seconds");
   RequireOption(min_inlier_share > 0 && min_inlier_share <= 1, "Objects.min_inlier_share",
                 "must be in (0, 1]");
+  RequireOption(candidate_min_points >= 1, "Objects.candidate_min_points", "must be at least 1");
   RequireOption(min_sightings >= 0, "Objects.min_sightings", "must be non-negative");
   RequireOption(probation_keyframes >= 0, "Objects.probation_keyframes", "must be non-negative");
   RequireOption(max_rays >= candidate_min_observations, "Objects.max_rays",
@@ -86,6 +87,7 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.min_reacquire_iou", &options->min_reacquire_iou);
   file.Read("Objects.candidate_min_observations", &options->candidate_min_observations);
   file.Read("Objects.candidate_min_parallax_deg", &options->candidate_min_parallax_deg);
+  file.Read("Objects.candidate_min_points", &options->candidate_min_points);
   file.Read("Objects.candidate_max_missed_frames", &options->candidate_max_missed_frames);
   file.Read("Objects.candidate_gap_seconds", &options->candidate_gap_seconds);
   file.Read("Objects.min_inlier_share", &options->min_inlier_share);

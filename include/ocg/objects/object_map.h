@@ -249,6 +249,12 @@ class ObjectMap {
   // Re-estimates centre and cuboid from the sightings (yaw from the point set when it
   // tells one); false when they do not meet.
   bool Reestimate(MapObject& object, bool candidate) const;
+  // Where along its rays (inliers of meet) the object is by its map points (SLAM runs): on
+  // the latest inlier ray, at the median range of its point set; nullopt with fewer than
+  // Objects.candidate_min_points points.
+  std::optional<Eigen::Vector3d> AlongRaysByPoints(const MapObject& object,
+                                                   const std::vector<Ray>& rays,
+                                                   const RayIntersection& meet) const;
   std::optional<double> PointSetYaw(const MapObject& object) const;
   // The candidate an unassociated, untruncated box continues after a detector gap (longer
   // than Objects.predicted_box_frames, within Objects.candidate_gap_seconds; the box fits

@@ -44,6 +44,10 @@ struct ObjectsOptions {
   int candidate_min_observations = 8;       // Objects.candidate_min_observations
   double candidate_min_parallax_deg = 4.0;  // Objects.candidate_min_parallax_deg
   int candidate_max_missed_frames = 15;     // Objects.candidate_max_missed_frames
+  // Objects.candidate_min_points (SLAM runs): with rays spread by less than
+  // candidate_min_parallax_deg (a camera turning on the spot), an object is placed along
+  // its rays at the median range of its point set when that holds this many map points.
+  int candidate_min_points = 10;
   // Objects.candidate_gap_seconds: a candidate not detected for longer than
   // predicted_box_frames (no predicted box any more) still takes a box that continues its
   // track (object_geometry.h FitOfBoxToTrack: the box fits, at some depth along its rays,
