@@ -5,7 +5,8 @@ system, and plots the ATE per sequence and system.
 Usage: collect.py OUT/batch.json
 Writes OUT/table_I.md, table_I.csv, table_II.md, table_II.csv, objects.md (what each
 system's object map holds, for every sequence with detections, ground truth or not),
-failed_runs.csv, plots/ate.png. The Markdown layout of Table I is tools/object_table.py's,
+timing.md (tracking time: the one figure that depends on the machine), failed_runs.csv,
+plots/ate.png. The Markdown layout of Table I is tools/object_table.py's,
 with the moves reported right (a `moved` entry in changes.json towards the right object)
 after it.
 
@@ -179,7 +180,7 @@ def write_failures(batch, failures):
 def table_two(batch, systems, failures):
     lines = table_header(SYSTEM_KEYS + ["runs", "failed"],
                          ["frames", "tracked frames", "keyframes", "loops closed",
-                          "ATE RMSE [mm]", "Sim(3) scale", "tracking [ms/frame]"])
+                          "ATE RMSE [mm]", "Sim(3) scale"])
     rows, series = [], []
     for key, scores in systems.items():
         good = [s for s in scores if s.get("ate")]
@@ -190,15 +191,12 @@ def table_two(batch, systems, failures):
         scale = [s["ate"]["scale"] for s in good]
         frames = [s["frames"] for s in scores if s.get("frames") is not None]
         loops = [s["loops"] for s in scores if s.get("loops") is not None]
-        # Wall time of tracking per frame (median over the run's frames): it depends on
-        # what else the machine runs, unlike every other column.
-        tracking = [round(s["tracking_ms"], 1) for s in scores if s.get("tracking_ms") is not None]
         cells = [spread(frames, False)[0], spread(tracked, False)[0],
                  spread(keyframes, False)[0], spread(loops, False)[0]]
         ate_text, ate_numbers = spread(ate, False)
         if ate:
             ate_text, _ = spread([round(value, 2) for value in ate], False)
-        cells += [ate_text, spread(scale, True)[0], spread(tracking, False)[0]]
+        cells += [ate_text, spread(scale, True)[0]]
         lines.append("| " + " | ".join(list(key) + [str(len(scores)), str(failed)] + cells) + " |")
         rows.append(list(key) + [len(scores), failed] + ate_numbers +
                     [statistics.median(tracked) if tracked else ""])
@@ -208,6 +206,19 @@ def table_two(batch, systems, failures):
                              "tracked_frames_median"], rows)
     write_table(batch["out"], "table_II.md", lines + failure_lines(failures))
     return series
+
+
+def timing_table(batch, systems):
+    """OUT/timing.md: tracking time per frame (wall clock, the median over each run's frames).
+    Apart from the tables, which are the same on every machine and every re-run: this
+    depends on the machine and on what else it runs."""
+    lines = table_header(SYSTEM_KEYS + ["runs"], ["tracking [ms/frame]"])
+    for key, scores in systems.items():
+        tracking = [round(s["tracking_ms"], 1) for s in scores if s.get("tracking_ms") is not None]
+        if tracking:
+            lines.append("| " + " | ".join(list(key) + [str(len(tracking)),
+                                                         spread(tracking, False)[0]]) + " |")
+    write_table(batch["out"], "timing.md", lines)
 
 
 def run_object_map(run_dir):
@@ -301,6 +312,7 @@ def main():
     table_one(batch, systems, failures)
     series = table_two(batch, systems, failures)
     object_maps(batch, systems)
+    timing_table(batch, systems)
     write_failures(batch, failures)
     plot_ate(os.path.join(batch["out"], "plots", "ate.png"), series)
     if failures:

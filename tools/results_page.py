@@ -34,8 +34,13 @@ runs are byte-identical when repeated, so they run once.
 SLAM_NOTE = """\
 Tracked frames, keyframes and loops closed as the run counted them (`run.json`); ATE RMSE
 over every tracked frame after Sim(3) alignment (millimetres, [evaluation.md](evaluation.md))
-and the alignment's scale; tracking time per frame (median, wall clock, feature extraction
-included): the one column that depends on what else the machine was running.
+and the alignment's scale.
+"""
+
+TIMING_NOTE = """\
+Tracking time per frame (median over the run's frames, wall clock, feature extraction
+included): unlike the tables above, it depends on the machine and on what else it was
+running.
 """
 
 TABLE_I_NOTE = """\
@@ -152,6 +157,9 @@ def page(batch_out, config_path, images_dir=None, page_dir=None):
     ]
     if objects.count("\n") >= 2:  # a header, its rule and at least one row
         lines += ["## What each object map holds", "", OBJECTS_NOTE, objects, ""]
+    timing_path = os.path.join(batch_out, "timing.md")
+    if os.path.exists(timing_path):
+        lines += ["## Speed", "", TIMING_NOTE, read(timing_path, "the timing table").strip(), ""]
     if images_dir is not None:
         lines += snapshot_section(batch, images_dir, page_dir)
     lines += [
