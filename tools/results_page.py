@@ -96,6 +96,7 @@ def snapshot_section(batch, images_dir, page_dir):
     """Copies the final snapshots of every run that drew them into images_dir; returns the
     page's lines showing them (none when no run drew any)."""
     lines = []
+    shown = {}  # picture bytes -> the run shown with them (two OCG modes that agree draw alike)
     for run in batch.get("runs", []):
         folder = os.path.join(batch["out"], "runs", run, "snapshots")
         found = [(name, what) for name, what in SNAPSHOTS
@@ -104,6 +105,12 @@ def snapshot_section(batch, images_dir, page_dir):
             continue
         lines += ["### %s" % run, ""]
         for name, what in found:
+            with open(os.path.join(folder, name), "rb") as handle:
+                picture = handle.read()
+            if picture in shown:
+                lines += ["%s: as %s's." % (what[0].upper() + what[1:], shown[picture]), ""]
+                continue
+            shown[picture] = run
             target = os.path.join(images_dir, run.replace("/", "_") + "_" + name)
             os.makedirs(images_dir, exist_ok=True)
             shutil.copyfile(os.path.join(folder, name), target)
