@@ -1,5 +1,5 @@
 // Bundle adjustment benchmarks: one local adjustment the size local mapping solves on
-// the 640 x 480 presets (docs/results.md quotes the figures), with each way of solving
+// the 640 x 480 presets (docs/history/results-log.md quotes the figures), with each way of solving
 // the reduced camera system and with or without the second, outlier-free solve.
 //
 // The scene: a camera moving sideways along points 1-2 m away, one keyframe every 25 cm,

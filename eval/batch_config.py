@@ -20,10 +20,11 @@ EXECUTIONS = ("sequential", "threaded")
 NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
 TOP_KEYS = {"out", "tools", "sequences", "modes", "variants", "executions", "repeats",
             "realtime", "max_dt"}
-GENERATED_KEYS = {"name", "preset", "seed", "frames", "size", "detector"}
+GENERATED_KEYS = {"name", "preset", "seed", "frames", "size", "detector", "snapshots", "set"}
 DETECTORS = ("independent", "realistic")
-USER_KEYS = {"name", "path", "format", "settings", "groundtruth", "detections", "objects_gt",
-             "max_frames"}
+USER_KEYS = {"name", "path", "format", "settings", "groundtruth", "detections", "detect",
+             "objects_gt", "max_frames", "snapshots", "set"}
+DETECT_KEYS = {"score", "model", "tile"}
 
 
 class ConfigError(Exception):
@@ -75,6 +76,41 @@ def _path(source, key, base, value, kind):
 def _whole(source, key, value, minimum):
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         _fail(source, key, "expected a whole number >= %d, got %r" % (minimum, value))
+    return value
+
+
+def _detect(source, key, base, value):
+    """A sequence's `detect:` (true, or {score, model, tile}): the ocg_detect options of its
+    detection job, or None for false."""
+    if value is False:
+        return None
+    if value is True:
+        value = {}
+    if not isinstance(value, dict):
+        _fail(source, key, "expected true or a mapping of ocg_detect options (%s)" %
+              ", ".join(sorted(DETECT_KEYS)))
+    extra = sorted(set(value) - DETECT_KEYS)
+    if extra:
+        _fail(source, "%s.%s" % (key, extra[0]), "unknown key (known: %s)" %
+              ", ".join(sorted(DETECT_KEYS)))
+    options = []
+    if "score" in value:
+        score = value["score"]
+        if isinstance(score, bool) or not isinstance(score, (int, float)) or not 0 < score < 1:
+            _fail(source, key + ".score", "expected a confidence in (0, 1), got %r" % (score,))
+        options += ["--score", repr(float(score))]
+    if "model" in value:
+        options += ["--model", _path(source, key + ".model", base, value["model"], "file")]
+    if "tile" in value:
+        if value["tile"] not in ("auto", "off"):
+            _fail(source, key + ".tile", "expected auto or off, got %r" % (value["tile"],))
+        options += ["--tile", value["tile"]]
+    return options
+
+
+def _snapshots(source, key, value):
+    if not isinstance(value, bool):
+        _fail(source, key, "expected true (the runs draw their final snapshots) or false")
     return value
 
 
@@ -135,16 +171,17 @@ def _check_settings(source, tools, sequences, variants):
         base = None if sequence["generated"] else sequence["settings"]
         image = None if sequence["generated"] else sequence["first_image"]
         where = "sequences[%d].settings" % index
+        own = sequence["set"]
         for name, overrides in [(None, {})] + list(variants.items()):
-            if (base, image, name) in checked:
+            if (base, image, json.dumps(own, sort_keys=True), name) in checked:
                 continue
-            checked[(base, image, name)] = True
-            command = settings_command(tools, base, overrides, True, image=image)
+            checked[(base, image, json.dumps(own, sort_keys=True), name)] = True
+            command = settings_command(tools, base, dict(own, **overrides), True, image=image)
             result = subprocess.run(command, capture_output=True, text=True)
             if result.returncode != 0:
                 message = result.stderr.strip().replace("ocg_slam: error: ", "")
                 if name is None:
-                    _fail(source, where, message)
+                    _fail(source, "sequences[%d].set" % index if own else where, message)
                 _fail(source, "variants.%s" % name, message + (
                     "" if base is None else " (over %s's settings)" % sequence["name"]))
 
@@ -174,6 +211,8 @@ def load(config_path, script_dir, out_override=None):
         _fail(source, "sequences", "expected a non-empty list of sequences")
     if any(isinstance(s, dict) and "preset" in s for s in sequences_raw):
         needed.append("ocg_synth")
+    if any(isinstance(s, dict) and s.get("detect") not in (None, False) for s in sequences_raw):
+        needed.append("ocg_detect")
     for tool in needed:
         if not os.access(os.path.join(tools, tool), os.X_OK):
             _fail(source, "tools", "%s not found in %s (build it, or set tools: to the folder "
@@ -208,7 +247,9 @@ def load(config_path, script_dir, out_override=None):
             sequence = {"name": entry.get("name", "%s_s%d" % (entry["preset"], seed)),
                         "generated": True, "preset": entry["preset"], "seed": seed,
                         "frames": frames, "size": str(size), "detector": detector,
-                        "format": "tum", "max_frames": 0}
+                        "format": "tum", "max_frames": 0, "detect": None,
+                        "snapshots": _snapshots(source, key + ".snapshots",
+                                                entry.get("snapshots", False))}
         else:
             extra = sorted(set(entry) - USER_KEYS)
             if extra:
@@ -232,10 +273,29 @@ def load(config_path, script_dir, out_override=None):
                 if groundtruth else None,
                 "detections": _path(source, key + ".detections", base, entry["detections"], "dir")
                 if "detections" in entry else None,
+                "detect": _detect(source, key + ".detect", base, entry.get("detect", False)),
+                "snapshots": _snapshots(source, key + ".snapshots", entry.get("snapshots", False)),
                 "objects_gt": _path(source, key + ".objects_gt", base, entry["objects_gt"], "file")
                 if "objects_gt" in entry else None,
                 "max_frames": _whole(source, key + ".max_frames", entry.get("max_frames", 0), 0)}
+            if sequence["detect"] is not None and sequence["detections"] is not None:
+                _fail(source, key + ".detect", "give either detect: (ocg_detect makes the "
+                      "detections) or detections: (your folder), not both")
+            if sequence["detect"] is not None and form != "tum":
+                _fail(source, key + ".detect", "ocg_detect reads a TUM frame list (rgb.txt); "
+                      "detect a EuRoC folder with ocg_detect --images FOLDER and give "
+                      "detections:")
             sequence["first_image"] = _first_image(source, key, path, form)
+        # Settings keys of this sequence alone, on top of its settings file (the variants'
+        # keys go on top of them): what a real sequence's camera or scene needs.
+        own = entry.get("set", {})
+        if not isinstance(own, dict):
+            _fail(source, key + ".set", "expected {settings key: value}")
+        sequence["set"] = flatten(own, "", {})
+        for setting, value in sequence["set"].items():
+            if setting == "System.sequential":
+                _fail(source, "%s.set.%s" % (key, setting), "set by executions: (sequential, "
+                      "threaded)")
         if not NAME.match(str(sequence["name"])):
             _fail(source, key + ".name", "use letters, digits, '_', '-' and '.' only")
         if sequence["name"] in names:
@@ -301,7 +361,8 @@ def load(config_path, script_dir, out_override=None):
 
     runs = []
     for sequence in sequences:
-        has_objects = sequence["generated"] or sequence["detections"] is not None
+        has_objects = sequence["generated"] or sequence["detections"] is not None or \
+            sequence["detect"] is not None
         for variant in variants:
             for mode in (modes if has_objects else ["slam"]):
                 for execution in executions:

@@ -3,8 +3,12 @@ Markdown and CSV, with the median and the spread (min-max) over the repeats of e
 system, and plots the ATE per sequence and system.
 
 Usage: collect.py OUT/batch.json
-Writes OUT/table_I.md, table_I.csv, table_II.md, table_II.csv, failed_runs.csv,
-plots/ate.png. The Markdown layout of Table I is tools/object_table.py's.
+Writes OUT/table_I.md, table_I.csv, table_II.md, table_II.csv, objects.md (what each
+system's object map holds, for every sequence with detections, ground truth or not),
+timing.md (tracking time: the one figure that depends on the machine), failed_runs.csv,
+plots/ate.png. The Markdown layout of Table I is tools/object_table.py's,
+with the moves reported right (a `moved` entry in changes.json towards the right object)
+after it.
 
 A run whose job failed (or never ran: the batch stopped first) has no score: it is counted
 in its system's `failed` column and listed under the tables and in failed_runs.csv with the
@@ -46,6 +50,9 @@ def run_failure(batch, run):
     generated = any(s["name"] == sequence and s["generated"] for s in batch["sequences"])
     stages = [("sequence", os.path.join(out, "sequences", sequence),
                os.path.join(out, "logs", "sequences", sequence + ".log"))] if generated else []
+    if any(s["name"] == sequence and s.get("detect") is not None for s in batch["sequences"]):
+        stages.append(("detect", os.path.join(out, "detections", sequence),
+                       os.path.join(out, "logs", "detections", sequence + ".log")))
     settings = os.path.join(sequence, "%s-%s" % (variant, execution))
     stages += [("settings", os.path.join(out, "settings", settings + ".yaml"),
                 os.path.join(out, "logs", "settings", settings + ".log")),
@@ -104,7 +111,7 @@ def write_csv(path, header, rows):
 
 
 def table_one(batch, systems, failures):
-    lines = table_header(SYSTEM_KEYS + ["runs"], TABLE_I_HEADER)
+    lines = table_header(SYSTEM_KEYS + ["runs"], TABLE_I_HEADER + ["Moves right"])
     rows = []
     keys = list(systems)
     ground_truth = {}  # sequence -> a score's objects (its gt_static, gt_outdated)
@@ -122,22 +129,30 @@ def table_one(batch, systems, failures):
                         statistics.median(m["redun_spurious"] for m in measured))
                 cells.append(text)
                 numbers += values
+            # Of the ground truth's moves, those the run's change log reports as moves to
+            # the right object (ocg_eval objects: moves_right of gt_moves).
+            moves, _ = spread([m.get("moves_right", 0) for m in measured], False)
+            gt_moves = measured[0].get("gt_moves", 0)
+            cells.append("%s of %d" % (moves, gt_moves) if gt_moves else "-")
             lines.append("| " + " | ".join(list(key) + [str(len(measured))] + cells) + " |")
             rows.append(list(key) + [len(measured)] + numbers +
-                        [measured[0]["gt_static"], measured[0]["gt_outdated"]])
+                        [statistics.median(m.get("moves_right", 0) for m in measured), gt_moves,
+                         measured[0]["gt_static"], measured[0]["gt_outdated"]])
         elif key[2] != "slam" and any(s.get("failed") for s in scores):
             # Every run of the system failed: a row that says so, not a missing one.
-            lines.append("| " + " | ".join(list(key) + ["0"] + ["failed"] * len(METRICS)) + " |")
-            rows.append(list(key) + [0] + [""] * (3 * len(METRICS) + 2))
+            lines.append("| " + " | ".join(list(key) + ["0"] + ["failed"] * (len(METRICS) + 1)) +
+                         " |")
+            rows.append(list(key) + [0] + [""] * (3 * len(METRICS) + 4))
         # (no objects for this system otherwise: a sequence without detections)
         last_of_sequence = index + 1 == len(keys) or keys[index + 1][0] != key[0]
         if last_of_sequence and key[0] in ground_truth:
             # The ground truth's row, as tools/object_table.py writes it.
             gt = ground_truth[key[0]]
-            lines.append("| %s | | GT | | | %d | 0 | 0 | %d | 0 | 0 | - | - | - |" % (
-                key[0], gt["gt_static"], gt["gt_outdated"]))
+            lines.append("| %s | | GT | | | %d | 0 | 0 | %d | 0 | 0 | - | - | - | %d |" % (
+                key[0], gt["gt_static"], gt["gt_outdated"], gt.get("gt_moves", 0)))
     header = SYSTEM_KEYS + ["runs"] + ["%s_%s" % (m, s) for m in METRICS
-                                       for s in ("median", "min", "max")] + ["gt_static", "gt_outdated"]
+                                       for s in ("median", "min", "max")] + [
+        "moves_right_median", "gt_moves", "gt_static", "gt_outdated"]
     write_csv(os.path.join(batch["out"], "table_I.csv"), header, rows)
     write_table(batch["out"], "table_I.md", lines + failure_lines(failures))
 
@@ -164,7 +179,8 @@ def write_failures(batch, failures):
 
 def table_two(batch, systems, failures):
     lines = table_header(SYSTEM_KEYS + ["runs", "failed"],
-                         ["tracked frames", "keyframes", "ATE RMSE [mm]", "Sim(3) scale"])
+                         ["frames", "tracked frames", "keyframes", "loops closed",
+                          "ATE RMSE [mm]", "Sim(3) scale"])
     rows, series = [], []
     for key, scores in systems.items():
         good = [s for s in scores if s.get("ate")]
@@ -173,7 +189,10 @@ def table_two(batch, systems, failures):
         tracked = [s["frames_tracked"] for s in scores if s.get("frames_tracked") is not None]
         keyframes = [s["keyframes"] for s in scores if s.get("keyframes") is not None]
         scale = [s["ate"]["scale"] for s in good]
-        cells = [spread(tracked, False)[0], spread(keyframes, False)[0]]
+        frames = [s["frames"] for s in scores if s.get("frames") is not None]
+        loops = [s["loops"] for s in scores if s.get("loops") is not None]
+        cells = [spread(frames, False)[0], spread(tracked, False)[0],
+                 spread(keyframes, False)[0], spread(loops, False)[0]]
         ate_text, ate_numbers = spread(ate, False)
         if ate:
             ate_text, _ = spread([round(value, 2) for value in ate], False)
@@ -187,6 +206,73 @@ def table_two(batch, systems, failures):
                              "tracked_frames_median"], rows)
     write_table(batch["out"], "table_II.md", lines + failure_lines(failures))
     return series
+
+
+def timing_table(batch, systems):
+    """OUT/timing.md: tracking time per frame (wall clock, the median over each run's frames).
+    Apart from the tables, which are the same on every machine and every re-run: this
+    depends on the machine and on what else it runs."""
+    lines = table_header(SYSTEM_KEYS + ["runs"], ["tracking [ms/frame]"])
+    for key, scores in systems.items():
+        tracking = [round(s["tracking_ms"], 1) for s in scores if s.get("tracking_ms") is not None]
+        if tracking:
+            lines.append("| " + " | ".join(list(key) + [str(len(tracking)),
+                                                         spread(tracking, False)[0]]) + " |")
+    write_table(batch["out"], "timing.md", lines)
+
+
+def run_object_map(run_dir):
+    """What one run's object map holds: {objects, classes: {class: count}, removed, moved},
+    or None when the run wrote no object map. A removal undone by a later `restored` entry
+    of the same object (OCG.mode restore) is not counted (docs/objects.md, Outputs)."""
+    try:
+        with open(os.path.join(run_dir, "objects.json")) as handle:
+            objects = json.load(handle)["objects"]
+        with open(os.path.join(run_dir, "changes.json")) as handle:
+            changes = json.load(handle)["changes"]
+    except (OSError, ValueError, KeyError):
+        return None
+    classes = {}
+    for entry in objects:
+        classes[entry["class"]] = classes.get(entry["class"], 0) + 1
+    removals = {}  # object id -> its removal entries' types, oldest first
+    for change in changes:
+        if change["type"] in ("removed", "moved"):
+            removals.setdefault(change["object_id"], []).append(change["type"])
+        elif change["type"] == "restored" and removals.get(change["object_id"]):
+            removals[change["object_id"]].pop()
+    kinds = [kind for entries in removals.values() for kind in entries]
+    return {"objects": len(objects), "classes": classes, "removed": len(kinds),
+            "moved": kinds.count("moved")}
+
+
+def object_maps(batch, systems):
+    """OUT/objects.md: for every system that mapped objects, the map's size and classes, and
+    what change detection removed (of that, reported as moves). On a sequence without an
+    object ground truth (real video) this is the object-map result there is."""
+    lines = table_header(SYSTEM_KEYS + ["runs"],
+                         ["objects", "classes (first run)", "removed by the OCG",
+                          "of them moves"])
+    for key in systems:
+        if key[2] == "slam":
+            continue
+        prefix = os.path.join(batch["out"], "runs", *key[:3])
+        maps = []
+        for run in batch["runs"]:
+            sequence, variant, mode, rest = run.split("/")
+            if (sequence, variant, mode, rest.rsplit("-", 1)[0]) == key:
+                found = run_object_map(os.path.join(prefix, rest))
+                if found is not None:
+                    maps.append(found)
+        if not maps:
+            continue
+        classes = ", ".join("%s %d" % (name, count) for name, count in
+                            sorted(maps[0]["classes"].items(), key=lambda c: (-c[1], c[0])))
+        cells = [spread([m[field] for m in maps], False)[0]
+                 for field in ("objects", "removed", "moved")]
+        lines.append("| " + " | ".join(list(key) + [str(len(maps)), cells[0], classes or "-",
+                                                     cells[1], cells[2]]) + " |")
+    write_table(batch["out"], "objects.md", lines)
 
 
 def plot_ate(path, series):
@@ -225,6 +311,8 @@ def main():
     systems, failures = load_scores(batch)
     table_one(batch, systems, failures)
     series = table_two(batch, systems, failures)
+    object_maps(batch, systems)
+    timing_table(batch, systems)
     write_failures(batch, failures)
     plot_ate(os.path.join(batch["out"], "plots", "ate.png"), series)
     if failures:

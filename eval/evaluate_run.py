@@ -40,6 +40,8 @@ def main():
     report["frames"] = run.get("frames")
     report["frames_tracked"] = run.get("frames_tracked")
     report["keyframes"] = run.get("keyframes")
+    report["loops"] = len(run.get("loop_closing", {}).get("loops", []))
+    report["tracking_ms"] = run.get("timing", {}).get("tracking_per_frame", {}).get("median_ms")
     trajectory = os.path.join(run_dir, "CameraTrajectory.txt")
     if groundtruth != "-":
         report["ate"], report["ate_error"] = ocg_eval(

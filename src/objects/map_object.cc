@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <optional>
 #include <set>
 
 #include "ocg/objects/object_geometry.h"
@@ -65,6 +66,35 @@ std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes)
   return descriptors;
 }
 
+namespace {
+
+// Where along its rays (inliers of meet) the object is by its map points (SLAM runs): on
+// the latest inlier ray, at the median range of its point set; nullopt with fewer than
+// Objects.candidate_min_points points.
+std::optional<Eigen::Vector3d> AlongRaysByPoints(const MapObject& object,
+                                                 const std::vector<Ray>& rays,
+                                                 const RayIntersection& meet,
+                                                 const ObjectsOptions& options) {
+  const std::vector<Eigen::Vector3d> point_set = ObjectPointSet(object, options.min_point_votes);
+  if (point_set.empty() || static_cast<int>(point_set.size()) < options.candidate_min_points) {
+    return std::nullopt;
+  }
+  std::size_t last = rays.size();
+  while (last > 0 && !meet.inliers[last - 1]) --last;
+  if (last == 0) return std::nullopt;
+  const Ray& ray = rays[last - 1];  // the latest inlier view
+  std::vector<double> ranges;
+  for (const Eigen::Vector3d& point : point_set) {
+    ranges.push_back((point - ray.origin).dot(ray.direction));
+  }
+  std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
+  const double range = ranges[ranges.size() / 2];
+  if (range <= 0.0) return std::nullopt;
+  return ray.origin + range * ray.direction;
+}
+
+}  // namespace
+
 bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& context) {
   std::vector<const ObjectSighting*> usable;
   for (const ObjectSighting& sighting : object.sightings) {
@@ -85,12 +115,23 @@ bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& conte
     used.push_back(usable[index]);
     rays.push_back(PixelRay(usable[index]->box.Centre(), usable[index]->T_cw, context.camera));
   }
-  const RayIntersection intersection =
+  RayIntersection intersection =
       IntersectRays(rays, 0.01, candidate ? context.options.min_inlier_share : 0.5);
   if (!intersection.valid) return false;
-  if (candidate && (intersection.inlier_count < context.options.candidate_min_observations ||
-                    intersection.parallax_deg < context.options.candidate_min_parallax_deg)) {
+  if (candidate && intersection.inlier_count < context.options.candidate_min_observations) {
     return false;
+  }
+  if (intersection.parallax_deg < context.options.candidate_min_parallax_deg) {
+    // A camera turning on the spot (hand-held video) gives rays that barely diverge: where
+    // they meet is noise. SLAM's map points in the boxes were triangulated over the whole
+    // track's baseline, so they tell how far along the rays the object is.
+    const std::optional<Eigen::Vector3d> along =
+        AlongRaysByPoints(object, rays, intersection, context.options);
+    if (along) {
+      intersection.point = *along;
+    } else if (candidate) {
+      return false;
+    }
   }
   std::vector<BoxView> views;
   for (std::size_t i = 0; i < used.size(); ++i) {

@@ -23,17 +23,20 @@ constexpr double kPi = 3.14159265358979323846;
 
 PinholeCamera Camera() { return testing::TestCamera(525.0, 319.5, 239.5); }
 
-// A camera at the given azimuth on a circle of radius 1.5 m, 0.5 m above the target,
-// looking at the target (world z up).
-SE3 OrbitPose(double azimuth, const Eigen::Vector3d& target = Eigen::Vector3d(0, 0, 0.8)) {
-  const Eigen::Vector3d centre =
-      target + Eigen::Vector3d(1.5 * std::cos(azimuth), 1.5 * std::sin(azimuth), 0.5);
+// A camera at centre looking at target (world z up).
+SE3 LookFrom(const Eigen::Vector3d& centre, const Eigen::Vector3d& target) {
   const Eigen::Vector3d forward = (target - centre).normalized();
   const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
   const Eigen::Vector3d down = forward.cross(right);
   Eigen::Matrix3d R_wc;
   R_wc << right, down, forward;
   return SE3(R_wc, centre).Inverse();
+}
+
+SE3 OrbitPose(double azimuth, const Eigen::Vector3d& target = Eigen::Vector3d(0, 0, 0.8)) {
+  // On a circle of radius 1.5 m at the given azimuth, 0.5 m above the target.
+  return LookFrom(target + Eigen::Vector3d(1.5 * std::cos(azimuth), 1.5 * std::sin(azimuth), 0.5),
+                  target);
 }
 
 TEST(Assignment, FindsTheLeastTotalCost) {
@@ -430,6 +433,44 @@ class TwoObjectScene : public ::testing::Test {
   }
   Cuboid cup_, laptop_;
 };
+
+// A hand-held camera turning on the spot (fr1_rpy): 60 frames from one place (5 mm of
+// drift), the view swept between the laptop and the cup. Their rays barely diverge, so
+// no depth comes from them; the map points in the boxes (SLAM's, triangulated over a
+// longer baseline), a far wall's included, place the objects along their rays.
+TEST_F(TwoObjectScene, ACameraTurningOnTheSpotPlacesObjectsByTheirMapPoints) {
+  const Eigen::Vector3d eye(1.2, 0.3, 1.3);
+  const auto watch = [&](ObjectMap& map, const ObjectsOptions& options) {
+    const auto points = ScenePoints();
+    for (int frame = 0; frame < 60; ++frame) {
+      const double share = 0.5 + 0.5 * std::sin(frame * 0.15);
+      const Eigen::Vector3d target = laptop_.centre + share * (cup_.centre - laptop_.centre);
+      const SE3 T_cw = LookFrom(eye + Eigen::Vector3d(0, 0.005 * frame / 60.0, 0), target);
+      std::vector<PointObservation> tracked;
+      for (const auto& [id, position] : points) {
+        const Eigen::Vector3d p_c = T_cw * position;
+        if (p_c.z() > 0.1) tracked.push_back({id, Camera().ProjectUndistorted(p_c), position});
+      }
+      map.AddFrame(frame, frame / 30.0, T_cw,
+                   FilterDetections(DetectionsAt(T_cw), options, Camera()), &tracked);
+    }
+  };
+  ObjectsOptions without;
+  without.candidate_min_points = 100000;  // the rule off: rays alone
+  ObjectMap rays_only(without, Camera());
+  watch(rays_only, without);
+  EXPECT_EQ(rays_only.objects().size(), 0u);
+
+  ObjectsOptions options;
+  ObjectMap map(options, Camera());
+  watch(map, options);
+  ASSERT_EQ(map.objects().size(), 2u);
+  for (const auto& [id, object] : map.objects()) {
+    const Cuboid& truth = object.class_id == 41 ? cup_ : laptop_;
+    EXPECT_LT((object.cuboid.centre - truth.centre).norm(), 0.1 * (truth.centre - eye).norm())
+        << "class " << object.class_id;
+  }
+}
 
 TEST_F(TwoObjectScene, CandidatesBecomeObjectsAtTheirPlaces) {
   ObjectsOptions options;

@@ -47,3 +47,32 @@ def test_a_batch_without_its_tables_is_refused_and_nothing_is_written(tmp_path):
     assert done.returncode != 0
     assert "Table II" in done.stderr and "table_II.md" in done.stderr
     assert not page.exists()
+
+
+def test_the_page_shows_the_object_maps_and_the_runs_snapshots_copied_beside_it(tmp_path):
+    out, config = make_batch(tmp_path)
+    (out / "objects.md").write_text(
+        "| sequence | objects |\n|---|---|\n| fr1_rpy | book 2, keyboard 1 |\n")
+    snapshots = out / "runs" / "smoke_s1" / "default" / "paper" / "sequential-1" / "snapshots"
+    snapshots.mkdir(parents=True)
+    (snapshots / "final_objects.png").write_bytes(b"\x89PNG objects")
+    # A second run that drew the same picture (two OCG modes that agree): shown once.
+    same = out / "runs" / "smoke_s1" / "default" / "improved" / "sequential-1" / "snapshots"
+    same.mkdir(parents=True)
+    (same / "final_objects.png").write_bytes(b"\x89PNG objects")
+    json_batch = json.loads((out / "batch.json").read_text())
+    json_batch["runs"].insert(1, "smoke_s1/default/improved/sequential-1")
+    (out / "batch.json").write_text(json.dumps(json_batch))
+    docs = tmp_path / "docs"
+    docs.mkdir()
+    done = run(str(out), "--config", str(config), "--out", str(docs / "results.md"))
+    assert done.returncode == 0, done.stderr
+    text = (docs / "results.md").read_text()
+    assert "## What each object map holds" in text and "| fr1_rpy | book 2, keyboard 1 |" in text
+    copied = docs / "images" / "results" / "smoke_s1_default_paper_sequential-1_final_objects.png"
+    assert copied.read_bytes() == b"\x89PNG objects"
+    assert "](images/results/smoke_s1_default_paper_sequential-1_final_objects.png)" in text
+    assert sorted(os.listdir(docs / "images" / "results")) == [copied.name]
+    assert "as smoke_s1/default/paper/sequential-1's." in text
+    # The kitti run drew none: no picture, no heading for it.
+    assert "### kitti07" not in text

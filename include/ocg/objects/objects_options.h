@@ -45,6 +45,10 @@ struct ObjectsOptions {
   int candidate_min_observations = 8;       // Objects.candidate_min_observations
   double candidate_min_parallax_deg = 4.0;  // Objects.candidate_min_parallax_deg
   int candidate_max_missed_frames = 15;     // Objects.candidate_max_missed_frames
+  // Objects.candidate_min_points (SLAM runs): with rays spread by less than
+  // candidate_min_parallax_deg (a camera turning on the spot), an object is placed along
+  // its rays at the median range of its point set when that holds this many map points.
+  int candidate_min_points = 10;
   // Objects.candidate_gap_seconds: a candidate not detected for longer than
   // predicted_box_frames (no predicted box any more) still takes a box that continues its
   // track (object_geometry.h FitOfBoxToTrack: the box fits, at some depth along its rays,
@@ -184,6 +188,11 @@ struct ObjectsOptions {
           "untruncated sightings a candidate needs to become a map object");
     visit("Objects.candidate_min_parallax_deg", self.candidate_min_parallax_deg,
           OptionBound::Between(0, false, 90, true), "spread of its rays, degrees");
+    visit("Objects.candidate_min_points", self.candidate_min_points, OptionBound::AtLeast(1),
+          "SLAM runs: a candidate (or object) whose rays spread by less than "
+          "`Objects.candidate_min_parallax_deg` (a camera turning on the spot) is placed along "
+          "its rays at the median range of its map points when it has this many "
+          "([objects.md](objects.md)); with fewer it waits for parallax");
     visit("Objects.candidate_max_missed_frames", self.candidate_max_missed_frames,
           OptionBound::AtLeast(1),
           "a candidate not detected for this many frames is dropped (but see the next key)");
