@@ -40,7 +40,8 @@ struct KeyFrameAdjustment;
 
 // LoopClosing.* settings.
 struct LoopClosingOptions {
-  bool enabled = true;               // LoopClosing.enabled
+  bool enabled = true;               // LoopClosing.enabled (merges of maps too)
+  bool merge_maps = true;            // LoopClosing.mergeMaps: another map's place merges it
   int min_keyframes_between = 10;    // LoopClosing.minKeyFramesBetween: after the map's start
                                      // and after the last loop
   int min_loop_age = 30;             // LoopClosing.minLoopAge: keyframes between a place
@@ -74,12 +75,20 @@ struct LoopEvent {
   // total and the longest stretch at once.
   double map_lock_held_seconds = 0.0;
   double map_lock_longest_hold_seconds = 0.0;
+  // A merge of maps (LoopClosingStats::merges): the map the current keyframe was in,
+  // moved into into_map when the keyframe of frame `frame` (Tracking's frame id)
+  // recognized into_map's place; `scale` is then the similarity's scale, into_map's units
+  // per unit of the moved map. -1 for a loop.
+  int merged_map = -1;
+  int into_map = -1;
+  std::uint64_t frame = 0;
 };
 
 struct LoopClosingStats {
   int candidates_checked = 0;  // consistent candidates that reached Sim(3) estimation
   std::vector<LoopEvent> loops;
-  int global_adjustments = 0;  // merged into the map
+  std::vector<LoopEvent> merges;  // a map recognized the place of another and merged into it
+  int global_adjustments = 0;     // merged into the map
   double global_adjustment_seconds = 0.0;
   // Keyframes and points added while a global adjustment ran, that followed it.
   int followed_global_adjustment = 0;
@@ -130,7 +139,7 @@ class LoopClosing {
   int Correct(const KeyFramePtr& keyframe, Loop& loop, MapLock& map_lock);
   // Global bundle adjustment after a correction (Map::mapping_mutex() held, map_lock not):
   // in place in sequential mode, else started on global_adjustment_thread_.
-  void AdjustGlobally(MapLock& map_lock);
+  void AdjustGlobally(int map, MapLock& map_lock);
   // Solves without the map lock; false (warned) when Ceres found no usable solution.
   bool SolveGlobally(KeyFrameAdjustment& adjustment) const;
   // Writes a solved global adjustment into the map (lock held) and counts it.
