@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iostream>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "ocg/eval/trajectory_error.h"
 #include "ocg/features/matcher.h"
@@ -187,6 +188,10 @@ TEST(MultiMap, ANewMapMergesIntoTheOldOneWhenTheCameraComesBack) {
   EXPECT_EQ(trajectory.size(), static_cast<std::size_t>(tracked));
   EXPECT_GE(tracked, frame - 6 - 10);  // the blind frames and re-initialization aside
   for (int map : system.FrameMaps()) EXPECT_TRUE(map == 0 || map == -1);
+  // What the object layer follows: every tracked frame has its pose in the merged frame.
+  const std::vector<std::optional<SE3>> poses = system.FramePoses();
+  for (std::size_t f = 0; f < poses.size(); ++f)
+    EXPECT_EQ(poses[f].has_value(), system.Frames()[f].tracked) << f;
   // One Sim(3) fits both parts: the merge put the new map where the old one is.
   const AteResult ate = ComputeAte(feed.groundtruth(), trajectory, AteOptions());
   EXPECT_EQ(ate.pairs.size(), trajectory.size());
@@ -235,6 +240,13 @@ TEST(MultiMap, RelocalizationFindsThePlaceOfAnEarlierMap) {
   EXPECT_FALSE(maps[1].current);
   EXPECT_GT(maps[1].keyframes, 0u);  // kept
   EXPECT_EQ(system.Frames()[static_cast<std::size_t>(relocalized_at)].map, 0);
+  // A map file holds the current map alone.
+  std::stringstream file;
+  system.SaveMap(file);
+  System loaded(feed.config(), vocabulary);
+  loaded.LoadMap(file);
+  EXPECT_EQ(loaded.KeyFrameCount(), maps[0].keyframes);
+  EXPECT_EQ(loaded.MapPointCount(), maps[0].map_points);
   // The relocalized frames are in the first map's frame: they fit its ground truth.
   const AteResult ate = ComputeAte(feed.groundtruth(), system.CameraTrajectory(0), AteOptions());
   EXPECT_LT(ate.translation.rmse, 0.02) << "metres, Sim(3)-aligned";
