@@ -81,11 +81,16 @@ std::size_t Map::LiveKeyFrameCount(int map) const {
   return count;
 }
 
+void Map::Add(const KeyFramePtr& keyframe) {
+  keyframes_[keyframe->id] = keyframe;
+  const auto [first, inserted] = first_keyframes_.emplace(keyframe->map, keyframe->id);
+  if (!inserted && keyframe->id < first->second) first->second = keyframe->id;
+}
+
 std::optional<KeyFrameId> Map::FirstKeyFrame(int map) const {
-  for (const auto& [id, keyframe] : keyframes_) {
-    if (keyframe->map == map) return id;
-  }
-  return std::nullopt;
+  const auto first = first_keyframes_.find(map);
+  if (first == first_keyframes_.end()) return std::nullopt;
+  return first->second;
 }
 
 std::vector<KeyFrameId> Map::EraseMap(int map) {
@@ -98,6 +103,7 @@ std::vector<KeyFrameId> Map::EraseMap(int map) {
       ++it;
     }
   }
+  first_keyframes_.erase(map);
   for (auto it = points_.begin(); it != points_.end();) {
     if (it->second->map == map) {
       it->second->bad = true;
@@ -128,6 +134,12 @@ void Map::MoveMap(int from, int into, const Sim3& S_into_from) {
     point->max_distance *= S_into_from.scale();
     point->map = into;
   }
+  const auto moved = first_keyframes_.find(from);
+  if (moved != first_keyframes_.end()) {
+    const auto [first, inserted] = first_keyframes_.emplace(into, moved->second);
+    if (!inserted) first->second = std::min(first->second, moved->second);
+    first_keyframes_.erase(from);
+  }
   if (current_map_ == from) current_map_ = into;
   ++merges_;
   last_merge_scale_ = S_into_from.scale();
@@ -140,6 +152,7 @@ void Map::Clear() {
   next_point_id_ = 0;
   current_map_ = 0;
   map_count_ = 1;
+  first_keyframes_.clear();
 }
 
 void Map::AddObservation(const KeyFramePtr& keyframe, int feature, const MapPointPtr& point) {

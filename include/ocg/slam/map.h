@@ -179,7 +179,8 @@ class Map {
     next_keyframe_id_ = next_keyframe;
     next_point_id_ = next_point;
   }
-  void Add(const KeyFramePtr& keyframe) { keyframes_[keyframe->id] = keyframe; }
+  // keyframe->map must be set: the map's first keyframe is kept up to date here.
+  void Add(const KeyFramePtr& keyframe);
   void Add(const MapPointPtr& point) { points_[point->id] = point; }
   KeyFramePtr GetKeyFrame(KeyFrameId id) const;
   // Every keyframe ever added, the culled ones (bad) included: frames placed relative to
@@ -224,6 +225,7 @@ class Map {
   int map_count_ = 1;
   int merges_ = 0;
   double last_merge_scale_ = 1.0;
+  std::map<int, KeyFrameId> first_keyframes_;  // per map
   std::map<KeyFrameId, KeyFramePtr> keyframes_;
   std::map<MapPointId, MapPointPtr> points_;
 };
