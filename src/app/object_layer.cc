@@ -79,14 +79,19 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
   if (!session_start_) session_start_ = timestamp;
-  if (result.reset || result.new_map) {
+  if (result.reset || result.new_map || result.switched_map) {
     // The SLAM map the objects were built in is gone (reset) or left behind for a new map
-    // in coordinates of its own (new_map): objects of the old frame cannot be kept in the
-    // new one, so the object map starts over.
+    // or another map of the atlas in coordinates of their own: objects of the old frame
+    // cannot be kept in the new one, so the object map starts over.
     spdlog::warn("frame {}: the SLAM map was {}: the object map starts over", frame,
-                 result.reset ? "reset" : "left for a new map");
+                 result.reset ? "reset" : "left for another map");
     ++resets_;
     Start();
+  } else if (result.merged) {
+    // The SLAM map the objects are in moved into another map's frame (and scale): their
+    // sightings take their frames' new poses and their points' new positions, and each
+    // object is estimated again from them, before this frame's detections meet them.
+    Follow(system);
   }
   if (!result.T_cw) return;
   if (!detections.empty() && !image_path.empty()) image_paths_[frame_offset_ + frame] = image_path;

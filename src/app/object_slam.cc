@@ -279,9 +279,32 @@ class ObjectSlam::Impl {
                       {"first_frame", map.first_frame},
                       {"last_frame", map.last_frame},
                       {"keyframes", map.keyframes},
-                      {"map_points", map.map_points}});
+                      {"map_points", map.map_points},
+                      {"merged_into", map.merged_into}});
+      if (map.merged_into >= 0) {
+        maps.back()["merged_at_frame"] = map.merged_at_frame;
+        maps.back()["merge_scale"] = map.merge_scale;
+      }
     }
     return maps;
+  }
+
+  // run.json's "merges": each merge of a map into another, in the order they happened.
+  nlohmann::json MergesSection() const {
+    nlohmann::json merges = nlohmann::json::array();
+    for (const LoopEvent& merge : system_.Merges()) {
+      merges.push_back({{"map", merge.merged_map},
+                        {"into", merge.into_map},
+                        {"frame", merge.frame},
+                        {"keyframe", merge.keyframe},
+                        {"matched_keyframe", merge.matched},
+                        {"scale", merge.scale},
+                        {"sim3_inliers", merge.sim3_inliers},
+                        {"matches", merge.loop_matches},
+                        {"points_fused", merge.points_fused},
+                        {"seconds", merge.seconds}});
+    }
+    return merges;
   }
 
   nlohmann::json Report(const RunDescription& description, const std::string& vocabulary_file) {
@@ -318,6 +341,8 @@ class ObjectSlam::Impl {
                              {"map_resets", system_.Resets()},
                              {"new_maps", system_.NewMaps()},
                              {"maps", MapsSection()},
+                             {"maps_merged", system_.Merges().size()},
+                             {"merges", MergesSection()},
                              {"keyframes", system_.KeyFrameCount()},
                              {"map_points", system_.MapPointCount()},
                              {"points_created", mapping.points_created},

@@ -131,7 +131,7 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   if (CatchingUp()) {
     ++stats_.local_adjustments_skipped;
   } else {
-    if (map_->keyframes().size() > 2) LocalBundleAdjustment(keyframe, lock);
+    if (map_->KeyFrameCount(keyframe->map) > 2) LocalBundleAdjustment(keyframe, lock);
     LetTrackingIn(lock);
     CullKeyFrames(keyframe, lock);
   }
@@ -235,6 +235,7 @@ void LocalMapping::TriangulateNewPoints(const KeyFramePtr& keyframe,
     point->reference = keyframe->id;
     point->first_keyframe = keyframe->id;
     point->first_frame = keyframe->frame_id;
+    point->map = keyframe->map;
     map_->Add(point);
     map_->AddObservation(keyframe, candidate.i1, point);
     map_->AddObservation(neighbour, candidate.i2, point);
@@ -426,7 +427,7 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
 
 void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe,
                                  std::unique_lock<std::mutex>& map_lock) {
-  const KeyFrameId first_id = map_->keyframes().begin()->first;
+  const std::optional<KeyFrameId> first_id = map_->FirstKeyFrame(keyframe->map);
   for (const KeyFramePtr& candidate :
        map_->BestCovisible(keyframe, keyframe->ordered_covisible.size())) {
     LetTrackingIn(map_lock);

@@ -17,6 +17,10 @@ namespace {
 
 SE3 ToSE3(const Sim3& S) { return SE3(S.rotation(), S.translation() / S.scale()); }
 
+// Keyframes of another map matched against a keyframe that may show their place: the
+// candidate and its best covisible ones (ORB-SLAM3 matches merges in such a window).
+constexpr std::size_t kMergeWindow = 6;
+
 }  // namespace
 
 void LoopClosingOptions::Check() const {
@@ -132,18 +136,42 @@ bool LoopClosing::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   if (!ComputeSim3(keyframe, candidates, &loop)) return false;
   LoopEvent event = Describe(keyframe, loop);
   MapLock map_lock(map_->mutex());
+  const bool merge = loop.matched->map != keyframe->map;
+  if (merge) {
+    // Another map holds this place: the current map (all its keyframes and points) moves
+    // into that map's frame by the similarity between them, and becomes part of it. The
+    // correction below is then a loop closure of the merged map with nothing left to
+    // move at the current keyframe: it fuses the points seen twice, welds the
+    // covisibility graph across the seam, and optimizes the merged map's pose graph.
+    event.merged_map = keyframe->map;
+    event.into_map = loop.matched->map;
+    event.frame = keyframe->frame_id;
+    map_lock.Lock();
+    const Sim3 S_into_from = loop.S_cw.Inverse() * Sim3(keyframe->T_cw);
+    event.scale = S_into_from.scale();
+    map_->MoveMap(keyframe->map, loop.matched->map, S_into_from);
+    map_->CountCorrection();
+    loop.S_cw = Sim3(keyframe->T_cw);
+    map_lock.Unlock();
+  }
   event.points_fused = Correct(keyframe, loop, map_lock);
   event.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   event.map_lock_held_seconds = map_lock.held_seconds;
   event.map_lock_longest_hold_seconds = map_lock.longest_hold_seconds;
   spdlog::info(
-      "loop closed: keyframe {} sees keyframe {} again ({} Sim(3) inliers, {} matches, "
+      "{}: keyframe {} sees keyframe {} again ({} Sim(3) inliers, {} matches, "
       "scale {:.3f}, moved {:.3f}) in {:.2f} s, the map locked {:.1f} ms of it (at most {:.1f} "
       "ms at once)",
-      event.keyframe, event.matched, event.sim3_inliers, event.loop_matches, event.scale,
-      event.correction, event.seconds, 1e3 * event.map_lock_held_seconds,
-      1e3 * event.map_lock_longest_hold_seconds);
-  stats_.loops.push_back(event);
+      merge ? "maps merged" : "loop closed", event.keyframe, event.matched, event.sim3_inliers,
+      event.loop_matches, event.scale, event.correction, event.seconds,
+      1e3 * event.map_lock_held_seconds, 1e3 * event.map_lock_longest_hold_seconds);
+  if (merge) {
+    spdlog::info("maps merged: map {} moved into map {} (scale {:.3f}) at frame {}",
+                 event.merged_map, event.into_map, event.scale, event.frame);
+    stats_.merges.push_back(event);
+  } else {
+    stats_.loops.push_back(event);
+  }
   return true;
 }
 
@@ -168,12 +196,17 @@ LoopEvent LoopClosing::Describe(const KeyFramePtr& keyframe, const Loop& loop) {
 }
 
 std::vector<KeyFramePtr> LoopClosing::DetectCandidates(const KeyFramePtr& keyframe) {
-  if (map_->keyframes().size() <= static_cast<std::size_t>(options_.min_keyframes_between) ||
-      (last_loop_keyframe_ > 0 &&
-       keyframe->id <
-           last_loop_keyframe_ + static_cast<KeyFrameId>(options_.min_keyframes_between))) {
-    return {};
-  }
+  const bool loops_allowed =
+      map_->KeyFrameCount(keyframe->map) >
+          static_cast<std::size_t>(options_.min_keyframes_between) &&
+      !(last_loop_keyframe_ > 0 &&
+        keyframe->id <
+            last_loop_keyframe_ + static_cast<KeyFrameId>(options_.min_keyframes_between));
+  // Another map's place is recognized as a loop is (the same candidates, consistency and
+  // verification), from a map's first keyframes on: the sooner two maps merge, the less
+  // is tracked in a frame of its own.
+  const bool merges_allowed = options_.merge_maps && map_->map_count() > 1;
+  if (!loops_allowed && !merges_allowed) return {};
   // The least similarity to a neighbour is what "looks like this place" means here.
   double min_score = 1.0;
   bool any = false;
@@ -191,8 +224,13 @@ std::vector<KeyFramePtr> LoopClosing::DetectCandidates(const KeyFramePtr& keyfra
     if (result.score < min_score) break;  // best first
     const KeyFramePtr candidate = map_->GetKeyFrame(static_cast<KeyFrameId>(result.id));
     if (!candidate || candidate->bad) continue;
-    // A place seen a moment ago is not a loop.
-    if (candidate->id + static_cast<KeyFrameId>(options_.min_loop_age) > keyframe->id) continue;
+    if (candidate->map == keyframe->map) {
+      if (!loops_allowed) continue;
+      // A place seen a moment ago is not a loop.
+      if (candidate->id + static_cast<KeyFrameId>(options_.min_loop_age) > keyframe->id) continue;
+    } else if (!merges_allowed) {
+      continue;
+    }
     raw.push_back(candidate);
     if (static_cast<int>(raw.size()) >= options_.max_candidates) break;
   }
@@ -234,32 +272,52 @@ bool LoopClosing::ComputeSim3(const KeyFramePtr& keyframe,
   for (const KeyFramePtr& candidate : candidates) {
     if (candidate->bad) continue;
     ++stats_.candidates_checked;
-    const std::vector<bool> candidate_usable = candidate->GoodPointMask();
-    const std::vector<int> bow_matches =
-        SearchByBow({&keyframe->feature_vector, &keyframe->features.descriptors,
-                     &keyframe->features.keypoints, &keyframe_usable},
-                    {&candidate->feature_vector, &candidate->features.descriptors,
-                     &candidate->features.keypoints, &candidate_usable},
-                    matcher_);
     std::vector<Sim3Match> matches;
-    std::vector<std::pair<std::size_t, std::size_t>> features;
-    for (std::size_t i = 0; i < bow_matches.size(); ++i) {
-      if (bow_matches[i] == kNoMatch) continue;
-      const auto j = static_cast<std::size_t>(bow_matches[i]);
-      const MapPointPtr& point1 = keyframe->points[i];
-      const MapPointPtr& point2 = candidate->points[j];
-      if (point1 == point2) continue;  // already one point: no loop evidence
-      Sim3Match match;
-      match.point1 = keyframe->T_cw * point1->position;
-      match.point2 = candidate->T_cw * point2->position;
-      match.pixel1 = keyframe->features.undistorted[i];
-      match.pixel2 = candidate->features.undistorted[j];
-      match.sigma2_1 =
-          pyramid_.sigma2[static_cast<std::size_t>(keyframe->features.keypoints[i].octave)];
-      match.sigma2_2 =
-          pyramid_.sigma2[static_cast<std::size_t>(candidate->features.keypoints[j].octave)];
-      matches.push_back(match);
-      features.emplace_back(i, j);
+    std::vector<std::pair<std::size_t, MapPointPtr>> features;  // current feature, point
+    // Another map's place: its points are matched in the candidate and its best covisible
+    // keyframes (ORB-SLAM3's window for merges), as a map seen once from a new angle
+    // shares few points with any single keyframe of it. Points of the window's other
+    // keyframes enter as the candidate's camera sees them (their pixel there projected).
+    std::vector<KeyFramePtr> window = {candidate};
+    if (candidate->map != keyframe->map) {
+      for (const KeyFramePtr& k : map_->BestCovisible(candidate, kMergeWindow - 1))
+        window.push_back(k);
+    }
+    std::vector<bool> current_usable = keyframe_usable;
+    std::set<MapPointId> used;
+    for (const KeyFramePtr& source : window) {
+      const std::vector<bool> source_usable = source->GoodPointMask();
+      const std::vector<int> bow_matches =
+          SearchByBow({&keyframe->feature_vector, &keyframe->features.descriptors,
+                       &keyframe->features.keypoints, &current_usable},
+                      {&source->feature_vector, &source->features.descriptors,
+                       &source->features.keypoints, &source_usable},
+                      matcher_);
+      for (std::size_t i = 0; i < bow_matches.size(); ++i) {
+        if (bow_matches[i] == kNoMatch) continue;
+        const auto j = static_cast<std::size_t>(bow_matches[i]);
+        const MapPointPtr& point1 = keyframe->points[i];
+        const MapPointPtr& point2 = source->points[j];
+        if (point1 == point2) continue;  // already one point: no loop evidence
+        if (source != candidate && !used.insert(point2->id).second) continue;
+        Sim3Match match;
+        match.point1 = keyframe->T_cw * point1->position;
+        match.point2 = candidate->T_cw * point2->position;
+        if (source != candidate && match.point2.z() <= 0.0) continue;
+        match.pixel1 = keyframe->features.undistorted[i];
+        match.pixel2 = source == candidate ? candidate->features.undistorted[j]
+                                           : camera_.ProjectUndistorted(match.point2);
+        match.sigma2_1 =
+            pyramid_.sigma2[static_cast<std::size_t>(keyframe->features.keypoints[i].octave)];
+        match.sigma2_2 =
+            pyramid_.sigma2[static_cast<std::size_t>(source->features.keypoints[j].octave)];
+        matches.push_back(match);
+        features.emplace_back(i, point2);
+        current_usable[i] = false;
+      }
+      if (source == candidate) {
+        for (const auto& [i, point] : features) used.insert(point->id);
+      }
     }
     if (static_cast<int>(matches.size()) < options_.min_bow_matches) continue;
     Sim3EstimationOptions sim3_options = options_.sim3;
@@ -275,9 +333,9 @@ bool LoopClosing::ComputeSim3(const KeyFramePtr& keyframe,
     std::set<MapPointId> already;
     for (std::size_t m = 0; m < matches.size(); ++m) {
       if (!estimate.inliers[m]) continue;
-      matched[features[m].first] = candidate->points[features[m].second];
+      matched[features[m].first] = features[m].second;
       taken[features[m].first] = true;
-      already.insert(candidate->points[features[m].second]->id);
+      already.insert(features[m].second->id);
     }
     std::vector<MapPointPtr> loop_points;
     std::set<MapPointId> seen;
@@ -393,7 +451,7 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop, MapLock& map_l
   std::map<KeyFrameId, int> index;
   PoseGraphProblem problem;
   for (const auto& [id, k] : map_->keyframes()) {
-    if (k->bad) continue;
+    if (k->bad || k->map != keyframe->map) continue;  // other maps are not moved
     index[id] = static_cast<int>(all.size());
     all.push_back(k);
     const auto found = corrected.find(id);
@@ -453,7 +511,7 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop, MapLock& map_l
     for (std::size_t n = 0; n < all.size(); ++n) all[n]->T_cw = ToSE3(problem.poses[n]);
     // Points follow the keyframe that corrected them, or their reference.
     for (const auto& [id, point] : map_->points()) {
-      if (point->bad) continue;
+      if (point->bad || point->map != keyframe->map) continue;
       KeyFrameId reference = point->reference;
       const auto by = corrected_by.find(id);
       if (by != corrected_by.end()) reference = by->second;
@@ -475,16 +533,16 @@ int LoopClosing::Correct(const KeyFramePtr& keyframe, Loop& loop, MapLock& map_l
 
   map_->CountCorrection();
   map_lock.Unlock();
-  AdjustGlobally(map_lock);
+  AdjustGlobally(keyframe->map, map_lock);
   last_loop_keyframe_ = keyframe->id;
   return fused;
 }
 
-void LoopClosing::AdjustGlobally(MapLock& map_lock) {
+void LoopClosing::AdjustGlobally(int map, MapLock& map_lock) {
   if (options_.global_ba_iterations <= 0) return;
   std::vector<KeyFramePtr> keyframes;
   for (const auto& [id, k] : map_->keyframes()) {
-    if (!k->bad) keyframes.push_back(k);
+    if (!k->bad && k->map == map) keyframes.push_back(k);
   }
   // Copying the whole map takes a while: done without the map lock (only this thread
   // changes the map).

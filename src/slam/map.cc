@@ -69,11 +69,90 @@ std::size_t Map::LiveKeyFrameCount() const {
   return count;
 }
 
+std::size_t Map::KeyFrameCount(int map) const {
+  std::size_t count = 0;
+  for (const auto& [id, keyframe] : keyframes_) count += keyframe->map == map ? 1 : 0;
+  return count;
+}
+
+std::size_t Map::LiveKeyFrameCount(int map) const {
+  std::size_t count = 0;
+  for (const auto& [id, keyframe] : keyframes_) count += !keyframe->bad && keyframe->map == map;
+  return count;
+}
+
+void Map::Add(const KeyFramePtr& keyframe) {
+  keyframes_[keyframe->id] = keyframe;
+  const auto [first, inserted] = first_keyframes_.emplace(keyframe->map, keyframe->id);
+  if (!inserted && keyframe->id < first->second) first->second = keyframe->id;
+}
+
+std::optional<KeyFrameId> Map::FirstKeyFrame(int map) const {
+  const auto first = first_keyframes_.find(map);
+  if (first == first_keyframes_.end()) return std::nullopt;
+  return first->second;
+}
+
+std::vector<KeyFrameId> Map::EraseMap(int map) {
+  std::vector<KeyFrameId> erased;
+  for (auto it = keyframes_.begin(); it != keyframes_.end();) {
+    if (it->second->map == map) {
+      erased.push_back(it->first);
+      it = keyframes_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  first_keyframes_.erase(map);
+  for (auto it = points_.begin(); it != points_.end();) {
+    if (it->second->map == map) {
+      it->second->bad = true;
+      it = points_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return erased;
+}
+
+void Map::MoveMap(int from, int into, const Sim3& S_into_from) {
+  const Sim3 S_from_into = S_into_from.Inverse();
+  for (const auto& [id, keyframe] : keyframes_) {
+    if (keyframe->map != from) continue;
+    const Sim3 S_cw = Sim3(keyframe->T_cw) * S_from_into;
+    keyframe->T_cw = SE3(S_cw.rotation(), S_cw.translation() / S_cw.scale());
+    // A culled keyframe's pose relative to its parent (both moved alike) keeps its
+    // rotation; its translation is in map units, which change by the scale.
+    keyframe->T_c_parent = SE3(keyframe->T_c_parent.rotation(),
+                               keyframe->T_c_parent.translation() * S_into_from.scale());
+    keyframe->map = into;
+  }
+  for (const auto& [id, point] : points_) {
+    if (point->map != from) continue;
+    point->position = S_into_from * point->position;
+    point->min_distance *= S_into_from.scale();
+    point->max_distance *= S_into_from.scale();
+    point->map = into;
+  }
+  const auto moved = first_keyframes_.find(from);
+  if (moved != first_keyframes_.end()) {
+    const auto [first, inserted] = first_keyframes_.emplace(into, moved->second);
+    if (!inserted) first->second = std::min(first->second, moved->second);
+    first_keyframes_.erase(from);
+  }
+  if (current_map_ == from) current_map_ = into;
+  ++merges_;
+  last_merge_scale_ = S_into_from.scale();
+}
+
 void Map::Clear() {
   keyframes_.clear();
   points_.clear();
   next_keyframe_id_ = 0;
   next_point_id_ = 0;
+  current_map_ = 0;
+  map_count_ = 1;
+  first_keyframes_.clear();
 }
 
 void Map::AddObservation(const KeyFramePtr& keyframe, int feature, const MapPointPtr& point) {
@@ -203,7 +282,7 @@ void Map::UpdateConnections(const KeyFramePtr& keyframe) {
   order(keyframe);
   // The spanning tree grows from older to newer keyframes, so it can never close a cycle:
   // the parent is the best covisible keyframe older than this one.
-  if (!keyframe->has_parent && keyframe->id != keyframes_.begin()->first) {
+  if (!keyframe->has_parent && keyframe->id != FirstKeyFrame(keyframe->map)) {
     for (const KeyFrameId candidate : keyframe->ordered_covisible) {
       if (candidate >= keyframe->id) continue;
       keyframe->parent = candidate;
@@ -225,7 +304,7 @@ std::vector<KeyFramePtr> Map::BestCovisible(const KeyFramePtr& keyframe, std::si
 }
 
 void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
-  if (keyframe->bad || keyframe->id == keyframes_.begin()->first) return;
+  if (keyframe->bad || keyframe->id == FirstKeyFrame(keyframe->map)) return;
   for (const auto& [other, count] : keyframe->covisible) {
     if (const KeyFramePtr k = GetKeyFrame(other)) {
       k->covisible.erase(keyframe->id);

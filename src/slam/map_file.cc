@@ -153,14 +153,24 @@ void LoadKeyFrame(cereal::BinaryInputArchive& archive, KeyFrame* keyframe, const
 
 }  // namespace
 
-void SaveMap(const Map& map, std::ostream& out) {
+void SaveMap(const Map& map, std::ostream& out, std::optional<int> only_map) {
   std::lock_guard<std::mutex> lock(map.mutex());
   cereal::BinaryOutputArchive archive(out);
   archive(map.next_keyframe_id(), map.next_map_point_id());
-  archive(cereal::make_size_tag(static_cast<cereal::size_type>(map.points().size())));
-  for (const auto& [id, point] : map.points()) SavePoint(archive, *point);
-  archive(cereal::make_size_tag(static_cast<cereal::size_type>(map.keyframes().size())));
-  for (const auto& [id, keyframe] : map.keyframes()) SaveKeyFrame(archive, *keyframe, map);
+  // Maps share no point and no covisibility edge: one is whole without the others.
+  const auto saved = [&only_map](int tag) { return !only_map || tag == *only_map; };
+  std::size_t count = 0;
+  for (const auto& [id, point] : map.points()) count += saved(point->map) ? 1 : 0;
+  archive(cereal::make_size_tag(static_cast<cereal::size_type>(count)));
+  for (const auto& [id, point] : map.points()) {
+    if (saved(point->map)) SavePoint(archive, *point);
+  }
+  count = 0;
+  for (const auto& [id, keyframe] : map.keyframes()) count += saved(keyframe->map) ? 1 : 0;
+  archive(cereal::make_size_tag(static_cast<cereal::size_type>(count)));
+  for (const auto& [id, keyframe] : map.keyframes()) {
+    if (saved(keyframe->map)) SaveKeyFrame(archive, *keyframe, map);
+  }
 }
 
 void LoadMap(std::istream& in, Map* map, int pyramid_levels) {

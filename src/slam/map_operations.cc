@@ -69,10 +69,10 @@ KeyFrameAdjustment PrepareAdjustment(const Map& map, const PinholeCamera& camera
   local = keyframes;
   std::map<KeyFrameId, int> keyframe_index;
   problem.camera = camera;
-  const KeyFrameId first_id = map.keyframes().begin()->first;
   for (const KeyFramePtr& k : local) {
     keyframe_index[k->id] = static_cast<int>(problem.keyframes.size());
-    problem.keyframes.push_back({k->T_cw, k->id == first_id});
+    // Each map's first keyframe holds its gauge.
+    problem.keyframes.push_back({k->T_cw, k->id == map.FirstKeyFrame(k->map)});
   }
   std::vector<MapPointPtr>& points = adjustment.points;
   std::map<MapPointId, int> point_index;

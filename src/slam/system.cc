@@ -73,33 +73,26 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   const double cpu_start = ThreadCpuSeconds();
   pending_mapping_seconds_ = 0.0;
   pending_mapping_cpu_seconds_ = 0.0;
-  const TrackingResult result = tracking_->Track(image, timestamp, timestamp_text, features);
-  if (result.new_map) {
-    // Keep the trajectory of the map tracking leaves; the map itself is then cleared.
-    FinishedMap finished;
-    finished.summary = SummaryOfCurrentMap();
-    finished.keyframes = KeyFrameTrajectory(current_map_);
-    finished.cameras = CameraTrajectory(current_map_);
-    finished_maps_.push_back(std::move(finished));
-  }
+  TrackingResult result = tracking_->Track(image, timestamp, timestamp_text, features);
   if (result.reset || result.new_map) {
     resets_ += result.reset ? 1 : 0;
+    new_maps_ += result.new_map ? 1 : 0;
     if (!config_.sequential) {  // drain the queues and join, in the order keyframes flow
       local_mapping_->Stop();
       loop_closing_->Stop();
     }
-    tracking_->Reset();
+    // A new map keeps the one left in the atlas; a reset erases it.
+    tracking_->Reset(result.new_map);
     local_mapping_->Reset();
     loop_closing_->Reset();
     if (!config_.sequential) {
       loop_closing_->Start();
       local_mapping_->Start();
     }
-    if (result.new_map) {
-      ++current_map_;
-    } else {
+    if (result.reset) {
+      std::lock_guard<std::mutex> lock(map_.mutex());
       for (FrameRecord& record : frames_) {  // that map is gone
-        if (record.map == current_map_) record.tracked = false;
+        if (record.tracked && !map_.GetKeyFrame(record.reference)) record.tracked = false;
       }
     }
   }
@@ -113,13 +106,18 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   record.tracking_seconds = Seconds(start) - pending_mapping_seconds_;
   record.tracking_cpu_seconds = ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_;
   record.map_lock_wait_seconds = result.map_lock_wait_seconds;
-  record.map = current_map_;
+  {
+    const std::unique_lock<std::mutex> lock = map_.LockForTracking();
+    record.map = map_.current_map();
+    result.merged = map_.merges() != merges_seen_;
+    merges_seen_ = map_.merges();
+  }
   if (result.T_cw) {
     const std::unique_lock<std::mutex> lock = map_.LockForTracking();
-    // The reference is the newest keyframe (or the one tracking last chose).
+    // The reference is the current map's newest keyframe.
     KeyFramePtr reference;
     for (auto it = map_.keyframes().rbegin(); it != map_.keyframes().rend(); ++it) {
-      if (!it->second->bad) {
+      if (!it->second->bad && it->second->map == record.map) {
         reference = it->second;
         break;
       }
@@ -162,77 +160,100 @@ std::vector<StampedPose> System::KeyFrameTrajectory() const {
 
 std::vector<StampedPose> System::CameraTrajectory() const { return CameraTrajectory(MainMap()); }
 
-MapSummary System::SummaryOfCurrentMap() const {
-  MapSummary summary;
-  summary.index = current_map_;
-  summary.current = true;
+int System::CurrentMap() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  return map_.current_map();
+}
+
+std::vector<int> System::FrameMapsLocked() const {
+  std::vector<int> maps(frames_.size(), -1);
   for (std::size_t i = 0; i < frames_.size(); ++i) {
-    if (!frames_[i].tracked || frames_[i].map != current_map_) continue;
+    if (!frames_[i].tracked) continue;
+    // A culled reference keyframe stays in the map, tagged as the map it was in.
+    if (const KeyFramePtr reference = map_.GetKeyFrame(frames_[i].reference))
+      maps[i] = reference->map;
+  }
+  return maps;
+}
+
+std::vector<int> System::FrameMaps() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  return FrameMapsLocked();
+}
+
+std::vector<MapSummary> System::Maps() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<MapSummary> maps(static_cast<std::size_t>(map_.map_count()));
+  for (std::size_t m = 0; m < maps.size(); ++m) {
+    maps[m].index = static_cast<int>(m);
+    maps[m].current = maps[m].index == map_.current_map();
+    maps[m].keyframes = map_.LiveKeyFrameCount(maps[m].index);
+  }
+  const std::vector<int> frame_maps = FrameMapsLocked();
+  for (std::size_t i = 0; i < frame_maps.size(); ++i) {
+    if (frame_maps[i] < 0) continue;
+    MapSummary& summary = maps[static_cast<std::size_t>(frame_maps[i])];
     if (summary.frames_tracked == 0) summary.first_frame = i;
     summary.last_frame = i;
     ++summary.frames_tracked;
   }
-  summary.keyframes = KeyFrameCount();
-  summary.map_points = MapPointCount();
-  return summary;
-}
-
-std::vector<MapSummary> System::Maps() const {
-  std::vector<MapSummary> maps;
-  for (const FinishedMap& finished : finished_maps_) {
-    maps.push_back(finished.summary);
-    maps.back().current = false;
+  for (const auto& [id, point] : map_.points()) {
+    if (point->map >= 0 && point->map < static_cast<int>(maps.size()))
+      ++maps[static_cast<std::size_t>(point->map)].map_points;
   }
-  maps.push_back(SummaryOfCurrentMap());
+  for (const LoopEvent& merge : loop_closing_->Stats().merges) {
+    MapSummary& summary = maps[static_cast<std::size_t>(merge.merged_map)];
+    summary.merged_into = merge.into_map;
+    summary.merged_at_frame = merge.frame;
+    summary.merge_scale = merge.scale;
+  }
   return maps;
 }
 
 int System::MainMap() const {
-  int main = current_map_;
-  std::size_t most = SummaryOfCurrentMap().frames_tracked;
-  for (const FinishedMap& finished : finished_maps_) {
-    if (finished.summary.frames_tracked > most) {
-      most = finished.summary.frames_tracked;
-      main = finished.summary.index;
+  const std::vector<MapSummary> maps = Maps();
+  int main = CurrentMap();
+  std::size_t most = maps[static_cast<std::size_t>(main)].frames_tracked;
+  for (const MapSummary& summary : maps) {
+    if (summary.frames_tracked > most) {
+      most = summary.frames_tracked;
+      main = summary.index;
     }
   }
   return main;
 }
 
 std::vector<StampedPose> System::KeyFrameTrajectory(int map) const {
-  for (const FinishedMap& finished : finished_maps_) {
-    if (finished.summary.index == map) return finished.keyframes;
-  }
-  if (map != current_map_) return {};
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<StampedPose> poses;
   for (const auto& [id, keyframe] : map_.keyframes()) {
-    if (!keyframe->bad)
+    if (!keyframe->bad && keyframe->map == map)
       poses.push_back(MakePose(keyframe->timestamp, keyframe->timestamp_text, keyframe->T_cw));
   }
   return poses;
 }
 
 std::vector<StampedPose> System::CameraTrajectory(int map) const {
-  for (const FinishedMap& finished : finished_maps_) {
-    if (finished.summary.index == map) return finished.cameras;
-  }
-  if (map != current_map_) return {};
-  const std::vector<std::optional<SE3>> frame_poses = FramePoses();
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  const std::vector<int> frame_maps = FrameMapsLocked();
   std::vector<StampedPose> poses;
   for (std::size_t i = 0; i < frames_.size(); ++i) {
-    if (frame_poses[i])
-      poses.push_back(MakePose(frames_[i].timestamp, frames_[i].timestamp_text, *frame_poses[i]));
+    if (frame_maps[i] != map) continue;
+    const FrameRecord& record = frames_[i];
+    if (const std::optional<SE3> T_cw =
+            PoseFromReference(map_, record.reference, record.T_c_reference))
+      poses.push_back(MakePose(record.timestamp, record.timestamp_text, *T_cw));
   }
   return poses;
 }
 
 std::vector<std::optional<SE3>> System::FramePoses() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
+  const std::vector<int> frame_maps = FrameMapsLocked();
   std::vector<std::optional<SE3>> poses(frames_.size());
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const FrameRecord& record = frames_[i];
-    if (!record.tracked || record.map != current_map_) continue;
+    if (frame_maps[i] != map_.current_map()) continue;
     poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
   }
   return poses;
@@ -250,7 +271,7 @@ std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* 
   if (ids != nullptr) ids->clear();
   if (descriptors != nullptr) descriptors->clear();
   for (const auto& [id, point] : map_.points()) {
-    if (point->bad) continue;
+    if (point->bad || point->map != map_.current_map()) continue;
     positions.push_back(point->position);
     if (ids != nullptr) ids->push_back(id);
     if (descriptors != nullptr) descriptors->push_back(point->descriptor);
@@ -262,7 +283,7 @@ std::vector<KeyFramePtr> System::KeyFrames() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<KeyFramePtr> keyframes;
   for (const auto& [id, keyframe] : map_.keyframes()) {
-    if (!keyframe->bad) keyframes.push_back(keyframe);
+    if (!keyframe->bad && keyframe->map == map_.current_map()) keyframes.push_back(keyframe);
   }
   return keyframes;
 }
@@ -284,22 +305,26 @@ std::vector<Eigen::Matrix3d> System::KeyFrameRotations() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<Eigen::Matrix3d> rotations;
   for (const auto& [id, keyframe] : map_.keyframes()) {
-    if (!keyframe->bad) rotations.push_back(keyframe->T_cw.Inverse().rotation());
+    if (!keyframe->bad && keyframe->map == map_.current_map())
+      rotations.push_back(keyframe->T_cw.Inverse().rotation());
   }
   return rotations;
 }
 
 std::size_t System::KeyFrameCount() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
-  return map_.LiveKeyFrameCount();
+  return map_.LiveKeyFrameCount(map_.current_map());
 }
 
 std::size_t System::MapPointCount() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
-  return map_.points().size();
+  if (map_.map_count() == 1) return map_.points().size();
+  return static_cast<std::size_t>(
+      std::count_if(map_.points().begin(), map_.points().end(),
+                    [this](const auto& entry) { return entry.second->map == map_.current_map(); }));
 }
 
-void System::SaveMap(std::ostream& out) const { ocg::SaveMap(map_, out); }
+void System::SaveMap(std::ostream& out) const { ocg::SaveMap(map_, out, CurrentMap()); }
 
 void System::LoadMap(std::istream& in, std::uint64_t frames_before) {
   if (!frames_.empty()) {

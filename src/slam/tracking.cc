@@ -130,8 +130,10 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
       if (state_ == TrackingState::kOk) {
         ok = TrackWithMotionModel(frame) || TrackReferenceKeyFrame(frame);
       } else {
+        const int map_before = dependencies_.map->current_map();
         ok = Relocalize(frame);
         result.relocalized = ok;
+        result.switched_map = dependencies_.map->current_map() != map_before;
         if (ok) last_relocalization_frame_id_ = frame.id;
       }
       if (ok) {
@@ -181,7 +183,7 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
         const std::unique_lock<std::mutex> lock = LockMap();
         // Culled keyframes stay in the map (bad) for the frames placed on them; counting
         // them kept a map culled down to four keyframes from ever being reset.
-        keyframes = dependencies_.map->LiveKeyFrameCount();
+        keyframes = dependencies_.map->LiveKeyFrameCount(dependencies_.map->current_map());
       }
       ++frames_lost_;
       const int new_map_frames =
@@ -297,6 +299,7 @@ bool Tracking::Initialize(Frame& frame) {
       point->reference = second->id;
       point->first_keyframe = first->id;
       point->first_frame = first->frame_id;
+      point->map = first->map;
       map.Add(point);
       point->observations[first->id] = index1[m];
       point->observations[second->id] = index2[m];
@@ -307,6 +310,7 @@ bool Tracking::Initialize(Frame& frame) {
     map.Add(first);
     map.Add(second);
     for (const auto& [id, point] : map.points()) {
+      if (point->map != first->map) continue;  // an earlier map's
       map.UpdatePointDescriptor(point);
       map.UpdatePointGeometry(point, pyramid());
     }
@@ -514,7 +518,8 @@ std::unique_lock<std::mutex> Tracking::LockMap() const {
 
 bool Tracking::NeedKeyFrame(const Frame& frame, int inliers) const {
   const std::unique_lock<std::mutex> lock = LockMap();
-  const std::size_t keyframes = dependencies_.map->LiveKeyFrameCount();
+  const std::size_t keyframes =
+      dependencies_.map->LiveKeyFrameCount(dependencies_.map->current_map());
   const std::uint64_t max_frames =
       options_.max_frames_between_keyframes > 0
           ? static_cast<std::uint64_t>(options_.max_frames_between_keyframes)
@@ -549,6 +554,7 @@ KeyFramePtr Tracking::CreateKeyFrame(Frame& frame) {
   keyframe->bow = frame.bow;
   keyframe->feature_vector = frame.feature_vector;
   keyframe->points = frame.points;
+  keyframe->map = dependencies_.map->current_map();
   last_keyframe_frame_id_ = frame.id;
   reference_ = keyframe;
   frame.reference = keyframe;
@@ -634,6 +640,12 @@ bool Tracking::Relocalize(Frame& frame) {
     }
     if (good >= options_.min_inliers_after_relocalization) {
       reference_ = keyframe;
+      if (keyframe->map != dependencies_.map->current_map()) {
+        // The place is in another map of the atlas: tracking goes on in that one.
+        spdlog::info("frame {}: relocalized in map {}, which becomes current (was map {})",
+                     frame.id, keyframe->map, dependencies_.map->current_map());
+        dependencies_.map->SetCurrentMap(keyframe->map);
+      }
       spdlog::info("frame {}: relocalized against keyframe {} with {} inliers", frame.id,
                    keyframe->id, good);
       return true;
@@ -652,6 +664,14 @@ void Tracking::Anchor(const Frame& frame, const KeyFramePtr& keyframe) {
 
 void Tracking::ReanchorLastFrame() {
   const std::uint64_t corrections = dependencies_.map->corrections();
+  if (dependencies_.map->merges() != anchored_merges_) {
+    // The map was merged into another, of other units: the motion model's step too.
+    anchored_merges_ = dependencies_.map->merges();
+    if (velocity_) {
+      velocity_ = SE3(velocity_->rotation(),
+                      velocity_->translation() * dependencies_.map->last_merge_scale());
+    }
+  }
   if (corrections == anchored_corrections_) return;
   anchored_corrections_ = corrections;
   if (!last_frame_ || !last_frame_->T_cw) return;
@@ -669,12 +689,20 @@ void Tracking::StartInLoadedMap(std::uint64_t first_frame_id) {
   next_frame_id_ = first_frame_id;
 }
 
-void Tracking::Reset() {
+void Tracking::Reset(bool keep_map) {
   {
     std::lock_guard<std::mutex> lock(dependencies_.map->mutex());
-    dependencies_.map->Clear();
+    Map& map = *dependencies_.map;
+    if (keep_map) {
+      map.StartNewMap();
+    } else if (map.map_count() == 1) {
+      map.Clear();  // the only map: ids start over too
+      dependencies_.database->Clear();
+    } else {
+      for (const KeyFrameId id : map.EraseMap(map.current_map()))
+        dependencies_.database->Erase(static_cast<int>(id));
+    }
   }
-  dependencies_.database->Clear();
   state_ = TrackingState::kNotInitialized;
   frames_lost_ = 0;
   initial_frame_.reset();

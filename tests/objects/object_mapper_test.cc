@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -136,21 +138,24 @@ TEST(ObjectMapper, RecordsTheOcgInputOfEveryKeyframe) {
   EXPECT_EQ(count, keyframes);
 }
 
-// Bundle adjustment moved the whole map (a turn about up and a shift): the objects follow
-// their sightings' cameras to the same place in the new frame.
-TEST(ObjectMapper, FollowsTheSlamMapWhenItsFrameMoves) {
+// The first 60 frames' objects, then the SLAM map moved by a similarity (new world from
+// old world: a turn about up, a shift and, for a merge of maps, a scale) as the SLAM
+// system reports it: frames' rigid poses in the new frame, points moved. The objects must
+// follow their sightings' cameras to the same place, and size, in the new frame.
+void ExpectObjectsFollowASimilarity(double scale) {
   const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects());
   ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, true);
   Feed(scene, &mapper, 0, 60);
   const auto before = LiveByClass(mapper);
   ASSERT_EQ(before.size(), 4u);
   const double yaw = 0.4;
-  Eigen::Matrix3d R;
-  R << std::cos(yaw), -std::sin(yaw), 0, std::sin(yaw), std::cos(yaw), 0, 0, 0, 1;
-  const SE3 moved(R, Eigen::Vector3d(0.5, -0.3, 0.1));  // new world from old world
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  const Sim3 moved(scale, turn, Eigen::Vector3d(0.5, -0.3, 0.1));
   SlamMapView view;
-  for (int frame = 0; frame < 60; ++frame)
-    view.frame_poses.push_back(scene.T_cw[static_cast<std::size_t>(frame)] * moved.Inverse());
+  for (int frame = 0; frame < 60; ++frame) {
+    const Sim3 S_cw = Sim3(scene.T_cw[static_cast<std::size_t>(frame)]) * moved.Inverse();
+    view.frame_poses.push_back(SE3(S_cw.rotation(), S_cw.translation() / S_cw.scale()));
+  }
   // The map points of the table (points far off it would sway the supporting plane).
   for (int i = 0; i < scene.options.points_on_table; ++i) {
     view.map_points.push_back(moved * scene.points[static_cast<std::size_t>(i)]);
@@ -163,11 +168,20 @@ TEST(ObjectMapper, FollowsTheSlamMapWhenItsFrameMoves) {
   const auto after = LiveByClass(mapper);
   ASSERT_EQ(after.size(), 4u);
   for (const auto& [class_id, object] : before) {
-    EXPECT_LT((Centre(after.at(class_id)["cuboid"]) - moved * Centre(object["cuboid"])).norm(),
-              0.01)
-        << class_id;
+    const nlohmann::json& cuboid = after.at(class_id)["cuboid"];
+    EXPECT_LT((Centre(cuboid) - moved * Centre(object["cuboid"])).norm(), 0.01 * scale) << class_id;
+    const double size_before = object["cuboid"]["size"][2].get<double>();
+    EXPECT_NEAR(cuboid["size"][2].get<double>(), scale * size_before, 0.05 * scale * size_before)
+        << class_id << ": height";
   }
 }
+
+// Bundle adjustment moved the whole map (a turn about up and a shift).
+TEST(ObjectMapper, FollowsTheSlamMapWhenItsFrameMoves) { ExpectObjectsFollowASimilarity(1.0); }
+
+// A merge of SLAM maps moves the current map into another's frame and units (docs/slam.md
+// "the atlas"): the object layer follows it as it follows any correction.
+TEST(ObjectMapper, FollowsAMergeOfTheSlamMap) { ExpectObjectsFollowASimilarity(0.6); }
 
 }  // namespace
 }  // namespace ocg

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
+#include "ocg/eval/trajectory_error.h"
 #include "ocg/features/matcher.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/sim/generator.h"
@@ -33,12 +36,22 @@ class SmokeFeed {
   }
   const SystemConfig& config() const { return config_; }
   TrackingResult Feed(System& system, int frame, bool blind) {
+    return FeedAt(system, frame, frame / scene_.fps, blind);
+  }
+  // Frame `frame` (its timestamp: frame / fps) showing the preset at time scene_t: the
+  // camera may jump along its path or go back on it.
+  TrackingResult FeedAt(System& system, int frame, double scene_t, bool blind) {
     const double t = frame / scene_.fps;
-    const cv::Mat image = blind ? cv::Mat(scene_.camera.height, scene_.camera.width, CV_8UC3,
-                                          cv::Scalar(128, 128, 128))
-                                : renderer_.Colour(t, sim::CameraPoseAt(scene_, t), frame);
+    const cv::Mat image =
+        blind
+            ? cv::Mat(scene_.camera.height, scene_.camera.width, CV_8UC3, cv::Scalar(128, 128, 128))
+            : renderer_.Colour(scene_t, sim::CameraPoseAt(scene_, scene_t), frame);
+    if (!blind)
+      groundtruth_.push_back({t, std::to_string(t), sim::CameraPoseAt(scene_, scene_t).Inverse()});
     return system.TrackImage(image, t, std::to_string(t));
   }
+  // The camera-to-world poses of the frames fed with a view, by timestamp.
+  const std::vector<StampedPose>& groundtruth() const { return groundtruth_; }
   cv::Mat Gray(int frame) {
     const double t = frame / scene_.fps;
     cv::Mat gray;
@@ -52,6 +65,7 @@ class SmokeFeed {
   sim::Scene scene_;
   sim::SceneRenderer renderer_;
   SystemConfig config_;
+  std::vector<StampedPose> groundtruth_;
 };
 
 // Keyframe culling leaves culled keyframes in the map (marked bad) for the frames placed
@@ -120,6 +134,122 @@ TEST(LostTracking, LostTooLongInAMatureMapStartsANewMap) {
     EXPECT_EQ(system.Frames()[f].map, f < 60 + static_cast<std::size_t>(blind_frames) - 1 ? 0 : 1)
         << f;
   }
+}
+
+// The smoke preset's first 3 s (a mature map), then 0.6 s of grey frames: longer than
+// the Tracking.newMapAfterLostSeconds of 0.5 s the callers set. Returns the next frame.
+int MapThreeSecondsThenLoseTrack(SmokeFeed& feed, System& system) {
+  int frame = 0;
+  for (; frame < 30; ++frame) feed.FeedAt(system, frame, frame / feed.scene().fps, false);
+  EXPECT_GT(system.KeyFrameCount(),
+            static_cast<std::size_t>(TrackingOptions().min_keyframes_to_keep_map));
+  for (int blind = 0; blind < 6; ++blind) feed.FeedAt(system, frame++, 0.0, true);
+  return frame;
+}
+
+// The atlas: lost too long, the camera starts a new map elsewhere (further along the
+// path), then goes back along the path to where the first map was made. The new map
+// recognizes the first map's place, is moved into its frame by the Sim(3) between them
+// and merged: one trajectory, in one frame, for both, that fits the ground truth.
+TEST(MultiMap, ANewMapMergesIntoTheOldOneWhenTheCameraComesBack) {
+  const Vocabulary vocabulary = DefaultVocabulary();
+  SystemConfig config;
+  config.tracking.new_map_after_lost_seconds = 0.5;
+  SmokeFeed feed(config);
+  System system(feed.config(), vocabulary);
+  const double fps = feed.scene().fps;
+  int frame = MapThreeSecondsThenLoseTrack(feed, system);
+  EXPECT_EQ(system.NewMaps(), 1);
+  const int return_start = frame;
+  // From 8 s back to 0 s along the path: elsewhere at first, then the first map's place.
+  int merged_at = -1;
+  for (double scene_t = 8.0; scene_t >= 0.0; scene_t -= 1.0 / fps) {
+    const TrackingResult result = feed.FeedAt(system, frame, scene_t, false);
+    if (result.merged && merged_at < 0) merged_at = frame;
+    ++frame;
+  }
+  system.Shutdown();
+  ASSERT_EQ(system.Merges().size(), 1u);
+  EXPECT_GT(merged_at, return_start);
+  const LoopEvent& merge = system.Merges().front();
+  EXPECT_EQ(merge.merged_map, 1);
+  EXPECT_EQ(merge.into_map, 0);
+  const std::vector<MapSummary> maps = system.Maps();
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_TRUE(maps[0].current);
+  EXPECT_EQ(maps[1].merged_into, 0);
+  EXPECT_EQ(maps[1].frames_tracked, 0u);
+  EXPECT_EQ(maps[1].keyframes, 0u);
+  EXPECT_EQ(system.MainMap(), 0);
+  // Every tracked frame, of either map, is in the merged map now.
+  const std::vector<StampedPose> trajectory = system.CameraTrajectory();
+  int tracked = 0;
+  for (const FrameRecord& record : system.Frames()) tracked += record.tracked ? 1 : 0;
+  EXPECT_EQ(trajectory.size(), static_cast<std::size_t>(tracked));
+  EXPECT_GE(tracked, frame - 6 - 10);  // the blind frames and re-initialization aside
+  for (int map : system.FrameMaps()) EXPECT_TRUE(map == 0 || map == -1);
+  // What the object layer follows: every tracked frame has its pose in the merged frame.
+  const std::vector<std::optional<SE3>> poses = system.FramePoses();
+  for (std::size_t f = 0; f < poses.size(); ++f)
+    EXPECT_EQ(poses[f].has_value(), system.Frames()[f].tracked) << f;
+  // One Sim(3) fits both parts: the merge put the new map where the old one is.
+  const AteResult ate = ComputeAte(feed.groundtruth(), trajectory, AteOptions());
+  EXPECT_EQ(ate.pairs.size(), trajectory.size());
+  const double path_length = 0.4 * 8.0;  // metres: the preset's speed times the time
+  EXPECT_LT(ate.translation.rmse, 0.01 * path_length) << "metres, Sim(3)-aligned";
+  std::cout << "merged at frame " << merged_at << " (scale " << merge.scale << ", "
+            << merge.points_fused << " points fused), " << tracked << " of " << frame
+            << " frames tracked, ATE RMSE " << ate.translation.rmse << " m\n";
+}
+
+// Relocalization tries the keyframes of every map: lost in a second map, the camera is
+// found again at the place of the first, and tracking goes on in that map.
+TEST(MultiMap, RelocalizationFindsThePlaceOfAnEarlierMap) {
+  const Vocabulary vocabulary = DefaultVocabulary();
+  SystemConfig config;
+  config.tracking.new_map_after_lost_seconds = 0.5;
+  config.loop_closing.merge_maps = false;  // relocalization alone brings it back
+  SmokeFeed feed(config);
+  System system(feed.config(), vocabulary);
+  const double fps = feed.scene().fps;
+  int frame = MapThreeSecondsThenLoseTrack(feed, system);
+  ASSERT_EQ(system.NewMaps(), 1);
+  // The second map, from 9 s on, mature enough not to be reset when lost.
+  for (double scene_t = 9.0; scene_t < 12.0; scene_t += 1.0 / fps)
+    feed.FeedAt(system, frame++, scene_t, false);
+  ASSERT_GT(system.KeyFrameCount(),
+            static_cast<std::size_t>(config.tracking.min_keyframes_to_keep_map));
+  // Lost briefly (shorter than Tracking.newMapAfterLostSeconds), then back at 1.5 s.
+  for (int blind = 0; blind < 2; ++blind) feed.FeedAt(system, frame++, 0.0, true);
+  bool switched = false;
+  int relocalized_at = -1;
+  for (int more = 0; more < 10; ++more) {
+    const TrackingResult result = feed.FeedAt(system, frame, 1.5 + more / fps, false);
+    if (result.relocalized && relocalized_at < 0) relocalized_at = frame;
+    switched = switched || result.switched_map;
+    ++frame;
+  }
+  system.Shutdown();
+  EXPECT_GE(relocalized_at, 0) << "never relocalized";
+  EXPECT_TRUE(switched);
+  EXPECT_EQ(system.NewMaps(), 1);
+  EXPECT_EQ(system.Resets(), 0);
+  const std::vector<MapSummary> maps = system.Maps();
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_TRUE(maps[0].current);
+  EXPECT_FALSE(maps[1].current);
+  EXPECT_GT(maps[1].keyframes, 0u);  // kept
+  EXPECT_EQ(system.Frames()[static_cast<std::size_t>(relocalized_at)].map, 0);
+  // A map file holds the current map alone.
+  std::stringstream file;
+  system.SaveMap(file);
+  System loaded(feed.config(), vocabulary);
+  loaded.LoadMap(file);
+  EXPECT_EQ(loaded.KeyFrameCount(), maps[0].keyframes);
+  EXPECT_EQ(loaded.MapPointCount(), maps[0].map_points);
+  // The relocalized frames are in the first map's frame: they fit its ground truth.
+  const AteResult ate = ComputeAte(feed.groundtruth(), system.CameraTrajectory(0), AteOptions());
+  EXPECT_LT(ate.translation.rmse, 0.02) << "metres, Sim(3)-aligned";
 }
 
 // A hand-held camera turning fast blurs the second view: level 0 loses most of its

@@ -41,7 +41,8 @@ struct KeyFrameAdjustment;
 
 // LoopClosing.* settings.
 struct LoopClosingOptions {
-  bool enabled = true;               // LoopClosing.enabled
+  bool enabled = true;               // LoopClosing.enabled (merges of maps too)
+  bool merge_maps = true;            // LoopClosing.mergeMaps: another map's place merges it
   int min_keyframes_between = 10;    // LoopClosing.minKeyFramesBetween: after the map's start
                                      // and after the last loop
   int min_loop_age = 30;             // LoopClosing.minLoopAge: keyframes between a place
@@ -62,6 +63,10 @@ struct LoopClosingOptions {
   static void VisitFields(Self& self, Visitor&& visit) {
     visit("LoopClosing.enabled", self.enabled, OptionBound::Any(),
           "recognize revisited places and correct the map");
+    visit("LoopClosing.mergeMaps", self.merge_maps, OptionBound::Any(),
+          "a keyframe that recognizes another map's place (as a loop is recognized) merges its "
+          "map into that one by the Sim(3) between them ([slam.md](slam.md) \"the atlas\"); "
+          "false: maps stay apart (relocalization still tries every map)");
     visit("LoopClosing.minKeyFramesBetween", self.min_keyframes_between, OptionBound::NonNegative(),
           "no loop in the map's first keyframes nor within this many keyframes of the last "
           "loop");
@@ -108,12 +113,20 @@ struct LoopEvent {
   // total and the longest stretch at once.
   double map_lock_held_seconds = 0.0;
   double map_lock_longest_hold_seconds = 0.0;
+  // A merge of maps (LoopClosingStats::merges): the map the current keyframe was in,
+  // moved into into_map when the keyframe of frame `frame` (Tracking's frame id)
+  // recognized into_map's place; `scale` is then the similarity's scale, into_map's units
+  // per unit of the moved map. -1 for a loop.
+  int merged_map = -1;
+  int into_map = -1;
+  std::uint64_t frame = 0;
 };
 
 struct LoopClosingStats {
   int candidates_checked = 0;  // consistent candidates that reached Sim(3) estimation
   std::vector<LoopEvent> loops;
-  int global_adjustments = 0;  // merged into the map
+  std::vector<LoopEvent> merges;  // a map recognized the place of another and merged into it
+  int global_adjustments = 0;     // merged into the map
   double global_adjustment_seconds = 0.0;
   // Keyframes and points added while a global adjustment ran, that followed it.
   int followed_global_adjustment = 0;
@@ -164,7 +177,7 @@ class LoopClosing {
   int Correct(const KeyFramePtr& keyframe, Loop& loop, MapLock& map_lock);
   // Global bundle adjustment after a correction (Map::mapping_mutex() held, map_lock not):
   // in place in sequential mode, else started on global_adjustment_thread_.
-  void AdjustGlobally(MapLock& map_lock);
+  void AdjustGlobally(int map, MapLock& map_lock);
   // Solves without the map lock; false (warned) when Ceres found no usable solution.
   bool SolveGlobally(KeyFrameAdjustment& adjustment) const;
   // Writes a solved global adjustment into the map (lock held) and counts it.

@@ -49,6 +49,7 @@ struct MapPoint {
   int visible = 1;  // frames in whose frustum it was
   int found = 1;    // frames that matched it
   bool bad = false;
+  int map = 0;  // the atlas map it belongs to (Map's map indices), its keyframes' map
   // Tracking's scratch mark (ORB-SLAM2's mnTrackReferenceForFrame): the last frame whose
   // local map search already had this point, so that a point seen by several local
   // keyframes is projected once without a set of ids per frame. Not saved with the map.
@@ -78,6 +79,7 @@ struct KeyFrame {
   std::set<KeyFrameId> children;
   std::set<KeyFrameId> loop_edges;  // keyframes a closed loop linked it to (never culled)
   bool bad = false;
+  int map = 0;  // the atlas map it belongs to (Map's map indices)
   // Culled keyframes: the pose relative to the parent at culling time, so that frames
   // that referred to it can follow the parent's later corrections.
   SE3 T_c_parent;
@@ -109,9 +111,43 @@ class Map;
 std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
                                      const SE3& T_c_reference);
 
+// The atlas (ORB-SLAM3's idea): the keyframes and points of every map the run made, each
+// tagged with its map's index (KeyFrame::map, MapPoint::map). Maps share nothing but the
+// keyframe database and the id counters: no point is seen by keyframes of two maps, so
+// covisibility, local mapping and tracking's local map stay inside one map. Tracking
+// works in the current map; relocalization may find a keyframe of any map, which then
+// becomes current; a merge moves one map into another's frame and retags it.
 class Map {
  public:
   static constexpr int kCovisibilityThreshold = 15;
+
+  // The map new keyframes and points go to (tracking's), and how many maps were started
+  // (indices 0 .. map_count() - 1; merged ones keep their index but hold nothing).
+  int current_map() const { return current_map_; }
+  void SetCurrentMap(int map) { current_map_ = map; }
+  int map_count() const { return map_count_; }
+  // Starts an empty map, which becomes current; returns its index.
+  int StartNewMap() {
+    current_map_ = map_count_++;
+    return current_map_;
+  }
+  // The keyframes of one map, culled ones included / not.
+  std::size_t KeyFrameCount(int map) const;
+  std::size_t LiveKeyFrameCount(int map) const;
+  // The first keyframe of a map (never culled, the gauge of its adjustments); none for an
+  // empty map.
+  std::optional<KeyFrameId> FirstKeyFrame(int map) const;
+  // Removes a map's keyframes and points (a reset of a young map); returns the keyframe
+  // ids removed, for the keyframe database.
+  std::vector<KeyFrameId> EraseMap(int map);
+  // A merge: every keyframe and point of map from moves by the similarity S_into_from
+  // (from's world to into's world: poses T_cw become T_cw * S_into_from^-1 with the scale
+  // divided out, points S_into_from * X) and is retagged into; the current map follows.
+  void MoveMap(int from, int into, const Sim3& S_into_from);
+  // Merges so far, and the last one's scale (S_into_from's): motion measured before it
+  // is in the old units.
+  int merges() const { return merges_; }
+  double last_merge_scale() const { return last_merge_scale_; }
 
   std::mutex& mutex() const { return mutex_; }
   // Changing the map over several steps (local mapping's work on a keyframe, a loop
@@ -143,15 +179,17 @@ class Map {
     next_keyframe_id_ = next_keyframe;
     next_point_id_ = next_point;
   }
-  void Add(const KeyFramePtr& keyframe) { keyframes_[keyframe->id] = keyframe; }
+  // keyframe->map must be set: the map's first keyframe is kept up to date here.
+  void Add(const KeyFramePtr& keyframe);
   void Add(const MapPointPtr& point) { points_[point->id] = point; }
   KeyFramePtr GetKeyFrame(KeyFrameId id) const;
   // Every keyframe ever added, the culled ones (bad) included: frames placed relative to
   // a culled keyframe still follow it to its parent.
   const std::map<KeyFrameId, KeyFramePtr>& keyframes() const { return keyframes_; }
-  // The keyframes not culled: how big the map is.
+  // The keyframes not culled, of every map.
   std::size_t LiveKeyFrameCount() const;
   const std::map<MapPointId, MapPointPtr>& points() const { return points_; }
+  // Forgets every map and the id counters.
   void Clear();
 
   // Observations and geometry.
@@ -183,6 +221,11 @@ class Map {
   KeyFrameId next_keyframe_id_ = 0;
   MapPointId next_point_id_ = 0;
   std::uint64_t corrections_ = 0;
+  int current_map_ = 0;
+  int map_count_ = 1;
+  int merges_ = 0;
+  double last_merge_scale_ = 1.0;
+  std::map<int, KeyFrameId> first_keyframes_;  // per map
   std::map<KeyFrameId, KeyFramePtr> keyframes_;
   std::map<MapPointId, MapPointPtr> points_;
 };

@@ -6,13 +6,15 @@
 // archive written into a stream that the caller frames (core/map_file.h).
 
 #include <iosfwd>
+#include <optional>
 
 #include "ocg/slam/map.h"
 
 namespace ocg {
 
-// Locks the map while it writes.
-void SaveMap(const Map& map, std::ostream& out);
+// Locks the map while it writes. only_map: that map of the atlas alone (KeyFrame::map);
+// it is loaded as map 0.
+void SaveMap(const Map& map, std::ostream& out, std::optional<int> only_map = std::nullopt);
 
 // Reads what SaveMap wrote into map, which must be empty (locks it while it reads). The
 // keyframes' feature grids are rebuilt from the saved grid geometry. pyramid_levels: the

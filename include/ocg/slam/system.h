@@ -53,20 +53,30 @@ struct FrameRecord {
   KeyFrameId reference = 0;
   SE3 T_c_reference;
   // The map the frame was tracked in (0, 1, ... in the order they were started); a map
-  // reset is forgotten, its frames untracked.
+  // reset is forgotten, its frames untracked. A merge moves frames into another map:
+  // System::FrameMaps() says where each frame is now.
   int map = 0;
 };
 
-// One map of the run: a finished one (tracking got lost in it and started a new one) or
-// the current one. Poses of different maps are in different frames and scales.
+// One map of the atlas: every map the run started (tracking got lost in one too long and
+// started the next), kept with its keyframes and points; the current one is tracked.
+// Poses of different maps are in different frames and scales, until a merge moves one
+// into another's frame: a merged map is then empty, its frames and keyframes counted
+// in the map it went into.
 struct MapSummary {
   int index = 0;
   bool current = false;
-  std::size_t frames_tracked = 0;  // frames placed in it (CameraTrajectory)
+  std::size_t frames_tracked = 0;  // frames placed in it now (CameraTrajectory)
   std::uint64_t first_frame = 0;   // call index of its first and last tracked frame
   std::uint64_t last_frame = 0;
   std::size_t keyframes = 0;
   std::size_t map_points = 0;
+  // Merged into another map (LoopClosing's merges): which, when (the frame id of the
+  // keyframe that recognized the other map's place), the similarity's scale (the other
+  // map's units per unit of this one) and how many frames were in this map then.
+  int merged_into = -1;
+  std::uint64_t merged_at_frame = 0;
+  double merge_scale = 1.0;
 };
 
 class System {
@@ -97,34 +107,39 @@ class System {
   // with the most tracked frames; the current one on a tie or with a single map).
   std::vector<StampedPose> KeyFrameTrajectory() const;
   // Every frame tracked in the main map, placed relative to its reference keyframe's
-  // final pose.
+  // final pose (frames of maps merged into it: in its frame).
   std::vector<StampedPose> CameraTrajectory() const;
-  // The same for one map (MapSummary::index); a finished map's poses as they were when
-  // tracking left it.
+  // The same for one map (MapSummary::index): its poses now, in its frame; nothing for
+  // a map merged into another.
   std::vector<StampedPose> KeyFrameTrajectory(int map) const;
   std::vector<StampedPose> CameraTrajectory(int map) const;
-  // Every map of the run, finished ones first, in the order they were started.
+  // Every map of the run, in the order they were started.
   std::vector<MapSummary> Maps() const;
   int MainMap() const;
+  // Per frame given to TrackImage, in call order: the map it is placed in now (its
+  // reference keyframe's), -1 when not tracked or its map was reset.
+  std::vector<int> FrameMaps() const;
   // The current pose (after bundle adjustment) of every frame given to TrackImage, in
-  // call order; none for frames not tracked, whose map was reset or that belong to an
-  // earlier map than the current one (FrameRecord::map says which).
+  // call order, in the current map's frame; none for frames not tracked, whose map was
+  // reset or that are placed in another map (FrameMaps() says which).
   std::vector<std::optional<SE3>> FramePoses() const;
-  // The positions of every map point (for the object layer's supporting plane and point
-  // sets), with their ids and descriptors in the same order when those are given.
+  // The positions of the current map's points (for the object layer's supporting plane
+  // and point sets), with their ids and descriptors in the same order when those are
+  // given.
   std::vector<Eigen::Vector3d> MapPointPositions(
       std::vector<MapPointId>* ids = nullptr, std::vector<Descriptor>* descriptors = nullptr) const;
-  // The keyframes in the map (for tests and diagnostics; read them while the system is
-  // idle: after Shutdown(), or between TrackImage calls in sequential mode).
+  // The keyframes in the current map (for tests and diagnostics; read them while the
+  // system is idle: after Shutdown(), or between TrackImage calls in sequential mode).
   std::vector<KeyFramePtr> KeyFrames() const;
   // Whether this map holds the place a keyframe (of any map) shows: its database's
   // max_candidates best BoW matches verified as loop closing verifies a loop; nothing
   // in the map changes. Same conditions as KeyFrames().
   std::optional<LoopEvent> RecognizePlace(const KeyFramePtr& keyframe,
                                           std::size_t max_candidates) const;
-  // The camera-to-world rotations of the keyframes in the map.
+  // The camera-to-world rotations of the keyframes in the current map.
   std::vector<Eigen::Matrix3d> KeyFrameRotations() const;
   const std::vector<FrameRecord>& Frames() const { return frames_; }
+  // The current map's live keyframes and points.
   std::size_t KeyFrameCount() const;
   std::size_t MapPointCount() const;
   LocalMappingStats MappingStats() const { return local_mapping_->Stats(); }
@@ -132,12 +147,15 @@ class System {
   const LoopClosingStats& LoopStats() const { return loop_closing_->Stats(); }
   int Resets() const { return resets_; }
   // Maps started after the first, each when tracking was lost too long in a bigger one.
-  int NewMaps() const { return static_cast<int>(finished_maps_.size()); }
+  int NewMaps() const { return new_maps_; }
+  // Merges of one map into another (LoopClosing's merges; threaded mode: after Shutdown).
+  const std::vector<LoopEvent>& Merges() const { return loop_closing_->Stats().merges; }
 
   // Map files (slam/map_file.h, docs/sessions.md). SaveMap: same conditions as
-  // KeyFrames(). LoadMap: before the first TrackImage, into the empty map; the keyframe
-  // database is rebuilt from the keyframes' BoW vectors, and tracking starts lost: it
-  // relocalizes in the loaded map and never initializes one of its own. Throws what
+  // KeyFrames(); saves the current map only (the one the object layer's objects are in;
+  // other maps of the atlas are not saved). LoadMap: before the first TrackImage, into the empty
+  // map; the keyframe database is rebuilt from the keyframes' BoW vectors, and tracking starts
+  // lost: it relocalizes in the loaded map and never initializes one of its own. Throws what
   // ocg::LoadMap throws (the map stays empty then) and std::logic_error after a frame.
   // frames_before: the frames the earlier sessions were given; this session's frame ids
   // (KeyFrame::frame_id) continue after them, so a keyframe's frame id is its frame's
@@ -160,14 +178,11 @@ class System {
   double pending_mapping_seconds_ = 0.0;
   double pending_mapping_cpu_seconds_ = 0.0;
   int resets_ = 0;
-  // A map tracking left: what the outputs need of it, taken when it was left.
-  struct FinishedMap {
-    MapSummary summary;
-    std::vector<StampedPose> keyframes, cameras;
-  };
-  std::vector<FinishedMap> finished_maps_;
-  int current_map_ = 0;
-  MapSummary SummaryOfCurrentMap() const;
+  int new_maps_ = 0;
+  int merges_seen_ = 0;  // Map::merges() at the last TrackImage
+  int CurrentMap() const;
+  // FrameMaps() with map_.mutex() held.
+  std::vector<int> FrameMapsLocked() const;
   bool shut_down_ = false;
   bool map_loaded_ = false;
 };

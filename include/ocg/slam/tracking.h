@@ -139,6 +139,12 @@ struct TrackingResult {
   // trajectory), stops local mapping and calls Reset(); tracking initializes a new map.
   // Poses before and after are in different frames (and scales).
   bool new_map = false;
+  // Relocalized in another map of the atlas, which became current (poses before and
+  // after are in different frames).
+  bool switched_map = false;
+  // Set by System: a merge moved the current map into another map's frame during this
+  // frame (in threaded mode: since the last frame); poses before are in the old frame.
+  bool merged = false;
   int inliers = 0;
   // Time spent waiting for the map lock while tracking this frame [s]: in threaded mode,
   // while local mapping or loop closing held it.
@@ -171,9 +177,11 @@ class Tracking {
   TrackingState state() const { return state_; }
   // Every frame given while not initialized, and why it did not initialize.
   const InitializationAttempts& initialization_attempts() const { return initialization_; }
-  // Forgets the map and starts over (clears the map and the database too). Call with
-  // local mapping stopped or idle.
-  void Reset();
+  // Starts over in a new map: keep_map keeps the current one in the atlas (Map's maps;
+  // its keyframes stay in the database, for relocalization and merges), else it is erased
+  // with its database entries (a reset of a young map). Other maps are kept either way.
+  // Call with local mapping stopped or idle.
+  void Reset(bool keep_map = false);
   // The map was loaded from a map file, not made here: tracking starts lost, relocalizes
   // in it, and never resets it however long relocalization fails (no second map is
   // initialized beside it). Frame ids continue from first_frame_id, after the saved
@@ -231,6 +239,7 @@ class Tracking {
   KeyFrameId anchor_keyframe_ = 0;  // the last frame's, with its pose relative to it
   SE3 T_last_anchor_;
   std::uint64_t anchored_corrections_ = 0;  // Map::corrections() when it was placed
+  int anchored_merges_ = 0;                 // Map::merges() then
   std::uint64_t last_keyframe_frame_id_ = 0;
   std::uint64_t last_relocalization_frame_id_ = 0;
   int frames_lost_ = 0;  // in a row, in this map
