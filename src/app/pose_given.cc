@@ -10,8 +10,7 @@ namespace ocg {
 
 nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
-                                         const EaoDetectionFolder& detections,
-                                         const std::string& folder,
+                                         DetectionSource& detections, const std::string& folder,
                                          const std::function<void(std::size_t)>& progress,
                                          const RunStop* stop) {
   ObjectMapper mapper(settings.objects, settings.ocg, settings.camera.model, true);
@@ -31,7 +30,8 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
       continue;
     }
     const auto frame_start = std::chrono::steady_clock::now();
-    mapper.AddFrame(used, frame.timestamp, *frame.T_cw, detections.ForFrame(frame.timestamp_text));
+    mapper.AddFrame(used, frame.timestamp, *frame.T_cw,
+                    detections.DetectionsFor(frame.timestamp_text, {}));
     if (used % settings.objects.keyframe_interval == 0)
       mapper.AddKeyframe(keyframes++, frame.timestamp, *frame.T_cw);
     frame_seconds.push_back(

@@ -12,12 +12,12 @@
 #include "ocg/app/run_stop.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/lie.h"
-#include "ocg/io/detections.h"
+#include "ocg/io/detection_source.h"
 
 namespace ocg {
 
 struct PoseGivenFrame {
-  std::string timestamp_text;  // names its detection file "<timestamp_text>.txt"
+  std::string timestamp_text;  // the frame's name in the detections ("<timestamp_text>.txt")
   double timestamp = 0.0;      // seconds
   std::optional<SE3> T_cw;     // world to camera; none: the frame is skipped
 };
@@ -32,8 +32,7 @@ struct PoseGivenFrame {
 // cannot be written.
 nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
-                                         const EaoDetectionFolder& detections,
-                                         const std::string& folder,
+                                         DetectionSource& detections, const std::string& folder,
                                          const std::function<void(std::size_t)>& progress = {},
                                          const RunStop* stop = nullptr);
 
