@@ -28,8 +28,9 @@ struct PoseGivenFrame {
 // (frames, frames_used, frames_without_pose, keyframes, wall_seconds, timing and the
 // object map's counts). progress(frames done) after each frame, when given. A stop
 // requested (RunStop) ends the frames early: the object map of the frames done is written
-// all the same, with "interrupted": true in the report. Throws FileError when a file
-// cannot be written.
+// all the same, with "interrupted": true in the report. detections is asked for each
+// frame with a pose, without an image (files or boxes in memory; a source that
+// NeedsImage() has none to look at). Throws FileError when a file cannot be written.
 nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
                                          DetectionSource& detections, const std::string& folder,
