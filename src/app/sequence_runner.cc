@@ -70,6 +70,17 @@ struct PreparedFrame {
   double detect_cpu_seconds = 0.0;  // the reader thread's CPU time of it
 };
 
+// The sequence's first max_frames frames (0: all). Throws when there is none.
+std::size_t FramesToProcess(const ImageSequence& sequence, std::size_t max_frames) {
+  std::size_t frames = sequence.images.size();
+  if (max_frames > 0) frames = std::min(frames, max_frames);
+  if (frames == 0) {
+    throw std::invalid_argument("no frames to process: '" + sequence.list +
+                                "' lists no image (only comments or blank lines)");
+  }
+  return frames;
+}
+
 // The progress line when asked for and stdout is a terminal.
 bool ProgressOnTerminal(bool wanted) { return wanted && ::isatty(::fileno(stdout)) != 0; }
 
@@ -167,12 +178,7 @@ std::string TimestampInSeconds(const std::string& text, const std::string& forma
 FeedReport FeedSequence(ObjectSlam& slam, const ImageSequence& sequence, DetectionSource* source,
                         const FeedOptions& options) {
   FeedReport report;
-  std::size_t frames = sequence.images.size();
-  if (options.max_frames > 0) frames = std::min(frames, options.max_frames);
-  if (frames == 0) {
-    throw std::invalid_argument("no frames to process: '" + sequence.list +
-                                "' lists no image (only comments or blank lines)");
-  }
+  const std::size_t frames = FramesToProcess(sequence, options.max_frames);
   report.frames = frames;
   std::vector<std::string> image_paths;
   image_paths.reserve(frames);
@@ -290,12 +296,7 @@ nlohmann::json RunSlamOnSequence(const SlamRunRequest& request, std::ostream& ou
   // frame to process included), and the output folder is tried for writing, so no bad
   // input ends a run after the whole sequence.
   const ImageSequence sequence = ReadSequence(request.sequence, request.format);
-  std::size_t frames = sequence.images.size();
-  if (request.feed.max_frames > 0) frames = std::min(frames, request.feed.max_frames);
-  if (frames == 0) {
-    throw std::invalid_argument("no frames to process: '" + sequence.list +
-                                "' lists no image (only comments or blank lines)");
-  }
+  const std::size_t frames = FramesToProcess(sequence, request.feed.max_frames);
   CheckCameraFitsImage(loaded, sequence.images.front().path);
   std::vector<std::string> frame_names;
   frame_names.reserve(frames);
