@@ -100,32 +100,6 @@ void ExpectSameOutputs(const std::string& a, const std::string& b, const std::st
   }
 }
 
-TEST(SequenceRunner, ReadAheadOnOrOffGivesTheSameRun) {
-  FolderDetectionSource files(EaoDetectionFolder(Smoke().eao, Smoke().frames), Smoke().eao);
-  FeedReport ahead;
-  const std::string without = RunThrough("no_read_ahead", files, 0);
-  const std::string with = RunThrough("read_ahead", files, 3, &ahead);
-  ExpectSameOutputs(without, with, "read-ahead 0 and 3");
-  EXPECT_EQ(ahead.reader["frame_wait_per_frame"]["count"], kFrames);
-}
-
-TEST(SequenceRunner, EaoFilesAndAJsonListGiveTheSameRun) {
-  const std::unique_ptr<DetectionSource> eao = OpenDetectionFiles(Smoke().eao, Smoke().frames);
-  const std::unique_ptr<DetectionSource> json = OpenDetectionFiles(Smoke().json, Smoke().frames);
-  EXPECT_EQ(eao->Describe(), "EAO folder '" + Smoke().eao + "'");
-  EXPECT_EQ(json->Describe(), "JSON list '" + Smoke().json + "'");
-  EXPECT_EQ(json->FramesMatched(), Smoke().frames.size());
-  ExpectSameOutputs(RunThrough("eao", *eao, 2), RunThrough("json", *json, 2),
-                    "EAO folder and JSON list");
-}
-
-TEST(SequenceRunner, BoxesInMemoryGiveTheRunOfTheirFiles) {
-  const std::unique_ptr<DetectionSource> eao = OpenDetectionFiles(Smoke().eao, Smoke().frames);
-  InMemoryDetectionSource memory(Smoke().boxes, Smoke().frames);
-  ExpectSameOutputs(RunThrough("eao_too", *eao, 2), RunThrough("memory", memory, 2),
-                    "EAO folder and boxes in memory");
-}
-
 // A source that looks at the image, as the detector network does: asked on the reader
 // thread, given the frame as read from disk, its boxes reach the object map as files do.
 class ImageLookingSource : public DetectionSource {
@@ -148,18 +122,34 @@ class ImageLookingSource : public DetectionSource {
   std::mutex mutex_;
 };
 
-TEST(SequenceRunner, ASourceThatNeedsTheImageRunsOnTheReaderThread) {
+// Each test generates the sequence (most of its time), so each compares three runs.
+TEST(SequenceRunner, ReadAheadOnOrOffAndASourceOnTheReaderThreadGiveTheSameRun) {
+  FolderDetectionSource files(EaoDetectionFolder(Smoke().eao, Smoke().frames), Smoke().eao);
+  FeedReport ahead;
+  const std::string without = RunThrough("no_read_ahead", files, 0);
+  ExpectSameOutputs(without, RunThrough("read_ahead", files, 3, &ahead), "read-ahead 0 and 3");
+  EXPECT_EQ(ahead.reader["frame_wait_per_frame"]["count"], kFrames);
   ImageLookingSource detector(Smoke());
   FeedReport report;
-  const std::string detected = RunThrough("image_source", detector, 2, &report);
+  ExpectSameOutputs(without, RunThrough("image_source", detector, 2, &report),
+                    "files and a source asked on the reader thread");
   EXPECT_EQ(detector.bad_images_, 0);
   ASSERT_EQ(detector.threads_.size(), 1u);
   EXPECT_NE(*detector.threads_.begin(), std::this_thread::get_id());
   EXPECT_EQ(report.reader["detect_per_frame"]["count"], kFrames);
   EXPECT_EQ(report.reader["detections"], "image-looking source");
-  FolderDetectionSource files(EaoDetectionFolder(Smoke().eao, Smoke().frames), Smoke().eao);
-  ExpectSameOutputs(RunThrough("image_source_files", files, 0), detected,
-                    "a source asked on the reader thread and files");
+}
+
+TEST(SequenceRunner, EaoFilesAJsonListAndBoxesInMemoryGiveTheSameRun) {
+  const std::unique_ptr<DetectionSource> eao = OpenDetectionFiles(Smoke().eao, Smoke().frames);
+  const std::unique_ptr<DetectionSource> json = OpenDetectionFiles(Smoke().json, Smoke().frames);
+  EXPECT_EQ(eao->Describe(), "EAO folder '" + Smoke().eao + "'");
+  EXPECT_EQ(json->Describe(), "JSON list '" + Smoke().json + "'");
+  EXPECT_EQ(json->FramesMatched(), Smoke().frames.size());
+  InMemoryDetectionSource memory(Smoke().boxes, Smoke().frames);
+  const std::string from_eao = RunThrough("eao", *eao, 2);
+  ExpectSameOutputs(from_eao, RunThrough("json", *json, 2), "EAO folder and JSON list");
+  ExpectSameOutputs(from_eao, RunThrough("memory", memory, 2), "EAO folder and boxes in memory");
 }
 
 TEST(SequenceRunner, ModesAreParsedOnceEachAndEurocTimesBecomeSeconds) {
