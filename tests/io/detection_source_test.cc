@@ -107,3 +107,31 @@ TEST(InMemoryDetectionSource, BoxesAreCheckedAsFilesAre) {
 
 }  // namespace
 }  // namespace ocg
+
+namespace ocg {
+namespace {
+
+// A detector's boxes inside a run are those its files would hold once read back.
+TEST(AsStoredInEaoFiles, GivesWhatAFileWrittenAndReadBackHolds) {
+  const std::vector<Detection> raw = {
+      {41, 123.45678912, 0.1 + 0.2, 50.000000001, 1e-3 / 3.0, 0.87654321},
+      {0, 1234567.891, 7.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}};
+  const std::string dir = testing::MakeTempDir("as_stored");
+  WriteFileAtomically(dir + "/1.5.txt", FormatEaoDetections(raw));
+  const std::vector<Detection> read = ReadEaoDetectionFile(dir + "/1.5.txt");
+  const std::vector<Detection> stored = AsStoredInEaoFiles(raw);
+  ASSERT_EQ(stored.size(), read.size());
+  for (std::size_t i = 0; i < read.size(); ++i) {
+    EXPECT_EQ(stored[i].class_id, read[i].class_id);
+    EXPECT_EQ(stored[i].x, read[i].x);
+    EXPECT_EQ(stored[i].y, read[i].y);
+    EXPECT_EQ(stored[i].width, read[i].width);
+    EXPECT_EQ(stored[i].height, read[i].height);
+    EXPECT_EQ(stored[i].confidence, read[i].confidence);
+  }
+  EXPECT_NE(stored[0].x, raw[0].x);  // the text keeps 6 significant digits
+  EXPECT_TRUE(AsStoredInEaoFiles({}).empty());
+}
+
+}  // namespace
+}  // namespace ocg

@@ -72,10 +72,12 @@ class DetectionModel : public DetectionSource {
   // std::invalid_argument for an empty image or another depth.
   std::vector<Detection> Detect(const cv::Mat& image);
 
+  // Detect's boxes as the detection files ocg_detect writes keep them
+  // (AsStoredInEaoFiles), so `ocg_slam run --detect` equals ocg_detect then --detections.
   // The frame's image must be given (NeedsImage); Detect's errors.
   std::vector<Detection> DetectionsFor(const std::string& /*timestamp_text*/,
                                        const cv::Mat& image) override {
-    return Detect(image);
+    return AsStoredInEaoFiles(Detect(image));
   }
   bool NeedsImage() const override { return true; }
 
