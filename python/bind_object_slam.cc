@@ -17,6 +17,7 @@
 #include "ocg/app/sequence_runner.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/detect/detection_model.h"
 #include "ocg/io/detections.h"
 #include "ocg/io/text_lines.h"
 
@@ -151,10 +152,11 @@ class PyObjectSlam {
                     : OpenDetections(input, frames);
       const std::lock_guard<std::mutex> lock(mutex_);
       report = FeedSequence(*slam_, images, source.get(), options);
-      description_ = {
-          root, settings_path_,
-          in_memory ? "(python)" : (detect ? (model ? *model : "detector") : input.files),
-          source ? source->FramesMatched() : 0, report.feed};
+      description_ = {root, settings_path_,
+                      in_memory
+                          ? "(python)"
+                          : (detect ? (model ? *model : DefaultDetectorModel()) : input.files),
+                      source ? source->FramesMatched() : 0, report.feed};
       description_.reader = report.reader;
     }
     const nlohmann::json result = {{"frames", report.frames},
