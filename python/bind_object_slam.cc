@@ -4,16 +4,20 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "bindings.h"
 #include "ocg/app/object_slam.h"
+#include "ocg/app/sequence_runner.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
+#include "ocg/detect/detection_model.h"
 #include "ocg/io/detections.h"
 #include "ocg/io/text_lines.h"
 
@@ -67,6 +71,8 @@ class PyObjectSlam {
                const std::optional<std::string>& mode, bool map_objects,
                const std::optional<std::string>& load_map)
       : settings_path_(settings_path) {
+    description_.sequence = "(python)";
+    description_.settings = settings_path;
     Settings settings = LoadSettings(settings_path, CameraNeed::kIntrinsics).settings;
     if (mode) {
       settings.ocg.mode = *mode;
@@ -108,6 +114,61 @@ class PyObjectSlam {
     return slam_->LastFrame();
   }
 
+  // A recorded sequence fed by the sequence runner (read-ahead, realtime, detections
+  // from files, boxes in memory or the detector); its description is what save() writes.
+  py::object Run(const py::object& sequence, const std::string& format,
+                 const py::object& detections, bool detect, const std::optional<std::string>& model,
+                 double detect_score, std::size_t max_frames, int read_ahead, bool realtime,
+                 bool lenient) {
+    const std::string root = py::str(py::module_::import("os").attr("fspath")(sequence));
+    DetectionInput input;
+    input.detect = detect;
+    if (model) input.model = *model;
+    input.detect_score = detect_score;
+    input.lenient = lenient;
+    std::unordered_map<std::string, std::vector<Detection>> boxes;
+    const bool in_memory = py::isinstance<py::dict>(detections);
+    if (in_memory) {
+      if (detect) throw py::value_error("give either detections or detect=True, not both");
+      for (const auto& [key, value] : detections.cast<py::dict>())
+        boxes[py::str(key)] = ToDetections(py::reinterpret_borrow<py::object>(value));
+    } else if (!detections.is_none()) {
+      input.files = py::str(py::module_::import("os").attr("fspath")(detections));
+    }
+    FeedOptions options;
+    options.max_frames = max_frames;
+    options.read_ahead = read_ahead;
+    options.realtime = realtime;
+    options.format = format;
+    FeedReport report;
+    {
+      py::gil_scoped_release release;
+      const ImageSequence images = ReadSequence(root, format);
+      std::vector<std::string> frames;
+      for (std::size_t i = 0; i < images.images.size() && (max_frames == 0 || i < max_frames); ++i)
+        frames.push_back(images.images[i].timestamp_text);
+      std::unique_ptr<DetectionSource> source =
+          in_memory ? std::make_unique<InMemoryDetectionSource>(std::move(boxes), frames)
+                    : OpenDetections(input, frames);
+      const std::lock_guard<std::mutex> lock(mutex_);
+      report = FeedSequence(*slam_, images, source.get(), options);
+      description_ = {root, settings_path_,
+                      in_memory
+                          ? "(python)"
+                          : (detect ? (model ? *model : DefaultDetectorModel()) : input.files),
+                      source ? source->FramesMatched() : 0, report.feed};
+      description_.reader = report.reader;
+    }
+    const nlohmann::json result = {{"frames", report.frames},
+                                   {"stopped", report.stopped},
+                                   {"frames_dropped", report.dropped},
+                                   {"feed", report.feed},
+                                   {"reader", report.reader}};
+    return py::module_::import("json").attr("loads")(result.dump());
+  }
+
+  const RunDescription& description() const { return description_; }
+
   template <typename Result, typename Body>
   Result Locked(Body body) {
     py::gil_scoped_release release;
@@ -120,6 +181,7 @@ class PyObjectSlam {
 
  private:
   std::string settings_path_;
+  RunDescription description_;
   std::mutex mutex_;
   std::unique_ptr<ObjectSlam> slam_;
 };
@@ -246,6 +308,26 @@ void BindObjectSlam(py::module_& module) {
            "ValueError) for a detection row a detection file may not hold (class outside "
            "0..79, a coordinate not finite, width or height <= 0, score outside [0, 1]); "
            "RuntimeError after shutdown().")
+      .def("run", &PyObjectSlam::Run, py::arg("sequence"), py::kw_only(), py::arg("format") = "tum",
+           py::arg("detections") = py::none(), py::arg("detect") = false,
+           py::arg("model") = py::none(), py::arg("detect_score") = 0.0, py::arg("max_frames") = 0,
+           py::arg("read_ahead") = -1, py::arg("realtime") = false, py::arg("lenient") = false,
+           "A recorded sequence, fed as `ocg_slam run` feeds it (the sequence runner): images "
+           "decoded, their ORB features extracted and their detections made up to read_ahead "
+           "frames ahead on a thread of their own (-1: 4 on two cores or more, 0: none), at "
+           "the pace of their timestamps with realtime=True (images a live camera would have "
+           "replaced are dropped). sequence: a sequence folder of format 'tum', 'euroc' or "
+           "'kitti'. detections: None, a folder of EAO files or a JSON list file (a path), or "
+           "a dict {timestamp text as in rgb.txt: (N, 6) array [class, x, y, w, h, score]}; "
+           "detect=True runs the detector network (model: an .onnx file, default the one "
+           "tools/get_detector.sh builds; detect_score: minimum confidence, 0: the model's). "
+           "max_frames: the first frames only (0: all). Then shutdown() and save() as after "
+           "track(); save() names the sequence and detections in run.json.\n"
+           "Returns a dict: frames, stopped, frames_dropped, feed (realtime) and reader "
+           "(read-ahead depth, the time tracking waited per frame, the detections' time per "
+           "frame on the reader thread). Raises ocg.FileError for a missing sequence, image, "
+           "detection file or model (saying how to get the model), ocg.ParseError for "
+           "malformed detections, ValueError for detections and detect together.")
       .def(
           "pose",
           [](PyObjectSlam& self) -> std::optional<Matrix4> {
@@ -292,10 +374,9 @@ void BindObjectSlam(py::module_& module) {
           "save",
           [](PyObjectSlam& self, const py::object& folder) {
             const std::string path = py::str(py::module_::import("os").attr("fspath")(folder));
-            const std::string settings = self.settings_path();
-            const std::string report = self.Locked<std::string>([&](ObjectSlam& slam) {
-              return slam.Save(path, {"(python)", settings, "", 0}).dump();
-            });
+            const RunDescription description = self.description();
+            const std::string report = self.Locked<std::string>(
+                [&](ObjectSlam& slam) { return slam.Save(path, description).dump(); });
             return ParseJson(report);
           },
           py::arg("folder"),

@@ -57,16 +57,7 @@ int main(int argc, char** argv) {
     if (threads > 0) cv::setNumThreads(threads);
     options.model_path = model_path;
     options.tile_mode = tile == "off" ? ocg::TileMode::kOff : ocg::TileMode::kAuto;
-    if (!std::filesystem::exists(model_path)) {
-      const char* env = std::getenv("OCG_DETECTOR_MODEL");
-      std::string hint = "give an existing .onnx file";
-      if (model_path == default_model) {
-        hint = env && *env ? "it is $OCG_DETECTOR_MODEL; unset it or point it at an .onnx file"
-                           : "run tools/get_detector.sh once (it builds the default NanoDet "
-                             "model there), or give --model F.onnx";
-      }
-      throw ocg::FileError("no detector model at '" + model_path + "': " + hint);
-    }
+    ocg::RequireDetectorModel(model_path);
     // Every input is checked before the first image: the list and the model here, the
     // images and the output folder in DetectImagesToFolder.
     const std::vector<ocg::TimedImage> images = ocg::ListImagesToDetect(images_path);

@@ -367,6 +367,7 @@ class ObjectSlam::Impl {
                                {"levels", config_.orb.levels}}},
                              {"seed", settings_.system.seed}};
     if (!description.feed.is_null()) report["feed"] = description.feed;
+    if (!description.reader.is_null()) report["reader"] = description.reader;
     // What the map lock costs (threaded mode; docs/slam.md "Threads and determinism").
     nlohmann::json& timing = report["timing"];
     timing["tracking_map_lock_wait_per_frame"] = app_detail::Timing(lock_wait_seconds);

@@ -11,8 +11,7 @@ namespace ocg {
 
 nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
-                                         const EaoDetectionFolder& detections,
-                                         const std::string& folder,
+                                         DetectionSource& detections, const std::string& folder,
                                          const std::function<void(std::size_t)>& progress,
                                          const RunStop* stop, const SnapshotPolicy& snapshots) {
   ObjectMapper mapper(settings.objects, settings.ocg, settings.camera.model, true);
@@ -33,8 +32,8 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
       continue;
     }
     const auto frame_start = std::chrono::steady_clock::now();
-    const FrameAssociation association = mapper.AddFrame(used, frame.timestamp, *frame.T_cw,
-                                                         detections.ForFrame(frame.timestamp_text));
+    const FrameAssociation association = mapper.AddFrame(
+        used, frame.timestamp, *frame.T_cw, detections.DetectionsFor(frame.timestamp_text, {}));
     const bool keyframe = used % settings.objects.keyframe_interval == 0;
     if (keyframe) {
       outputs.BeforeKeyframe(mapper);

@@ -103,6 +103,19 @@ std::string DefaultDetectorModel() {
   return OCG_SOURCE_DETECTOR_MODEL;
 }
 
+void RequireDetectorModel(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::exists(path, error)) return;
+  const char* env = std::getenv("OCG_DETECTOR_MODEL");
+  std::string hint = "give an existing .onnx file";
+  if (path == DefaultDetectorModel()) {
+    hint = env && *env ? "it is $OCG_DETECTOR_MODEL; unset it or point it at an .onnx file"
+                       : "run tools/get_detector.sh once (it builds the default NanoDet model "
+                         "there; docs/detector.md), or give --model F.onnx";
+  }
+  throw FileError("no detector model at '" + path + "': " + hint);
+}
+
 void DetectionModelOptions::Check() const {
   if (model_path.empty()) throw std::invalid_argument("DetectionModelOptions.model_path is empty");
   if (!(score_threshold > 0.0 && score_threshold < 1.0)) {

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 
 #include "ocg/core/file_io.h"
 #include "ocg/core/whole_number.h"
@@ -269,6 +270,20 @@ std::string FormatEaoDetections(const std::vector<Detection>& detections) {
             FormatNumber(detection.height) + " " + confidence + "\n";
   }
   return text;
+}
+
+std::vector<Detection> AsStoredInEaoFiles(const std::vector<Detection>& detections) {
+  std::vector<Detection> stored;
+  stored.reserve(detections.size());
+  std::istringstream text(FormatEaoDetections(detections));
+  std::string line;
+  for (int number = 1; std::getline(text, line); ++number) {
+    std::istringstream fields_of(line);
+    std::vector<std::string> fields;
+    for (std::string field; fields_of >> field;) fields.push_back(field);
+    stored.push_back(ParseEaoLine(fields, "(detections as stored)", number));
+  }
+  return stored;
 }
 
 std::vector<DetectionFrame> ReadJsonDetections(const std::string& path,

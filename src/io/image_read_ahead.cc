@@ -51,7 +51,7 @@ ImageReadAhead::Decoded ImageReadAhead::Decode(std::size_t index) const {
   }
   if (prepare_ && !decoded.image.empty()) {
     try {
-      decoded.prepared = prepare_(decoded.image);
+      decoded.prepared = prepare_(index, decoded.image);
     } catch (...) {
       decoded.failure = std::current_exception();
     }

@@ -60,7 +60,7 @@ PoseGivenRun MapScene(const testing::SyntheticScene& scene, const Settings& sett
     frames.push_back(given);
     names.push_back(given.timestamp_text);
   }
-  const EaoDetectionFolder folder_of_detections(detections, names);
+  FolderDetectionSource folder_of_detections(EaoDetectionFolder(detections, names), detections);
   PoseGivenRun run;
   run.folder = folder + "/out";
   std::filesystem::create_directories(run.folder);

@@ -86,7 +86,7 @@ TEST_F(ImageReadAheadTest, AnUnreadableImageFailsInItsTurnNamingTheFile) {
 TEST_F(ImageReadAheadTest, GivesWhatPrepareMadeOfEachImageWithIt) {
   std::vector<std::string> paths;
   for (int i = 0; i < 8; ++i) paths.push_back(WriteImage(i));
-  const ImageReadAhead::Prepare first_pixel = [](const cv::Mat& image) -> std::any {
+  const ImageReadAhead::Prepare first_pixel = [](std::size_t, const cv::Mat& image) -> std::any {
     const int value = image.at<unsigned char>(0, 0);
     if (value == 30) throw std::runtime_error("prepare failed on image 3");
     return value;
@@ -115,7 +115,7 @@ TEST_F(ImageReadAheadTest, ASkippedImageIsNeitherReadNorPrepared) {
   for (int i = 0; i < 6; ++i) {
     paths.push_back(i % 2 == 1 ? (folder_ / "missing.png").string() : WriteImage(i));
   }
-  const ImageReadAhead::Prepare prepare = [](const cv::Mat& image) -> std::any {
+  const ImageReadAhead::Prepare prepare = [](std::size_t, const cv::Mat& image) -> std::any {
     const int value = image.at<unsigned char>(0, 0);
     if (value % 20 != 0) throw std::runtime_error("an odd image was prepared");
     return value;
@@ -145,7 +145,7 @@ TEST_F(ImageReadAheadTest, WaitForNextReturnsOnceTheNextImageIsPrepared) {
   const std::vector<std::string> paths = {WriteImage(0), WriteImage(1)};
   std::promise<void> release;
   std::shared_future<void> released = release.get_future().share();
-  const ImageReadAhead::Prepare held = [released](const cv::Mat&) -> std::any {
+  const ImageReadAhead::Prepare held = [released](std::size_t, const cv::Mat&) -> std::any {
     released.wait();
     return 0;
   };

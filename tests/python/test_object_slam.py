@@ -86,6 +86,40 @@ def test_smoke_sequence_gives_the_tools_trajectory(smoke, tmp_path):
         slam.track(ocg.read_image(next(frames(sequence))[1]), 1e9, None)
 
 
+def test_run_with_boxes_in_memory_writes_what_the_tool_writes(smoke, tmp_path):
+    """run() feeds the sequence through the tool's sequence runner (here with two images
+    read ahead): boxes given as a dict in memory give the tool's files, byte for byte."""
+    sequence, tool_out = smoke
+    boxes = {}  # keyed by the timestamp texts of rgb.txt
+    for name in os.listdir(os.path.join(sequence, "detections")):
+        boxes[name[:-len(".txt")]] = np.loadtxt(os.path.join(sequence, "detections", name), ndmin=2)
+    slam = ocg.ObjectSlam(sequence + "/camera.yaml")
+    fed = slam.run(sequence, detections=boxes, read_ahead=2)
+    assert fed["frames"] == FRAMES and not fed["stopped"]
+    assert fed["reader"]["read_ahead"] == 2
+    assert fed["reader"]["detections"] == "boxes in memory"
+    assert fed["reader"]["detect_per_frame"]["count"] == FRAMES
+    slam.shutdown()
+    report = slam.save(tmp_path)
+    for name in ["KeyFrameTrajectory.txt", "CameraTrajectory.txt", "map_points.ply", "objects.json",
+                 "changes.json", "ocg.json", "ocg_observations.jsonl"]:
+        assert filecmp.cmp(tmp_path / name, os.path.join(tool_out, name), shallow=False), name
+    assert report["sequence"] == sequence and report["reader"]["read_ahead"] == 2
+
+
+def test_run_errors_name_what_to_fix(smoke, tmp_path):
+    sequence, _ = smoke
+    slam = ocg.ObjectSlam(sequence + "/camera.yaml")
+    with pytest.raises(ValueError, match="not both"):
+        slam.run(sequence, detections={}, detect=True)
+    with pytest.raises(ocg.FileError, match="no detector model at"):
+        slam.run(sequence, detect=True, model=str(tmp_path / "none.onnx"))
+    with pytest.raises(ocg.FileError, match="neither a folder"):
+        slam.run(sequence, detections=tmp_path / "none")
+    with pytest.raises(ocg.ParseError, match="row 0"):
+        slam.run(sequence, detections={"1.0": np.array([[80, 1, 1, 2, 2, 0.5]])})
+
+
 def test_colour_frames_and_a_thread_of_their_own(smoke):
     """BGR frames fed from another Python thread (track releases the GIL) track along the
     grey run's path; the main thread keeps running meanwhile."""

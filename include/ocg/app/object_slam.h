@@ -108,6 +108,9 @@ struct RunDescription {
   // How the images were fed (LiveFeed::Report() for a real-time replay), run.json's
   // "feed"; null: as fast as the system took them, and no "feed" is written.
   nlohmann::json feed = nullptr;
+  // How the frames were read and their detections made (FeedReport::reader), run.json's
+  // "reader"; null: none is written.
+  nlohmann::json reader = nullptr;
 };
 
 class ObjectSlam {

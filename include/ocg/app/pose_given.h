@@ -12,13 +12,13 @@
 #include "ocg/app/run_stop.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/lie.h"
-#include "ocg/io/detections.h"
+#include "ocg/io/detection_source.h"
 #include "ocg/viewer/snapshots.h"
 
 namespace ocg {
 
 struct PoseGivenFrame {
-  std::string timestamp_text;  // names its detection file "<timestamp_text>.txt"
+  std::string timestamp_text;  // the frame's name in the detections ("<timestamp_text>.txt")
   double timestamp = 0.0;      // seconds
   std::optional<SE3> T_cw;     // world to camera; none: the frame is skipped
   std::string image_path;      // its image, for the frame views ("": none, drawn on grey)
@@ -31,13 +31,14 @@ struct PoseGivenFrame {
 // object map's counts). It also writes CameraTrajectory.txt (the given poses of the frames
 // used), KeyFrameTrajectory.txt (the OCG keyframes') and, as the policy says, snapshots
 // like a SLAM run's into folder/snapshots (docs/viewer.md; the report's "snapshots").
-// progress(frames done) after each frame, when given. A stop requested (RunStop) ends the frames
-// early: the object map of the frames done is written all the same, with "interrupted": true in the
-// report. Throws FileError when a file cannot be written.
+// progress(frames done) after each frame, when given. A stop requested (RunStop) ends the
+// frames early: the object map of the frames done is written all the same, with
+// "interrupted": true in the report. detections is asked for each frame with a pose,
+// without an image (files or boxes in memory; a source that NeedsImage() has none to look
+// at). Throws FileError when a file cannot be written.
 nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
-                                         const EaoDetectionFolder& detections,
-                                         const std::string& folder,
+                                         DetectionSource& detections, const std::string& folder,
                                          const std::function<void(std::size_t)>& progress = {},
                                          const RunStop* stop = nullptr,
                                          const SnapshotPolicy& snapshots = {false, 0});

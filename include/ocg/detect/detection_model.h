@@ -31,6 +31,11 @@ enum class TileMode { kAuto, kOff };
 // exists; the source-tree path when none does (so the error can name it).
 std::string DefaultDetectorModel();
 
+// Throws FileError when there is no file at path, saying how to get one: the default
+// model is built once by tools/get_detector.sh (docs/detector.md), nothing is downloaded
+// at run time. For ocg_detect and `ocg_slam run --detect`, before any frame.
+void RequireDetectorModel(const std::string& path);
+
 struct DetectionModelOptions {
   std::string model_path;  // an .onnx file
   // Boxes below this confidence are dropped. 0.4 keeps the default NanoDet model's false
@@ -67,15 +72,19 @@ class DetectionModel : public DetectionSource {
   // std::invalid_argument for an empty image or another depth.
   std::vector<Detection> Detect(const cv::Mat& image);
 
+  // Detect's boxes as the detection files ocg_detect writes keep them
+  // (AsStoredInEaoFiles), so `ocg_slam run --detect` equals ocg_detect then --detections.
+  // The frame's image must be given (NeedsImage); Detect's errors.
   std::vector<Detection> DetectionsFor(const std::string& /*timestamp_text*/,
                                        const cv::Mat& image) override {
-    return Detect(image);
+    return AsStoredInEaoFiles(Detect(image));
   }
+  bool NeedsImage() const override { return true; }
 
   const ModelOutputs& outputs() const { return outputs_; }
   cv::Size input_size() const { return input_size_; }
   // "NanoDet, 80 classes, input 416x416" for logs and run.json.
-  std::string Describe() const;
+  std::string Describe() const override;
 
  private:
   struct Impl;

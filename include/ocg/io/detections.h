@@ -91,6 +91,11 @@ std::vector<DetectionFrame> ReadEaoDetectionDir(const std::string& dir,
 // coordinates (YOLO's "cls cx cy w h"), not the pixels the EAO format and this program use.
 bool BoxesLookNormalized(const std::vector<DetectionFrame>& frames);
 std::string FormatEaoDetections(const std::vector<Detection>& detections);
+// The detections as an EAO text file keeps them: FormatEaoDetections (coordinates to 6
+// significant digits, confidence to 6 decimals) read back by the file reader. A detector
+// run inside a run (`ocg_slam run --detect`) hands these over, so that a run does not
+// depend on whether its detections were stored first (`ocg_detect`, then --detections).
+std::vector<Detection> AsStoredInEaoFiles(const std::vector<Detection>& detections);
 
 // JSON list format. Throws FileError when the file is not a readable file or is larger
 // than options.max_json_bytes, ParseError naming the file and the offending entry. Warns

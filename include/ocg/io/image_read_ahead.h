@@ -29,9 +29,9 @@ namespace ocg {
 
 class ImageReadAhead {
  public:
-  // Work on a decoded image, done where it is decoded (the reader thread, or Next() when
-  // depth is 0); its result comes with the image.
-  using Prepare = std::function<std::any(const cv::Mat&)>;
+  // Work on a decoded image (index: its place in paths), done where it is decoded (the
+  // reader thread, or Next() when depth is 0); its result comes with the image.
+  using Prepare = std::function<std::any(std::size_t index, const cv::Mat&)>;
   using Skip = std::function<bool(std::size_t index)>;
   struct Frame {
     cv::Mat image;
