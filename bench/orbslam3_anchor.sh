@@ -95,13 +95,12 @@ EOF
 # 3. The driver, compiled against the ORB-SLAM3 build (C++ with GNU extensions, as its
 #    libraries were built: docs/anchor_orbslam3.md).
 DRIVER=$OUT/orbslam3_mono
-# pkg-config's flags are meant to split into words; -Wl takes commas.
-# shellcheck disable=SC2046,SC2054
 PANGOLIN_FLAGS=()
 if [ -n "$PANGOLIN" ]; then
+  # shellcheck disable=SC2054  # -Wl takes commas
   PANGOLIN_FLAGS=(-I"$PANGOLIN/include" -L"$PANGOLIN/lib" -Wl,-rpath,"$PANGOLIN/lib")
 fi
-# shellcheck disable=SC2046
+# shellcheck disable=SC2046  # pkg-config's flags are meant to split into words
 g++ -std=gnu++14 -O2 -o "$DRIVER" "$SOURCE/bench/orbslam3_mono.cc" \
   -I"$ORB3" -I"$ORB3/include" -I"$ORB3/include/CameraModels" -I"$ORB3/Thirdparty/Sophus" \
   -I/usr/include/eigen3 $(pkg-config --cflags opencv4) "${PANGOLIN_FLAGS[@]}" \
