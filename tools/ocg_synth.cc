@@ -203,6 +203,13 @@ int main(int argc, char** argv) {
     if (scene.look.realistic()) {
       std::printf("  look realistic: exposure.txt lists each frame's exposure and gain\n");
     }
+    if (!scene.walkers.empty()) {
+      std::printf(
+          "  walkers: %zu passes; in view in %d frames (%.0f %%), covering a quarter of the "
+          "image or more in %d, at most %.0f %% (walkers.txt)\n",
+          scene.walkers.size(), stats.walker_frames, 100.0 * stats.walker_frames / stats.frames,
+          stats.walker_quarter_frames, 100.0 * stats.walker_coverage_max);
+    }
     std::printf(
         "  per frame: render %.1f ms, id pass %.1f ms, detections %.1f ms, writing %.1f ms\n",
         1e3 * stats.colour_seconds / stats.frames, 1e3 * stats.ids_seconds / stats.frames,

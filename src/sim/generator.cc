@@ -109,6 +109,39 @@ ViewingConditions ConditionsOf(const Scene& scene, const SceneObject& object,
   return c;
 }
 
+// Id of walker pixels in WalkerCoverage's id pass: above any object id, within the 24 bits
+// the id pass encodes.
+constexpr std::uint32_t kWalkerPixelId = 0xfffffe;
+
+void AppendMesh(Mesh& to, const Mesh& part) {
+  const auto offset = static_cast<std::uint32_t>(to.vertices.size());
+  to.vertices.insert(to.vertices.end(), part.vertices.begin(), part.vertices.end());
+  for (const std::uint32_t index : part.triangles) to.triangles.push_back(index + offset);
+}
+
+// A person in its own frame (x forward, y to its left, z up, feet at z = 0), `height`
+// tall: two legs, a torso, two arms hanging beside it and a head; about 0.62 m across the
+// arms (Walker::Radius), 0.24 m deep. The texture spans the height.
+Mesh WalkerBody(double height) {
+  const double s = height / 1.75;
+  const float uv_scale = static_cast<float>(1.0 / height);
+  Mesh body;
+  auto box = [&](const Eigen::Vector3d& size, const Eigen::Vector3d& centre) {
+    AppendMesh(body, Mesh::Box((s * size).cast<float>(), uv_scale)
+                         .Transformed(SE3(Eigen::Matrix3d::Identity(), s * centre)));
+  };
+  for (const double side : {-1.0, 1.0}) {
+    box({0.16, 0.15, 0.82}, {0.0, side * 0.1, 0.41});    // leg
+    box({0.10, 0.09, 0.60}, {0.0, side * 0.265, 1.13});  // arm
+  }
+  box({0.24, 0.44, 0.62}, {0.0, 0.0, 1.13});  // torso
+  AppendMesh(body,
+             Mesh::Cylinder(static_cast<float>(s * 0.1), static_cast<float>(s * 0.28), 16, uv_scale)
+                 .Transformed(SE3(Eigen::Matrix3d::Identity(),
+                                  Eigen::Vector3d(0.0, 0.0, s * 1.61))));  // head
+  return body;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- SceneRenderer
@@ -147,6 +180,12 @@ SceneRenderer::SceneRenderer(const Scene& scene)
     auto& items = object_items_[object.id];
     for (const PlacedPose& pose : object.history) items.push_back(MakeObjectItem(object, pose));
   }
+  for (const Walker& walker : scene.walkers) {
+    walker_textures_[walker.id] = renderer_.AddTexture(
+        realistic ? MakeMaterialTexture(Material::kCloth, walker.texture_seed, 256, walker.height)
+                  : MakeTexture(walker.texture_seed, 256, walker.height));
+    walker_bodies_[walker.id] = WalkerBody(walker.height);
+  }
 }
 
 DrawItem SceneRenderer::MakeObjectItem(const SceneObject& object, const PlacedPose& pose) {
@@ -166,7 +205,7 @@ void SceneRenderer::AppendPose(int object_id, const PlacedPose& pose) {
   object_items_.at(object_id).push_back(MakeObjectItem(*object, pose));
 }
 
-std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object) const {
+std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object, bool mark_walkers) {
   std::vector<const DrawItem*> items;
   for (const DrawItem& item : furniture_) items.push_back(&item);
   for (const SceneObject& object : scene_.objects) {
@@ -180,7 +219,35 @@ std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object) c
       items.push_back(&poses[static_cast<size_t>(current)]);
     }
   }
+  walker_items_.clear();
+  walker_items_.reserve(scene_.walkers.size());  // items points into it
+  for (const Walker& walker : scene_.walkers) {
+    const std::optional<PlacedPose> pose = walker.PoseAt(t);
+    if (!pose) continue;
+    DrawItem draw;
+    draw.mesh = walker_bodies_.at(walker.id).Transformed(PoseOf(*pose));
+    draw.texture = walker_textures_.at(walker.id);
+    draw.colour = Eigen::Vector3f::Ones();
+    draw.id = mark_walkers ? kWalkerPixelId : 0;
+    Renderer::Shade(draw, scene_.light_direction.cast<float>(), static_cast<float>(scene_.ambient));
+    walker_items_.push_back(std::move(draw));
+    items.push_back(&walker_items_.back());
+  }
   return items;
+}
+
+cv::Mat SceneRenderer::WalkerMask(double t, const SE3& T_cw) {
+  const PinholeCamera output = OutputCamera(scene_);
+  if (scene_.walkers.empty()) return cv::Mat::zeros(output.height, output.width, CV_8UC1);
+  cv::Mat ids = renderer_.RenderIds(ItemsAt(t, -1, /*mark_walkers=*/true), T_cw, render_camera_);
+  if (sensor_) ids = sensor_->Distort(ids);
+  return ids == static_cast<int>(kWalkerPixelId);
+}
+
+double SceneRenderer::WalkerCoverage(double t, const SE3& T_cw) {
+  if (scene_.walkers.empty()) return 0.0;
+  const cv::Mat mask = WalkerMask(t, T_cw);
+  return static_cast<double>(cv::countNonZero(mask)) / static_cast<double>(mask.total());
 }
 
 cv::Mat SceneRenderer::Colour(double t, const SE3& T_cw, std::uint64_t noise_seed) {
@@ -641,6 +708,9 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
   std::string depth_list = "# depth maps\n# timestamp filename\n";
   std::string exposure_list =
       "# exposure of each frame (realistic look)\n# timestamp exposure_ms gain\n";
+  std::string walker_list =
+      "# walkers in each frame: share of the image they cover, how many are in the room\n"
+      "# timestamp coverage walkers\n";
   std::vector<StampedPose> groundtruth;
   std::string oracle;
   FramesInView frames_in_view;
@@ -702,6 +772,18 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
                                   detections.detected_objects) +
                 "\n";
     }
+    if (!scene.walkers.empty()) {
+      const double coverage = renderer.WalkerCoverage(t, T_cw);
+      int present = 0;
+      for (const Walker& walker : scene.walkers) present += walker.PoseAt(t) ? 1 : 0;
+      char line[96];
+      std::snprintf(line, sizeof(line), "%s %.4f %d\n", stamp.c_str(), coverage, present);
+      walker_list += line;
+      stats.walker_frames += coverage > 0 ? 1 : 0;
+      stats.walker_quarter_frames += coverage >= 0.25 ? 1 : 0;
+      stats.walker_coverage_max = std::max(stats.walker_coverage_max, coverage);
+      stage(stats.ids_seconds);
+    }
     StampedPose pose;
     pose.timestamp = scene.time_origin + t;
     pose.timestamp_text = stamp;
@@ -722,6 +804,7 @@ GenerationStats WriteSequence(SceneRenderer& renderer, const std::string& stagin
   WriteFile(staging + "/objects_gt.json",
             ObjectsGroundTruthJson(scene, &frames_in_view, scene.TimeOfFrame(frames - 1)));
   if (options.keyframe_interval > 0) WriteFile(staging + "/oracle_observations.jsonl", oracle);
+  if (!scene.walkers.empty()) WriteFile(staging + "/walkers.txt", walker_list);
   WriteFile(staging + "/scene.yaml", SceneToYaml(scene));
   WriteFile(staging + "/camera.yaml", CameraSettingsYaml(scene));
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -198,6 +198,8 @@ const PresetSpec kPresets[] = {
     {"desk_static", "round", 60.0, 30.0, 30, 0, 0, 0},
     // A lap and a quarter (35.9 s laps): the whole room mapped, for a later visit.
     {"session_a", "round", 45.0, 30.0, 24, 0, 0, 0},
+    // desk_static with people walking through (PlanWalkers): same layout and camera.
+    {"walkers", "round", 60.0, 30.0, 30, 0, 0, 0},
 };
 
 const PresetSpec* LookupPreset(const std::string& name) {
@@ -233,6 +235,12 @@ Scene MakePreset(const std::string& name, std::uint64_t seed) {
   scene.path.kind = spec.path;
   scene.path.speed = name == "smoke" ? 0.4 : 0.35;
   if (name == "smoke") scene.path.radius = 1.4;  // a shorter lap: 27.5 s
+  if (name == "walkers") {
+    // Room for people between the camera and the table: a wider path (3 x 2.4 m) in a
+    // larger room, the camera 1.75 m from the table's long sides.
+    scene.path.radius = 2.4;
+    scene.room_size = Eigen::Vector3d(8.6, 7.0, 2.8);
+  }
   AddRoom(scene);
   std::mt19937_64 rng(seed);
   Placer placer(scene, rng);
@@ -243,8 +251,167 @@ Scene MakePreset(const std::string& name, std::uint64_t seed) {
   }
   for (int i = 0; i < spec.additions; ++i)
     placer.Add(i % 2 == 0 ? 1 : -1, /*absent_at_start=*/true);
+  if (name == "walkers") scene.walkers = PlanWalkers(scene, seed);
   scene.Check();
   return scene;
+}
+
+namespace {
+
+// An axis-aligned floor rectangle a walker's centre must stay out of.
+struct FloorBlock {
+  Eigen::Vector2d low, high;
+  bool Contains(const Eigen::Vector2d& p) const {
+    return (p.array() >= low.array()).all() && (p.array() <= high.array()).all();
+  }
+};
+
+// How a candidate pass meets the camera: too close at some time, and its seconds in view.
+struct PassView {
+  bool too_close = false;
+  double seconds_in_view = 0.0;
+};
+
+constexpr double kWalkerStep = 0.05;  // seconds between the checks along a pass
+
+PassView ViewOfPass(const Scene& scene, const Walker& walker, double min_camera_distance) {
+  PassView view;
+  for (double t = walker.StartTime(); t <= walker.EndTime(); t += kWalkerStep) {
+    const PlacedPose pose = *walker.PoseAt(t);
+    const SE3 T_cw = CameraPoseAt(scene, t);
+    const Eigen::Vector3d eye = T_cw.Inverse().translation();
+    const double distance = (eye.head<2>() - pose.centre.head<2>()).norm();
+    if (distance < min_camera_distance) {
+      view.too_close = true;
+      return view;
+    }
+    bool in_view = false;
+    for (const double z : {0.3, 0.9, 1.5}) {
+      const Eigen::Vector3d p = T_cw * Eigen::Vector3d(pose.centre.x(), pose.centre.y(), z);
+      if (p.z() < 0.1) continue;
+      const Eigen::Vector2d pixel = scene.camera.ProjectUndistorted(p);
+      in_view = in_view || (pixel.x() >= 0 && pixel.x() < scene.camera.width && pixel.y() >= 0 &&
+                            pixel.y() < scene.camera.height);
+    }
+    if (in_view) view.seconds_in_view += kWalkerStep;
+  }
+  return view;
+}
+
+// Whether two walkers come closer than their bodies allow at any time both are there.
+bool WalkersCollide(const Walker& a, const Walker& b) {
+  const double from = std::max(a.StartTime(), b.StartTime());
+  const double to = std::min(a.EndTime(), b.EndTime());
+  for (double t = from; t <= to; t += kWalkerStep) {
+    const auto pa = a.PoseAt(t), pb = b.PoseAt(t);
+    if (pa && pb && (pa->centre - pb->centre).norm() < a.Radius() + b.Radius() + 0.1) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<Walker> PlanWalkers(const Scene& scene, std::uint64_t seed, double first_time,
+                                double min_camera_distance) {
+  std::mt19937_64 rng(seed * 7919 + 17);  // not the layout's generator: the room stays as it is
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto uniform = [&](double low, double high) { return low + (high - low) * unit(rng); };
+  const double height = 1.75;
+  const double radius = Walker().Radius();
+  // Furniture standing on the floor, grown by the body's radius and a little air.
+  std::vector<FloorBlock> blocks;
+  for (const Furniture& item : scene.furniture) {
+    const bool stands_on_floor = item.name == "table_top" || item.name.rfind("cabinet", 0) == 0 ||
+                                 item.name.rfind("shelf", 0) == 0;
+    if (!stands_on_floor) continue;
+    const Eigen::Vector2d half =
+        0.5 * item.size.head<2>() + Eigen::Vector2d::Constant(radius + 0.05);
+    blocks.push_back({item.centre.head<2>() - half, item.centre.head<2>() + half});
+  }
+  const Eigen::Vector2d floor_half =
+      0.5 * scene.room_size.head<2>() - Eigen::Vector2d::Constant(radius + 0.15);
+  auto free = [&](const Eigen::Vector2d& p) {
+    if ((p.cwiseAbs().array() > floor_half.array()).any()) return false;
+    for (const FloorBlock& block : blocks) {
+      if (block.Contains(p)) return false;
+    }
+    return true;
+  };
+  std::vector<Walker> walkers;
+  int pass = 0;
+  for (double slot = first_time; slot < scene.duration - 2.0; slot += uniform(1.5, 5.0), ++pass) {
+    int in_room = 0;
+    for (const Walker& other : walkers) in_room += other.EndTime() > slot ? 1 : 0;
+    if (in_room >= 2) continue;
+    // Two passes in three cross the camera's view close in front of it (as near as
+    // min_camera_distance allows): the large occluders; the others go anywhere.
+    const bool near = pass % 3 != 2;
+    std::optional<Walker> chosen;
+    for (int attempt = 0; attempt < 300 && !chosen; ++attempt) {
+      const double speed = uniform(0.8, 1.3);
+      Eigen::Vector2d a, b;
+      double start = slot;
+      // Where the camera looks at a table's corner no one fits in front of it: after half
+      // the attempts, a pass anywhere.
+      if (near && attempt < 150) {
+        // Through the optical axis, D ahead of where the camera will be when the walker
+        // crosses it, along the table's edge the camera faces (so it passes the table).
+        const double crossing = slot + uniform(1.0, 2.5);
+        const SE3 T_wc = CameraPoseAt(scene, crossing).Inverse();
+        const Eigen::Vector2d eye = T_wc.translation().head<2>();
+        const Eigen::Vector3d axis = T_wc.rotation().col(2);
+        if (axis.head<2>().norm() < 1e-6) continue;
+        const Eigen::Vector2d forward = axis.head<2>().normalized();
+        const Eigen::Vector2d across = std::abs(forward.y()) > std::abs(forward.x())
+                                           ? Eigen::Vector2d::UnitX()
+                                           : Eigen::Vector2d::UnitY();
+        const Eigen::Vector2d centre =
+            eye + uniform(min_camera_distance + 0.05, min_camera_distance + 0.45) * forward;
+        const double side = unit(rng) < 0.5 ? -1.0 : 1.0;
+        const double half = uniform(1.5, 2.2);
+        a = centre - side * half * across;
+        b = centre + side * half * across;
+        start = crossing - half / speed;
+        if (start < first_time) continue;
+      } else {
+        auto floor_point = [&] {
+          return Eigen::Vector2d(uniform(-floor_half.x(), floor_half.x()),
+                                 uniform(-floor_half.y(), floor_half.y()));
+        };
+        a = floor_point();
+        b = floor_point();
+      }
+      const double length = (b - a).norm();
+      if (length < 2.5) continue;
+      bool clear = true;
+      for (double s = 0.0; s <= length && clear; s += 0.05)
+        clear = free(a + (s / length) * (b - a));
+      if (!clear || !free(b)) continue;
+      Walker walker;
+      walker.id = static_cast<int>(walkers.size()) + 1;
+      walker.height = height;
+      walker.texture_seed = scene.seed * 7000000 + static_cast<std::uint64_t>(walker.id);
+      walker.waypoints.push_back({start, a});
+      if (unit(rng) < 1.0 / 3.0) {  // stops on the way
+        const double share = uniform(0.3, 0.7);
+        const Eigen::Vector2d stop = a + share * (b - a);
+        const double arrive = start + share * length / speed;
+        walker.waypoints.push_back({arrive, stop});
+        walker.waypoints.push_back({arrive + uniform(1.0, 2.5), stop});
+      }
+      walker.waypoints.push_back(
+          {walker.waypoints.back().time + (b - walker.waypoints.back().position).norm() / speed,
+           b});
+      if (walker.EndTime() > scene.duration) continue;
+      const PassView view = ViewOfPass(scene, walker, min_camera_distance);
+      if (view.too_close || view.seconds_in_view < 1.0) continue;
+      bool collides = false;
+      for (const Walker& other : walkers) collides = collides || WalkersCollide(walker, other);
+      if (!collides) chosen = walker;
+    }
+    if (chosen) walkers.push_back(*chosen);
+  }
+  return walkers;
 }
 
 std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene,

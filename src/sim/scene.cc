@@ -42,6 +42,30 @@ std::optional<PlacedPose> SceneObject::PoseAt(double t) const {
   return *current;
 }
 
+std::optional<PlacedPose> Walker::PoseAt(double t) const {
+  if (waypoints.size() < 2 || t < StartTime() || t > EndTime()) return std::nullopt;
+  std::size_t leg = 0;
+  while (leg + 2 < waypoints.size() && waypoints[leg + 1].time <= t) ++leg;
+  const Waypoint& from = waypoints[leg];
+  const Waypoint& to = waypoints[leg + 1];
+  const double span = to.time - from.time;
+  const double share = span > 0 ? std::clamp((t - from.time) / span, 0.0, 1.0) : 1.0;
+  PlacedPose pose;
+  pose.time = t;
+  pose.centre.head<2>() = from.position + share * (to.position - from.position);
+  // Facing: the direction of this leg, or, standing, of the last leg that went somewhere
+  // (else of the next one).
+  Eigen::Vector2d heading = Eigen::Vector2d::Zero();
+  for (std::size_t k = leg + 1; k-- > 0 && heading.norm() < 1e-9;) {
+    heading = waypoints[k + 1].position - waypoints[k].position;
+  }
+  for (std::size_t k = leg + 1; k + 1 < waypoints.size() && heading.norm() < 1e-9; ++k) {
+    heading = waypoints[k + 1].position - waypoints[k].position;
+  }
+  pose.yaw = heading.norm() > 1e-9 ? std::atan2(heading.y(), heading.x()) : 0.0;
+  return pose;
+}
+
 const SceneObject* Scene::FindObject(int id) const {
   for (const SceneObject& object : objects) {
     if (object.id == id) return &object;
@@ -86,6 +110,18 @@ void Scene::Check() const {
     }
     Require((object.size.array() > 0).all(),
             "object " + std::to_string(object.id) + ": size must be positive");
+  }
+  std::set<int> walker_ids;
+  for (const Walker& walker : walkers) {
+    const std::string name = "walker " + std::to_string(walker.id);
+    Require(walker.id > 0 && walker_ids.insert(walker.id).second,
+            "walker ids must be positive and unique (id " + std::to_string(walker.id) + ")");
+    Require(walker.height > 0, name + ": height must be positive");
+    Require(walker.waypoints.size() >= 2, name + ": needs at least 2 waypoints");
+    for (size_t i = 1; i < walker.waypoints.size(); ++i) {
+      Require(walker.waypoints[i].time > walker.waypoints[i - 1].time,
+              name + ": waypoint times must increase");
+    }
   }
 }
 

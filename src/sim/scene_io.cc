@@ -209,6 +209,30 @@ SceneFile ReadSceneFields(const YAML::Node& root, const std::string& name) {
     }
     scene.objects.push_back(object);
   }
+  const YAML::Node walkers = read.List(root, "walkers", "");
+  for (size_t i = 0; walkers && i < walkers.size(); ++i) {
+    const YAML::Node node = walkers[i];
+    const std::string path = "walkers[" + std::to_string(i) + "].";
+    Walker walker;
+    read.Optional(node, "id", path, &walker.id);
+    read.Optional(node, "height", path, &walker.height);
+    read.Optional(node, "texture_seed", path, &walker.texture_seed);
+    const YAML::Node waypoints = read.List(node, "waypoints", path);
+    if (!waypoints || waypoints.size() < 2)
+      read.Fail(node, path + "waypoints", "needs at least 2 waypoints [time, x, y]");
+    for (size_t k = 0; k < waypoints.size(); ++k) {
+      const std::string field = path + "waypoints[" + std::to_string(k) + "]";
+      std::vector<double> items;
+      try {
+        items = waypoints[k].as<std::vector<double>>();
+      } catch (const YAML::Exception&) {
+        read.Fail(waypoints[k], field, "expected [time, x, y]");
+      }
+      if (items.size() != 3) read.Fail(waypoints[k], field, "expected [time, x, y]");
+      walker.waypoints.push_back({items[0], Eigen::Vector2d(items[1], items[2])});
+    }
+    scene.walkers.push_back(walker);
+  }
   const YAML::Node moves = read.List(root, "moves", "");
   for (size_t i = 0; moves && i < moves.size(); ++i) {
     const std::string path = "moves[" + std::to_string(i) + "].";
@@ -364,6 +388,21 @@ std::string SceneToYaml(const Scene& scene) {
       node["before_session"]["yaw"] = object.before_session->yaw;
     }
     root["objects"].push_back(node);
+  }
+  for (const Walker& walker : scene.walkers) {  // none: the key is absent, files stay as they were
+    YAML::Node node;
+    node["id"] = walker.id;
+    node["height"] = walker.height;
+    node["texture_seed"] = walker.texture_seed;
+    for (const Waypoint& waypoint : walker.waypoints) {
+      YAML::Node entry;
+      entry.SetStyle(YAML::EmitterStyle::Flow);
+      entry.push_back(waypoint.time);
+      entry.push_back(waypoint.position.x());
+      entry.push_back(waypoint.position.y());
+      node["waypoints"].push_back(entry);
+    }
+    root["walkers"].push_back(node);
   }
   YAML::Emitter emitter;
   emitter.SetDoublePrecision(10);

@@ -43,9 +43,17 @@ class SceneRenderer {
   // Appends a pose to an object's history (a change just scheduled), so later renders
   // and visibility checks see it.
   void AppendPose(int object_id, const PlacedPose& pose);
+  // The pixels that show a walker at time t from T_cw (CV_8UC1, 255 there), through the
+  // output camera's lens; all 0 without walkers.
+  cv::Mat WalkerMask(double t, const SE3& T_cw);
+  // Share of the output image's pixels that show a walker (WalkerMask's share).
+  double WalkerCoverage(double t, const SE3& T_cw);
 
  private:
-  std::vector<const DrawItem*> ItemsAt(double t, int skip_object) const;
+  // Every item standing at time t, object skip_object left out; the walkers' items are
+  // made for t (valid until the next call), with id kWalkerPixelId when mark_walkers, else
+  // 0 (background to the id pass).
+  std::vector<const DrawItem*> ItemsAt(double t, int skip_object, bool mark_walkers = false);
   cv::Mat RealisticColour(double t, const SE3& T_cw, std::uint64_t noise_seed);
   DrawItem MakeObjectItem(const SceneObject& object, const PlacedPose& pose);
 
@@ -56,7 +64,10 @@ class SceneRenderer {
   std::vector<DrawItem> furniture_;
   std::map<int, std::vector<DrawItem>> object_items_;  // per object, one per history entry
   std::map<int, int> object_textures_;
-  cv::Mat noise_tile_;  // sensor noise, twice the image size
+  std::map<int, int> walker_textures_;
+  std::map<int, Mesh> walker_bodies_;   // per walker, in its own frame
+  std::vector<DrawItem> walker_items_;  // ItemsAt's walkers at its last time
+  cv::Mat noise_tile_;                  // sensor noise, twice the image size
 };
 
 // Turns planned moves into history entries, each at the first frame from its earliest
@@ -115,6 +126,11 @@ struct GenerationStats {
   std::size_t duplicates = 0;
   // Seconds spent per stage, over all frames.
   double colour_seconds = 0.0, ids_seconds = 0.0, detect_seconds = 0.0, write_seconds = 0.0;
+  // Walkers (scenes with any): frames showing one, frames where they cover at least a
+  // quarter of the image, and the largest share they cover (walkers.txt has every frame's).
+  int walker_frames = 0;
+  int walker_quarter_frames = 0;
+  double walker_coverage_max = 0.0;
 };
 
 // Writes the sequence into out_dir (built in a temporary folder beside it and renamed at

@@ -1,7 +1,8 @@
 #pragma once
 // Built-in scenes mirroring the paper's four semi-static sequences plus a static one and
-// a small one for tests: smoke, straight_1, straight_2, round_1, round_2, desk_static; and
-// session_a, the first visit of a session pair (no changes while the camera watches).
+// a small one for tests: smoke, straight_1, straight_2, round_1, round_2, desk_static;
+// session_a, the first visit of a session pair (no changes while the camera watches); and
+// walkers, desk_static's table and objects in a larger room with people walking through.
 // Moves are scheduled later, by the generator, at times when neither place is visible.
 
 #include <string>
@@ -12,6 +13,8 @@
 namespace ocg::sim {
 
 std::vector<std::string> PresetNames();
+// walkers: desk_static's table and objects in a larger room (8.6 x 7 m) with a wider camera
+// path (radius 2.4 m), so people fit between the camera and the table; PlanWalkers plans them.
 // Throws std::invalid_argument listing the names when name is unknown.
 Scene MakePreset(const std::string& name, std::uint64_t seed);
 
@@ -23,6 +26,18 @@ struct PlannedMove {
   double earliest = 0.0;  // seconds
   bool removal = false;   // removed instead of moved
 };
+
+// People walking through a scene's room (a bonn-style dynamic scene), from first_time to
+// the scene's end: passes along straight lines across the floor, clear of the table, the
+// cabinets and the shelf, at 0.8-1.3 m/s, about a third stopping for 1-2.5 s on the way.
+// A pass starts every 1.5-5 s, at most two walkers are in the room at once, and each pass
+// keeps at least min_camera_distance (horizontally) from the camera, stays clear of the
+// other walkers and shows in the camera's view for at least a second. Two passes in three
+// cross the camera's view close in front of it (large occluders), along the table edge the
+// camera faces; the others go anywhere. Deterministic in seed; the scene's own random draws
+// are untouched.
+std::vector<Walker> PlanWalkers(const Scene& scene, std::uint64_t seed, double first_time = 3.0,
+                                double min_camera_distance = 1.0);
 
 // The moves a preset wants (empty for custom scenes and desk_static).
 std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene,

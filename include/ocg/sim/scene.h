@@ -42,6 +42,32 @@ struct SceneObject {
   bool Moves() const { return history.size() > 1; }
 };
 
+// A person walking through the room (bonn-style dynamic scenes): an upright textured body
+// (legs, torso, arms, head; `height` tall, about 0.6 m across the shoulders) that walks
+// straight between waypoints on the floor at constant speed, facing where it goes, and
+// stands still between two waypoints at the same place. Absent before its first waypoint's
+// time and after its last one's. Not an object of the map: its pixels carry id 0 in the id
+// pass (it hides objects as furniture does) and the detector boxes no person.
+struct Waypoint {
+  double time = 0.0;                                   // seconds from the sequence's start
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // world x, y on the floor, metres
+};
+
+struct Walker {
+  int id = 0;            // 1-based, unique among the walkers
+  double height = 1.75;  // metres
+  std::uint64_t texture_seed = 0;
+  std::vector<Waypoint> waypoints;  // ascending times (equal places: standing), at least 2
+
+  // Where the walker stands at t (centre of its footprint on the floor, z = 0; yaw: the
+  // direction it faces), nullopt before the first and after the last waypoint.
+  std::optional<PlacedPose> PoseAt(double t) const;
+  double StartTime() const { return waypoints.front().time; }
+  double EndTime() const { return waypoints.back().time; }
+  // Half the body's width across the shoulders and arms: its footprint's radius.
+  double Radius() const { return 0.31 * height / 1.75; }
+};
+
 // Static scenery: a textured box (walls are the room box seen from inside).
 struct Furniture {
   std::string name;
@@ -144,6 +170,7 @@ struct Scene {
   double ambient = 0.45;
   std::vector<Furniture> furniture;  // the table and partition included
   std::vector<SceneObject> objects;
+  std::vector<Walker> walkers;  // people walking through; none in the room presets
   CameraPath path;
   DetectionNoise noise;
   LookOptions look;  // procedural (default) or realistic frames
