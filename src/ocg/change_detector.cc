@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "ocg/core/options.h"
+#include "ocg/ocg/judgement_terms.h"
 #include "ocg/ocg/observability.h"
 
 namespace ocg {
@@ -140,14 +141,15 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   // an observed neighbour (others have rate 0 and stay), and in "fallback" mode the
   // neighbourless ones.
   candidates_.assign(observed.begin(), observed.end());
-  // "points": objects the keyframe saw by their map points (only those in the graph).
-  std::vector<ObjectId> present;
-  if (modes_.point_presence) {
-    for (ObjectId id : observation.present_by_points) {
-      if (records_.count(id) > 0) present.push_back(id);
+  // Objects a term's evidence names ("points": seen by their map points), if in the graph.
+  const std::vector<JudgementTerm>& terms = JudgementTerms();
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    if (!terms[i].candidates || !modes_.has(i)) continue;
+    std::vector<ObjectId> named;
+    terms[i].candidates(observation, named);
+    for (ObjectId id : named) {
+      if (records_.count(id) > 0) candidates_.push_back(id);
     }
-    std::sort(present.begin(), present.end());
-    candidates_.insert(candidates_.end(), present.begin(), present.end());
   }
   candidates_.insert(candidates_.end(), active_.begin(), active_.end());
   for (const ObservedWeight& entry : observed_weight_) candidates_.push_back(entry.id);
@@ -171,7 +173,6 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     Record& record = records_.at(id);
     ObjectEvidence evidence;
     evidence.observed = std::binary_search(observed.begin(), observed.end(), id);
-    evidence.present_by_points = std::binary_search(present.begin(), present.end(), id);
     while (weight != observed_weight_.end() && weight->id < id) ++weight;
     if (weight != observed_weight_.end() && weight->id == id) {
       evidence.observed_weight = weight->weight;
@@ -184,13 +185,14 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
          record.state.state == ObjectState::kSuspicious)) {
       evidence.in_view_weight = InViewNeighbourWeight(id, observed, observation);
     }
-    if (modes_.occlusion && !evidence.observed && !evidence.present_by_points &&
+    if (modes_.occlusion && !evidence.observed &&
         (record.state.state == ObjectState::kUnknown ||
          record.state.state == ObjectState::kSuspicious)) {
       evidence.occluded_share = OccludedShareOf(record, footprints, observation);
     }
-    const Judgement judgement = JudgeObject(record.state, evidence, record.geometry,
-                                            observation.T_cw, observation.camera, options_, modes_);
+    const Judgement judgement =
+        JudgeObject(record.state, evidence, record.geometry, observation.T_cw, observation.camera,
+                    options_, modes_, &observation, id);
     record.rate = judgement.rate;
     record.rate_keyframe = keyframe;
     record.judged_by_geometry = judgement.judged_by_geometry;

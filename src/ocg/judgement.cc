@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ocg/ocg/judgement_terms.h"
 #include "ocg/ocg/observability.h"
 
 namespace ocg {
@@ -61,30 +62,21 @@ double ExpectedInView(const ObjectGeometry& geometry, const SE3& T_cw, const Pin
                       const OcgOptions& options, const OcgModes& modes) {
   if (!geometry.centroid || !CentroidInImage(*geometry.centroid, T_cw, camera)) return 0.0;
   double fraction = 1.0;
-  if (modes.box_in_image && geometry.size) {
-    fraction = BoxFractionInImage(*geometry.centroid, *geometry.size, T_cw, camera);
-    if (fraction < options.min_box_fraction) return 0.0;
+  const std::vector<JudgementTerm>& terms = JudgementTerms();
+  for (std::size_t i = 0; i < terms.size() && fraction > 0.0; ++i) {
+    if (terms[i].expected && modes.has(i))
+      fraction = terms[i].expected(fraction, geometry, T_cw, camera, options);
   }
-  // A detector finds an object from where it found it before: farther away it is too
-  // small, from another side it looks different or is hidden by what it stands behind.
-  if (modes.detected_view && !InDetectedView(geometry, T_cw, options)) return 0.0;
   return fraction;
 }
 
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
-                      const OcgOptions& options, const OcgModes& modes) {
+                      const OcgOptions& options, const OcgModes& modes,
+                      const KeyframeObservation* observation, ObjectId id) {
   Judgement judgement;
   judgement.rate = ActiveEdgeRate(evidence.observed_weight, evidence.total_weight);
   if (evidence.observed) {
-    judgement.next = NextState(current, true, judgement.rate, 0.0, options);
-    return judgement;
-  }
-  if (evidence.present_by_points && modes.point_presence &&
-      modes.strategy == ChangeStrategy::kGraph) {
-    // Its own points are where they were and look as they did: the detector missed it.
-    // Present, as if detected; the caller gives it no edge and no detection record (only
-    // detections feed the graph).
     judgement.next = NextState(current, true, judgement.rate, 0.0, options);
     return judgement;
   }
@@ -109,32 +101,40 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
     }
     return judgement;
   }
-  if (evidence.degree == 0 && modes.isolated_fallback) {
-    judgement.judged_by_geometry = true;
-    judgement.rate =
-        GeometricallyVisible(geometry, T_cw, camera, options) ? options.isolated_rate : 0.0;
+  // The improved modes, in the order of their list (judgement_terms.h): the baselines
+  // above switch none on.
+  const std::vector<JudgementTerm>& terms = JudgementTerms();
+  const TermInput input{id, observation, evidence, geometry, T_cw, camera, options};
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    if (terms[i].present && modes.has(i) && terms[i].present(input)) {
+      judgement.next = NextState(current, true, judgement.rate, 0.0, options);
+      return judgement;
+    }
+  }
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    if (!terms[i].rate || !modes.has(i)) continue;
+    if (const std::optional<double> rate = terms[i].rate(input)) {
+      judgement.judged_by_geometry = true;
+      judgement.rate = *rate;
+    }
   }
 
   double increment = 0.0;
   // Only states 3 and 4 use the increment: skip the projections for the others.
   if (current.state == ObjectState::kUnknown || current.state == ObjectState::kSuspicious) {
     double fraction = ExpectedInView(geometry, T_cw, camera, options, modes);
-    // Hidden behind objects nearer the camera: a detector cannot find it there.
-    if (modes.occlusion && evidence.occluded_share >= options.max_occluded_share) fraction = 0.0;
-    increment = DoubtIncrement(judgement.rate, fraction > 0.0, options) * fraction;
-    if (modes.dropout_guard && evidence.degree > 0) {
-      const std::size_t required = std::min<std::size_t>(
-          static_cast<std::size_t>(options.guard_min_neighbours), evidence.degree);
-      if (evidence.observed_neighbours < required) increment = 0.0;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      if (terms[i].expected_now && modes.has(i)) fraction = terms[i].expected_now(fraction, input);
     }
-    // A miss says little about an object the detector often misses: the doubt grows by
-    // how unlikely its absence is under its own detection rate.
+    increment = DoubtIncrement(judgement.rate, fraction > 0.0, options) * fraction;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      if (terms[i].blocks_increment && modes.has(i) && terms[i].blocks_increment(input))
+        increment = 0.0;
+    }
     judgement.missed = increment > 0.0;
-    if (judgement.missed && modes.detection_reliability) increment *= MissWeight(geometry, options);
-    // Missed together with most of what is in view: the detector failed across the view,
-    // which says little about this object.
-    if (judgement.missed && modes.dropout_discount)
-      increment *= DropoutWeight(evidence.observed_weight, evidence.in_view_weight, options);
+    for (std::size_t i = 0; i < terms.size() && judgement.missed; ++i) {
+      if (terms[i].miss_weight && modes.has(i)) increment *= terms[i].miss_weight(input);
+    }
   }
   judgement.next = NextState(current, false, judgement.rate, increment, options);
   return judgement;

@@ -1,11 +1,13 @@
 #include "ocg/ocg/options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
 
 #include "ocg/core/options.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/ocg/judgement_terms.h"
 
 namespace ocg {
 namespace {
@@ -20,9 +22,6 @@ std::set<std::string> ModeParts(const std::string& mode) {
 }  // namespace
 
 OcgModes ParseOcgMode(const std::string& mode) {
-  static const std::set<std::string> kKnown = {
-      "paper",   "fallback", "in_image",  "guard",    "view", "reliability", "restore",
-      "dropout", "points",   "occlusion", "improved", "off",  "visibility"};
   const std::set<std::string> parts = ModeParts(mode);
   RequireOption(!parts.empty(), "OCG.mode", "must not be empty");
   OcgModes modes;
@@ -34,26 +33,23 @@ OcgModes ParseOcgMode(const std::string& mode) {
     modes.strategy = strategy;
     return modes;
   }
+  const std::vector<JudgementTerm>& terms = JudgementTerms();
   for (const std::string& part : parts) {
-    RequireOption(kKnown.count(part) > 0, "OCG.mode",
-                  "unknown mode '" + part +
-                      "' (use paper, or fallback, in_image, guard, view, reliability, restore, "
-                      "dropout, points, occlusion joined with "
-                      "'+', or improved; "
-                      "baselines: off, visibility)");
+    const bool known = part == "paper" || part == "improved" ||
+                       std::any_of(terms.begin(), terms.end(),
+                                   [&](const JudgementTerm& term) { return part == term.name; });
+    RequireOption(known, "OCG.mode",
+                  "unknown mode '" + part + "' (use paper, or " + JudgementTermNames() +
+                      " joined with '+', or improved; baselines: off, visibility)");
   }
   RequireOption(parts.count("paper") == 0 || parts.size() == 1, "OCG.mode",
                 "'paper' cannot be combined with improvements");
   const bool all = parts.count("improved") > 0;
-  modes.isolated_fallback = all || parts.count("fallback") > 0;
-  modes.box_in_image = all || parts.count("in_image") > 0;
-  modes.dropout_guard = all || parts.count("guard") > 0;
-  modes.detected_view = all || parts.count("view") > 0;
-  modes.detection_reliability = parts.count("reliability") > 0;  // not in "improved"
-  modes.restore = all || parts.count("restore") > 0;
-  modes.dropout_discount = all || parts.count("dropout") > 0;
-  modes.point_presence = all || parts.count("points") > 0;  // SLAM runs only: docs/ocg.md
-  modes.occlusion = all || parts.count("occlusion") > 0;
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    if (!(parts.count(terms[i].name) > 0 || (all && terms[i].in_improved))) continue;
+    modes.terms |= 1u << i;
+    if (terms[i].flag) modes.*terms[i].flag = true;
+  }
   return modes;
 }
 

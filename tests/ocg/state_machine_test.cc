@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "ocg/ocg/judgement_terms.h"
 #include "ocg/ocg/state_machine.h"
 
 namespace ocg {
@@ -112,6 +113,37 @@ TEST(Options, ModesParseAndReject) {
   options.mode = "visibility";
   options.visibility_keyframes = 0;
   EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+// The mode names are the judgement terms' list: each name alone switches its own term and
+// nothing else, "improved" the terms marked for it, and the unknown-mode message lists all.
+TEST(Options, ModesAreTheListedJudgementTerms) {
+  const std::vector<JudgementTerm>& terms = JudgementTerms();
+  ASSERT_LE(terms.size(), kMaxJudgementTerms);
+  std::uint32_t improved = 0;
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const OcgModes alone = ParseOcgMode(terms[i].name);
+    EXPECT_EQ(alone.terms, 1u << i) << terms[i].name;
+    if (terms[i].flag) {
+      EXPECT_TRUE(alone.*terms[i].flag) << terms[i].name;
+    }
+    for (std::size_t j = 0; j < terms.size(); ++j) {
+      if (j != i && terms[j].flag) {
+        EXPECT_FALSE(alone.*terms[j].flag) << terms[i].name;
+      }
+    }
+    if (terms[i].in_improved) improved |= 1u << i;
+  }
+  EXPECT_EQ(ParseOcgMode("improved").terms, improved);
+  EXPECT_EQ(ParseOcgMode("paper").terms, 0u);
+  EXPECT_EQ(ParseOcgMode("off").terms, 0u);
+  try {
+    ParseOcgMode("nonsense");
+    ADD_FAILURE() << "an unknown mode must throw";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find(JudgementTermNames()), std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

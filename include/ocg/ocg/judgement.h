@@ -24,8 +24,6 @@ struct ObjectEvidence {
   // "dropout" only: sum of E(i, j) over neighbours j detected in the keyframe or expected
   // in view (ExpectedInView); 0 when not gathered.
   std::uint64_t in_view_weight = 0;
-  // "points" only: not detected, but its own map points were tracked in the keyframe.
-  bool present_by_points = false;
   // "occlusion" only: the share of its image rectangle that nearer objects cover
   // (OccludedShare); 0 when not gathered.
   double occluded_share = 0.0;
@@ -73,10 +71,14 @@ double DropoutWeight(std::uint64_t observed_weight, std::uint64_t in_view_weight
 double ExpectedInView(const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
                       const OcgOptions& options, const OcgModes& modes);
 
-// modes must be ParseOcgMode(options.mode), parsed once by the caller.
+// modes must be ParseOcgMode(options.mode), parsed once by the caller. The improved modes
+// are the terms of JudgementTerms() (judgement_terms.h), applied in their order; those that
+// read the keyframe's observation (as "points" does) see object id in *observation, and
+// nothing when it is null.
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
-                      const OcgOptions& options, const OcgModes& modes);
+                      const OcgOptions& options, const OcgModes& modes,
+                      const KeyframeObservation* observation = nullptr, ObjectId id = 0);
 
 // A detection of the object from a camera at camera_centre (world): one more detected
 // keyframe, the farthest distance and, with record_direction, the direction it was seen

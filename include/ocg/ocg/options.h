@@ -1,6 +1,8 @@
 #pragma once
 // Options of the Object Covisibility Graph (settings section OCG.*).
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <type_traits>
 
@@ -17,10 +19,17 @@ enum class ChangeStrategy {
   kVisibility,  // "visibility": the naive test, no graph (see OcgOptions::visibility_keyframes)
 };
 
+// The most judgement terms (ocg/ocg/judgement_terms.h) OcgModes can switch on.
+inline constexpr std::size_t kMaxJudgementTerms = 32;
+
 // The strategy and improvements named by OCG.mode, parsed once (the hot loop must not
 // parse strings).
 struct OcgModes {
   ChangeStrategy strategy = ChangeStrategy::kGraph;
+  // Bit i: JudgementTerms()[i] is on. The named switches below say the same for the
+  // terms other parts ask about by name.
+  std::uint32_t terms = 0;
+  bool has(std::size_t term) const { return (terms >> term) & 1u; }
   bool isolated_fallback = false;      // "fallback"
   bool box_in_image = false;           // "in_image"
   bool dropout_guard = false;          // "guard"
