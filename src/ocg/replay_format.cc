@@ -232,7 +232,7 @@ KeyframeObservation ParseObservationJson(const std::string& line) {
         for (const auto& [key, value] : entries->items()) {
           // This field's member of the object's update.
           VisitObjectUpdateFields(
-              [&](const ObservationField& other, auto& member) {
+              [&, &key = key, &value = value](const ObservationField& other, auto& member) {
                 if (std::strcmp(other.name, field.name) == 0)
                   Decode(value, field, std::string(field.entry) + " of object " + key, &member);
               },
