@@ -28,20 +28,6 @@ std::vector<std::size_t> Thinned(std::size_t count, std::size_t limit) {
   return indices;
 }
 
-// The most frequent class among the sightings; the lower id on a tie.
-int MajorityClass(const std::vector<ObjectSighting>& sightings) {
-  std::map<int, int> votes;
-  for (const ObjectSighting& sighting : sightings) ++votes[sighting.class_id];
-  int best = sightings.front().class_id, best_votes = 0;
-  for (const auto& [class_id, count] : votes) {
-    if (count > best_votes) {
-      best = class_id;
-      best_votes = count;
-    }
-  }
-  return best;
-}
-
 // Whether a box that fits a projected cuboid so counts as a view of that object. A partial
 // view counts only for an object of the box's class: a box inside a larger object's
 // projection is as often a smaller object of another class in front of it.
@@ -133,17 +119,13 @@ ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timesta
   change.object_id = object.id;
   change.class_id = object.class_id;
   change.cuboid = object.cuboid;
-  change.sightings = object.sightings.size();
+  change.sightings = object.sightings.total();
   change.session = session;
   return change;
 }
 
 bool SeenInOneSession(const MapObject& a, const MapObject& b) {
-  std::set<int> sessions;
-  for (const ObjectSighting& sighting : a.sightings) sessions.insert(sighting.session);
-  return std::any_of(b.sightings.begin(), b.sightings.end(), [&](const ObjectSighting& sighting) {
-    return sessions.count(sighting.session) > 0;
-  });
+  return a.sightings.SharesASessionWith(b.sightings);
 }
 
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
@@ -156,18 +138,15 @@ void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>
 
 // Another record of the same object, from: its sightings (in frame order) and point votes
 // join into's, whose class becomes its sightings' majority. Geometry is left to the caller.
-void Absorb(MapObject& into, const MapObject& from) {
-  std::vector<ObjectSighting> sightings;
-  std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
-             from.sightings.end(), std::back_inserter(sightings),
-             [](const ObjectSighting& a, const ObjectSighting& b) { return a.frame < b.frame; });
-  into.sightings = std::move(sightings);
+// max_sightings: Objects.max_sightings.
+void Absorb(MapObject& into, const MapObject& from, int max_sightings) {
+  into.sightings.Merge(from.sightings, static_cast<std::size_t>(max_sightings));
   for (const auto& [id, point] : from.points) {
     ObjectPoint& entry = into.points[id];
     if (entry.votes == 0) entry.position = point.position;
     entry.votes += point.votes;
   }
-  into.class_id = MajorityClass(into.sightings);
+  into.class_id = into.sightings.MajorityClass();
   into.first_frame = std::min(into.first_frame, from.first_frame);
   into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
   into.last_frame = std::max(into.last_frame, from.last_frame);
@@ -401,7 +380,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
       MapObject candidate;
       candidate.id = next_candidate_id_--;
       candidate.class_id = detection.class_id;
-      candidate.sightings.push_back(sighting);
+      candidate.sightings.Add(sighting, static_cast<std::size_t>(options_.max_sightings));
       AddPointVotes(candidate, box_points[d]);
       candidate.first_frame = candidate.last_frame = frame;
       candidate.first_timestamp = candidate.last_timestamp = timestamp;
@@ -411,7 +390,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     }
     MapObject& entity =
         across_gap != nullptr ? *across_gap : *entities[static_cast<std::size_t>(assignment[d])];
-    entity.sightings.push_back(sighting);
+    entity.sightings.Add(sighting, static_cast<std::size_t>(options_.max_sightings));
     AddPointVotes(entity, box_points[d]);
     entity.last_frame = frame;
     entity.last_timestamp = timestamp;
@@ -542,7 +521,7 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
   if (!options_.join_candidates) return std::nullopt;
   MapObject* host = HostOf(candidate);
   if (host == nullptr) return std::nullopt;
-  Absorb(*host, candidate);
+  Absorb(*host, candidate, options_.max_sightings);
   Reestimate(*host, false);
   observed_since_keyframe_[host->id] = frame;
   geometry_changed_[host->id] = true;
@@ -561,7 +540,7 @@ void ObjectMap::JoinWaitingCandidates() {
       continue;
     }
     // Its boxes are old: the host was not observed now (the OCG's evidence is the present).
-    Absorb(*host, candidate);
+    Absorb(*host, candidate, options_.max_sightings);
     Reestimate(*host, false);
     geometry_changed_[host->id] = true;
     it = candidates_.erase(it);
@@ -608,6 +587,18 @@ void ObjectMap::FollowMap(
       geometry_changed_[id] = true;
     }
   }
+}
+
+std::vector<std::int64_t> ObjectMap::SightingFrames() const {
+  std::vector<std::int64_t> frames;
+  for (const auto* entities : {&objects_, &candidates_}) {
+    for (const auto& [id, entity] : *entities) {
+      for (const ObjectSighting& sighting : entity.sightings) frames.push_back(sighting.frame);
+    }
+  }
+  std::sort(frames.begin(), frames.end());
+  frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+  return frames;
 }
 
 std::optional<double> ObjectMap::PointSetYaw(const MapObject& object) const {
@@ -666,7 +657,7 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   MapObject& from = objects_.at(absorbed);
   ObjectChange change = ChangeOf("merged", keyframe_id, timestamp, from, session_);
   change.merged_into = kept;
-  Absorb(into, from);
+  Absorb(into, from, options_.max_sightings);
   Reestimate(into, false);
   geometry_changed_[kept] = true;
   if (observed_since_keyframe_.count(absorbed) > 0) {
@@ -775,7 +766,7 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
             OverlapShare(first.cuboid.centre, WorldExtent(first.cuboid, R_wg_),
                          second.cuboid.centre,
                          WorldExtent(second.cuboid, R_wg_)) > options_.merge_overlap;
-        bool keep_first = first.sightings.size() >= second.sightings.size();
+        bool keep_first = first.sightings.total() >= second.sightings.total();
         if (!one_space) {
           // Most pairs were detected together at some time: the cheap test first.
           if (SeenTogether(first, second, options_.duplicate_box_iou)) continue;
@@ -812,11 +803,8 @@ KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id,
     // Crowded boxes (beside a more confident box of the class) may be the neighbour's: they
     // are no evidence that this object exists (issue 18, fr3: a bottle in mid-air, promoted from 8
     // boxes of two bottles, kept by 13 boxes beside the front bottle's).
-    const auto own_sightings =
-        std::count_if(object.sightings.begin(), object.sightings.end(),
-                      [](const ObjectSighting& sighting) { return !sighting.crowded; });
     if (++object.keyframes_in_map < options_.probation_keyframes ||
-        own_sightings >= options_.min_sightings) {
+        static_cast<int>(object.sightings.uncrowded()) >= options_.min_sightings) {
       ++it;
       continue;
     }
@@ -869,6 +857,11 @@ void ObjectMap::Remove(const RemovalEvent& event) {
   kept.cuboid = it->second.cuboid;
   kept.has_cuboid = it->second.has_cuboid;
   kept.sightings = it->second.sightings;
+  // Only objects last seen in an earlier session are paired by their boxes and colours
+  // (ForEachBetweenSessionCandidate): the others keep their counts alone, so a long run
+  // that keeps seeing objects moved does not keep every removed one's boxes.
+  if (!kept.sightings.empty() && kept.sightings.back().session == session_)
+    kept.sightings.ForgetSightings();
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
   if (restore_) removed_[event.object_id] = {std::move(it->second), event.timestamp};
@@ -888,19 +881,18 @@ SeenAsClass ObjectMap::SeenAsClassThisSession() const {
   SeenAsClass seen;
   const auto add = [&](const MapObject& object) {
     bool earlier = false;
-    std::optional<double> first, last;
-    for (const ObjectSighting& sighting : object.sightings) {
-      if (sighting.class_id != object.class_id) continue;
-      if (sighting.session != session_) {
+    const SightingHistory::ClassSpan* now = nullptr;
+    for (const auto& [key, span] : object.sightings.spans()) {
+      if (key.second != object.class_id) continue;
+      if (key.first != session_) {
         earlier = true;
-        continue;
+      } else {
+        now = &span;
       }
-      if (!first) first = sighting.timestamp;
-      last = sighting.timestamp;
     }
-    if (!last) return;
-    if (!earlier) seen.first[object.id] = *first;
-    seen.last[object.id] = *last;
+    if (now == nullptr) return;
+    if (!earlier) seen.first[object.id] = now->first_timestamp;
+    seen.last[object.id] = now->last_timestamp;
   };
   for (const auto& [id, object] : objects_) add(object);
   for (const auto& [id, object] : removed_in_run_) add(object);
@@ -981,21 +973,14 @@ std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& s
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& [id, object] : map.objects()) {
     // Sessions (map files): the first and the last that saw it.
-    int first_session = 0, last_session = 0;
-    if (!object.sightings.empty()) {
-      const auto [first, last] = std::minmax_element(
-          object.sightings.begin(), object.sightings.end(),
-          [](const ObjectSighting& a, const ObjectSighting& b) { return a.session < b.session; });
-      first_session = first->session;
-      last_session = last->session;
-    }
+    const auto [first_session, last_session] = object.sightings.SessionRange();
     nlohmann::json entry = {
         {"id", id},
         {"class_id", object.class_id},
         {"class", CocoClassName(object.class_id)},
         {"cuboid", CuboidJson(object.cuboid)},
         {"yaw_from", object.yaw_from_points ? "map points" : "boxes"},
-        {"observations", object.sightings.size()},
+        {"observations", object.sightings.total()},
         {"map_points", ObjectPointSet(object, map.options().min_point_votes).size()},
         {"first_seen", object.first_timestamp},
         {"last_seen", object.last_timestamp},

@@ -42,6 +42,8 @@ void ObjectsOptions::Check() const {
   RequireOption(probation_keyframes >= 0, "Objects.probation_keyframes", "must be non-negative");
   RequireOption(max_rays >= candidate_min_observations, "Objects.max_rays",
                 "must be at least Objects.candidate_min_observations");
+  RequireOption(max_sightings == 0 || max_sightings >= std::max(8, max_rays),
+                "Objects.max_sightings", "must be 0 (keep all) or at least Objects.max_rays and 8");
   RequireOption(merge_distance >= 0, "Objects.merge_distance", "must be non-negative");
   RequireOption(merge_overlap > 0 && merge_overlap <= 1, "Objects.merge_overlap",
                 "must be in (0, 1]");
@@ -92,6 +94,7 @@ void ReadSettings(const SettingsFile& file, ObjectsOptions* options) {
   file.Read("Objects.min_sightings", &options->min_sightings);
   file.Read("Objects.probation_keyframes", &options->probation_keyframes);
   file.Read("Objects.max_rays", &options->max_rays);
+  file.Read("Objects.max_sightings", &options->max_sightings);
   file.Read("Objects.merge_distance", &options->merge_distance);
   file.Read("Objects.merge_overlap", &options->merge_overlap);
   file.Read("Objects.duplicate_box_iou", &options->duplicate_box_iou);

@@ -23,33 +23,13 @@
 #include "ocg/objects/object_geometry.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/objects/point_presence.h"
+#include "ocg/objects/sighting_history.h"
 #include "ocg/ocg/change_detector.h"
 #include "ocg/ocg/observation.h"
 
 namespace ocg {
 
 struct MapFileAccess;  // map files (src/app/object_map_file.cc) save and restore the state
-
-struct ObjectSighting {
-  std::int64_t frame = 0;
-  SE3 T_cw;
-  Box2 box;
-  bool truncated = false;
-  // The box shares area with a more confident box of its class in the frame
-  // (BesideAMoreConfidentBoxOfItsClass): its centre may be on the other object (a second
-  // box on it, or a box sliding onto it as the view changes). It neither helps a candidate
-  // become an object nor keeps an object through the hygiene (Objects.min_sightings); a
-  // map object's geometry uses it like any other. Not saved in map files.
-  bool crowded = false;
-  int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
-  int session = 0;   // the session (map files: 0 for the first run) that saw it
-  // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
-  // the sightings at that session's keyframes (ObjectMap::SetSightingColours).
-  std::optional<ColourHistogram> colour;
-  // Seconds, the frame's timestamp (SeenAsClass()). Not saved in map files: 0 in sightings
-  // loaded from one.
-  double timestamp = 0.0;
-};
 
 // A SLAM map point seen inside an object's boxes (SLAM runs only).
 struct ObjectPoint {
@@ -63,8 +43,9 @@ struct ObjectPoint {
 // A map object, or a candidate (id < 0) not yet triangulated.
 struct MapObject {
   ObjectId id = 0;
-  int class_id = 0;                       // the most frequent class of its sightings
-  std::vector<ObjectSighting> sightings;  // every one, in frame order
+  int class_id = 0;  // the most frequent class of its sightings
+  // In frame order; beyond Objects.max_sightings a bounded sample with exact counts.
+  SightingHistory sightings;
   Cuboid cuboid;
   bool has_cuboid = false;
   bool yaw_from_points = false;  // else from the boxes' widths
@@ -164,10 +145,14 @@ class ObjectMap {
   // into another, leave the object), and the objects are re-estimated.
   // descriptor_of_point (optional; null result: none known) refreshes the points'
   // descriptors.
+  // pose_of_frame is asked for SightingFrames() alone.
   void FollowMap(
       const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
       const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
       const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point = {});
+
+  // The frames of the sightings the objects and candidates keep, sorted, each once.
+  std::vector<std::int64_t> SightingFrames() const;
 
   // The OCG's input for a keyframe at the last added frame: the map objects detected in
   // any frame since the previous keyframe, with the geometry of those that changed.

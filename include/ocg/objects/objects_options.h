@@ -67,6 +67,10 @@ struct ObjectsOptions {
   // Objects.max_rays: the rays used to triangulate an object's centre (evenly thinned
   // beyond this, so an object's cost stays bounded however long it is watched).
   int max_rays = 60;
+  // Objects.max_sightings: the sightings an object keeps at most (SightingHistory: beyond
+  // it a sample spread evenly over the run, the newest quarter whole, with exact counts),
+  // so a long run that keeps revisiting an object does not grow with it. 0: keep all.
+  int max_sightings = 4096;
 
   // Objects.merge_distance: two objects never seen in the same frame whose centres are
   // closer than this share of the larger one's largest extent (of the smaller one's when
