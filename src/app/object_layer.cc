@@ -45,6 +45,13 @@ nlohmann::json Timing(const std::vector<double>& seconds) {
            seconds.empty() ? 0.0 : 1000.0 * *std::max_element(seconds.begin(), seconds.end())}};
 }
 
+nlohmann::json Timing(const DurationSummary& seconds) {
+  return {{"count", seconds.count()},
+          {"median_ms", 1000.0 * seconds.Median()},
+          {"p95_ms", 1000.0 * seconds.Quantile(0.95)},
+          {"max_ms", 1000.0 * seconds.max()}};
+}
+
 std::vector<ChangeEntry> RevisedChangeLog(const ObjectMapper& mapper,
                                           const ChangeLogContext& context) {
   return ReviseChangeLog(mapper.Changes(), mapper.LiveObjects(), context);
@@ -94,7 +101,11 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     Follow(system);
   }
   if (!result.T_cw) return;
-  if (!detections.empty() && !image_path.empty()) image_paths_[frame_offset_ + frame] = image_path;
+  // Only a keyframe's image is read again (Finish()), and a frame becomes one when tracked.
+  if (!detections.empty() && !image_path.empty() && result.new_keyframe) {
+    image_paths_[frame_offset_ + frame] = image_path;
+    if (image_paths_.size() > 2 * image_paths_after_pruning_ + 16) PruneColourImages(system);
+  }
   if (!detections.empty() && image_path.empty() && result.new_keyframe && image.type() == CV_8UC3) {
     std::vector<std::uint8_t> png;
     cv::imencode(".png", image, png);
@@ -123,12 +134,15 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
       if (keep_first_removal_) first_removal_ = std::move(before);
     }
   }
-  seconds_.push_back(
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  seconds_.Add(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 std::vector<ObjectView> ObjectLayer::Views() const {
   return enabled_ ? mapper_->Views() : std::vector<ObjectView>{};
+}
+
+std::size_t ObjectLayer::LiveObjectCount() const {
+  return enabled_ ? mapper_->LiveObjectCount() : 0;
 }
 
 std::optional<Eigen::Vector3d> ObjectLayer::Up() const {
@@ -212,9 +226,18 @@ void ObjectLayer::PruneColourImages(const System& system) {
   std::set<std::int64_t> keyframes;
   for (const KeyFramePtr& keyframe : system.KeyFrames())
     keyframes.insert(static_cast<std::int64_t>(keyframe->frame_id));
+  // Threaded mode: local mapping puts new keyframes in the map later, in order; frames after
+  // the newest keyframe in it may be ones still queued.
+  const std::int64_t newest = keyframes.empty() ? -1 : *keyframes.rbegin();
+  const auto culled = [&](std::int64_t frame) {
+    return frame <= newest && keyframes.count(frame) == 0;
+  };
   for (auto it = colour_pngs_.begin(); it != colour_pngs_.end();)
-    it = keyframes.count(it->first) > 0 ? std::next(it) : colour_pngs_.erase(it);
+    it = culled(it->first) ? colour_pngs_.erase(it) : std::next(it);
   colour_pngs_after_pruning_ = colour_pngs_.size();
+  for (auto it = image_paths_.begin(); it != image_paths_.end();)
+    it = culled(it->first) ? image_paths_.erase(it) : std::next(it);
+  image_paths_after_pruning_ = image_paths_.size();
 }
 
 cv::Mat ObjectLayer::ColourImageOf(std::int64_t frame) const {
@@ -303,9 +326,15 @@ void ObjectLayer::StartSession(int session, std::int64_t frame_offset) {
 void ObjectLayer::Follow(const System& system) {
   SlamMapView view;
   // The earlier sessions' frames have no pose in this run: their sightings keep theirs.
-  view.frame_poses.assign(static_cast<std::size_t>(frame_offset_), std::nullopt);
-  const std::vector<std::optional<SE3>> poses = system.FramePoses();
-  view.frame_poses.insert(view.frame_poses.end(), poses.begin(), poses.end());
+  std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
+  for (const std::int64_t frame : mapper_->SightingFrames()) {
+    if (frame >= frame_offset_) calls.push_back(static_cast<std::size_t>(frame - frame_offset_));
+  }
+  const std::vector<std::optional<SE3>> poses = system.FramePoses(calls);
+  for (std::size_t i = 0; i < calls.size(); ++i) {
+    if (poses[i])
+      view.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
+  }
   view.map_points = system.MapPointPositions(&view.map_point_ids, &view.map_point_descriptors);
   view.camera_rotations = system.KeyFrameRotations();
   mapper_->FollowSlamMap(view, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "ocg/app/settings.h"
+#include "ocg/core/statistics.h"
 #include "ocg/io/detections.h"
 #include "ocg/objects/change_log.h"
 #include "ocg/objects/object_mapper.h"
@@ -37,8 +38,9 @@ std::vector<ChangeEntry> RevisedChangeLog(const ObjectMapper& mapper,
 nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& folder,
                               const ChangeLogContext& change_log);
 
-// run.json's timing entry of a list of durations in seconds.
+// run.json's timing entry of a list of durations in seconds, or of their summary.
 nlohmann::json Timing(const std::vector<double>& seconds);
+nlohmann::json Timing(const DurationSummary& seconds);
 
 class ObjectLayer {
  public:
@@ -58,6 +60,8 @@ class ObjectLayer {
                 const std::string& image_path, const cv::Mat& image = cv::Mat());
   // The objects for the viewer (none without detections) and their up direction.
   std::vector<ObjectView> Views() const;
+  // The objects in the map now (Views() also lists removed ones); 0 without a layer.
+  std::size_t LiveObjectCount() const;
   std::optional<Eigen::Vector3d> Up() const;
   // The detections of the last frame given, with the objects they were associated to.
   std::vector<FrameDetection> LastFrameDetections() const;
@@ -113,17 +117,19 @@ class ObjectLayer {
   FrameAssociation last_association_;
   std::optional<std::vector<ObjectView>> first_removal_;
   bool removal_seen_ = false;
-  std::vector<double> seconds_;
+  DurationSummary seconds_;
   std::optional<double> session_start_;                      // timestamp of the first frame given
   std::optional<std::vector<ChangeEntry>> earlier_changes_;  // the loaded map file's log
   // Finish(): ObjectMap::BoxAppearances() over every keyframe of the SLAM map.
   std::map<ObjectId, std::vector<Descriptor>> box_appearance_;
-  // This session's image files of frames with detections, by frame (over all sessions).
+  // This session's image files of new keyframes with detections, by frame (over all
+  // sessions); those of culled keyframes go as colour_pngs_'s do.
   std::map<std::int64_t, std::string> image_paths_;
+  std::size_t image_paths_after_pruning_ = 0;
   // Frames without a file: their BGR pixels as PNG bytes, for new keyframes with detections.
   std::map<std::int64_t, std::vector<std::uint8_t>> colour_pngs_;
   std::size_t colour_pngs_after_pruning_ = 0;
-  // Drops the kept images of frames that are no longer keyframes (culled).
+  // Drops the kept images and image paths of frames that are no longer keyframes (culled).
   void PruneColourImages(const System& system);
   // The colour image of a keyframe for its sightings' signatures; empty when none.
   cv::Mat ColourImageOf(std::int64_t frame) const;

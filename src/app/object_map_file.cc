@@ -31,6 +31,18 @@ void serialize(Archive& archive, ObjectSighting& sighting) {
   archive(sighting.frame, sighting.T_cw, sighting.box, sighting.truncated, sighting.class_id,
           sighting.session);
 }
+// The kept sightings, as version 1 wrote every sighting; a history read back counts those
+// alone (an object seen more than Objects.max_sightings times reports fewer observations).
+template <class Archive>
+void save(Archive& archive, const SightingHistory& history) {
+  archive(history.kept());
+}
+template <class Archive>
+void load(Archive& archive, SightingHistory& history) {
+  std::vector<ObjectSighting> kept;
+  archive(kept);
+  history = SightingHistory(std::move(kept));
+}
 template <class Archive>
 void serialize(Archive& archive, ObjectPoint& point) {
   archive(point.votes, point.position);
@@ -162,7 +174,7 @@ struct MapFileAccess {
     cereal::BinaryOutputArchive archive(out);
     archive(counters.keyframes, counters.tracked_frames);
     ObjectMapState(archive, mapper.map_);
-    archive(mapper.stats_, mapper.observations_jsonl_, mapper.manager_.removals_);
+    archive(mapper.stats_, mapper.observations_jsonl_.Text(), mapper.manager_.removals_);
     SaveDetector(archive, mapper.manager_.detector_);
     archive(counters.change_log.value_or(""));
     archive(SightingColours(mapper.map_));
@@ -202,7 +214,10 @@ struct MapFileAccess {
     app_detail::ObjectLayerCounters counters;
     archive(counters.keyframes, counters.tracked_frames);
     ObjectMapState(archive, mapper->map_);
-    archive(mapper->stats_, mapper->observations_jsonl_, mapper->manager_.removals_);
+    std::string observations;
+    archive(mapper->stats_, observations, mapper->manager_.removals_);
+    mapper->observations_jsonl_.Clear();
+    mapper->observations_jsonl_.Append(observations);
     LoadDetector(archive, &mapper->manager_.detector_);
     if (file_version >= 2) {
       std::string change_log;

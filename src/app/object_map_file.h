@@ -1,8 +1,8 @@
 #pragma once
 // The object layer's part of a map file (docs/sessions.md): the object map (objects with
-// every sighting and its session, candidates, the change log, id counters), the OCG
-// (graph, every object's state, doubt and geometry, removals) and the mapper's counters,
-// as a cereal binary archive written into the caller's stream. The modules' options are
+// the sightings they keep (SightingHistory) and their sessions, candidates, the change log, id
+// counters), the OCG (graph, every object's state, doubt and geometry, removals) and the mapper's
+// counters, as a cereal binary archive written into the caller's stream. The modules' options are
 // not saved here: they come from the settings (saved by the caller).
 
 #include <cstdint>

@@ -134,7 +134,7 @@ class ObjectSlam::Impl {
     status.frames = static_cast<std::size_t>(frames_);
     status.keyframes = system_.KeyFrameCount();
     status.map_points = system_.MapPointCount();
-    status.objects = objects_.Views().size();
+    status.objects = objects_.LiveObjectCount();
     status.resident_bytes = app_detail::ResidentMemoryBytes();
     return status;
   }
@@ -309,7 +309,6 @@ class ObjectSlam::Impl {
 
   nlohmann::json Report(const RunDescription& description, const std::string& vocabulary_file) {
     int tracked = 0, lost = 0, relocalized = 0, uninitialized = 0;
-    std::vector<double> tracking_seconds, tracking_cpu_seconds, mapping_seconds, lock_wait_seconds;
     int first_tracked = -1;
     for (std::size_t i = 0; i < system_.Frames().size(); ++i) {
       const FrameRecord& record = system_.Frames()[i];
@@ -320,12 +319,11 @@ class ObjectSlam::Impl {
       if (record.state == TrackingState::kLost) ++lost;
       if (record.state == TrackingState::kNotInitialized) ++uninitialized;
       if (record.relocalized) ++relocalized;
-      tracking_seconds.push_back(record.tracking_seconds);
-      tracking_cpu_seconds.push_back(record.tracking_cpu_seconds);
-      lock_wait_seconds.push_back(record.map_lock_wait_seconds);
-      if (record.local_mapping_seconds > 0.0)
-        mapping_seconds.push_back(record.local_mapping_seconds);
     }
+    const DurationSummary& tracking_seconds = system_.Timings().tracking;
+    const DurationSummary& tracking_cpu_seconds = system_.Timings().tracking_cpu;
+    const DurationSummary& mapping_seconds = system_.Timings().local_mapping;
+    const DurationSummary& lock_wait_seconds = system_.Timings().map_lock_wait;
     const LocalMappingStats mapping = system_.MappingStats();
     nlohmann::json report = {{"sequence", description.sequence},
                              {"settings", description.settings},
@@ -375,8 +373,7 @@ class ObjectSlam::Impl {
     // process total covers every thread (image reader, loop closing, global adjustment
     // included) from the start of the process to the report.
     timing["tracking_cpu_per_frame"] = app_detail::Timing(tracking_cpu_seconds);
-    timing["tracking_cpu_per_frame"]["total_s"] =
-        std::accumulate(tracking_cpu_seconds.begin(), tracking_cpu_seconds.end(), 0.0);
+    timing["tracking_cpu_per_frame"]["total_s"] = tracking_cpu_seconds.sum();
     timing["process_cpu_s"] = ProcessCpuSeconds();
     timing["local_mapping_thread_per_keyframe"] = app_detail::Timing(mapping.keyframe_seconds);
     timing["local_mapping_map_lock_held_per_keyframe"] =

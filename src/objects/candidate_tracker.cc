@@ -9,7 +9,7 @@ void CandidateTracker::Start(const ObjectSighting& sighting,
   MapObject candidate;
   candidate.id = next_id_--;
   candidate.class_id = sighting.class_id;
-  candidate.sightings.push_back(sighting);
+  candidate.sightings.Add(sighting, static_cast<std::size_t>(context_.options.max_sightings));
   AddPointVotes(candidate, box_points);
   candidate.first_frame = candidate.last_frame = sighting.frame;
   candidate.first_timestamp = candidate.last_timestamp = sighting.timestamp;

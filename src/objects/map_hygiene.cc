@@ -66,7 +66,7 @@ std::optional<std::pair<ObjectId, ObjectId>> FindDuplicate(
           OverlapShare(first.cuboid.centre, WorldExtent(first.cuboid, context.R_wg),
                        second.cuboid.centre,
                        WorldExtent(second.cuboid, context.R_wg)) > context.options.merge_overlap;
-      bool keep_first = first.sightings.size() >= second.sightings.size();
+      bool keep_first = first.sightings.total() >= second.sightings.total();
       if (!one_space) {
         // Most pairs were detected together at some time: the cheap test first.
         if (SeenTogether(first, second, context.options.duplicate_box_iou)) continue;
@@ -98,11 +98,8 @@ bool TooLittleEvidence(const MapObject& object, const ObjectsOptions& options) {
   // Crowded boxes (beside a more confident box of the class) may be the neighbour's: they
   // are no evidence that this object exists (issue 18, fr3: a bottle in mid-air, promoted from 8
   // boxes of two bottles, kept by 13 boxes beside the front bottle's).
-  const auto own_sightings =
-      std::count_if(object.sightings.begin(), object.sightings.end(),
-                    [](const ObjectSighting& sighting) { return !sighting.crowded; });
   return object.keyframes_in_map >= options.probation_keyframes &&
-         own_sightings < options.min_sightings;
+         static_cast<int>(object.sightings.uncrowded()) < options.min_sightings;
 }
 
 MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,

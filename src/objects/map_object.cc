@@ -1,9 +1,7 @@
 #include "ocg/objects/map_object.h"
 
 #include <algorithm>
-#include <iterator>
 #include <optional>
-#include <set>
 
 #include "ocg/objects/object_geometry.h"
 
@@ -144,18 +142,14 @@ bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& conte
   return true;
 }
 
-void Absorb(MapObject& into, const MapObject& from) {
-  std::vector<ObjectSighting> sightings;
-  std::merge(into.sightings.begin(), into.sightings.end(), from.sightings.begin(),
-             from.sightings.end(), std::back_inserter(sightings),
-             [](const ObjectSighting& a, const ObjectSighting& b) { return a.frame < b.frame; });
-  into.sightings = std::move(sightings);
+void Absorb(MapObject& into, const MapObject& from, int max_sightings) {
+  into.sightings.Merge(from.sightings, static_cast<std::size_t>(max_sightings));
   for (const auto& [id, point] : from.points) {
     ObjectPoint& entry = into.points[id];
     if (entry.votes == 0) entry.position = point.position;
     entry.votes += point.votes;
   }
-  into.class_id = MajorityClass(into.sightings);
+  into.class_id = into.sightings.MajorityClass();
   into.first_frame = std::min(into.first_frame, from.first_frame);
   into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
   into.last_frame = std::max(into.last_frame, from.last_frame);
@@ -168,19 +162,6 @@ void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>
     ++entry.votes;
     entry.position = point->position;
   }
-}
-
-int MajorityClass(const std::vector<ObjectSighting>& sightings) {
-  std::map<int, int> votes;
-  for (const ObjectSighting& sighting : sightings) ++votes[sighting.class_id];
-  int best = sightings.front().class_id, best_votes = 0;
-  for (const auto& [class_id, count] : votes) {
-    if (count > best_votes) {
-      best = class_id;
-      best_votes = count;
-    }
-  }
-  return best;
 }
 
 std::vector<std::size_t> Thinned(std::size_t count, std::size_t limit) {
@@ -229,11 +210,7 @@ bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_i
 }
 
 bool SeenInOneSession(const MapObject& a, const MapObject& b) {
-  std::set<int> sessions;
-  for (const ObjectSighting& sighting : a.sightings) sessions.insert(sighting.session);
-  return std::any_of(b.sightings.begin(), b.sightings.end(), [&](const ObjectSighting& sighting) {
-    return sessions.count(sighting.session) > 0;
-  });
+  return a.sightings.SharesASessionWith(b.sightings);
 }
 
 ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timestamp,
@@ -245,7 +222,7 @@ ObjectChange ChangeOf(const char* type, std::int64_t keyframe_id, double timesta
   change.object_id = object.id;
   change.class_id = object.class_id;
   change.cuboid = object.cuboid;
-  change.sightings = object.sightings.size();
+  change.sightings = object.sightings.total();
   change.session = session;
   return change;
 }

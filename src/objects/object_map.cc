@@ -70,7 +70,7 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
       ++result.new_candidates;
       continue;
     }
-    entity->sightings.push_back(sighting);
+    entity->sightings.Add(sighting, static_cast<std::size_t>(options_.max_sightings));
     AddPointVotes(*entity, box_points[d]);
     entity->last_frame = frame;
     entity->last_timestamp = timestamp;
@@ -106,7 +106,7 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
   if (!options_.join_candidates) return std::nullopt;
   MapObject* host = HostOf(candidate, objects_, Context());
   if (host == nullptr) return std::nullopt;
-  Absorb(*host, candidate);
+  Absorb(*host, candidate, options_.max_sightings);
   Reestimate(*host, false, Context());
   observed_since_keyframe_[host->id] = frame;
   geometry_changed_[host->id] = true;
@@ -125,7 +125,7 @@ void ObjectMap::JoinWaitingCandidates() {
       continue;
     }
     // Its boxes are old: the host was not observed now (the OCG's evidence is the present).
-    Absorb(*host, candidate);
+    Absorb(*host, candidate, options_.max_sightings);
     Reestimate(*host, false, Context());
     geometry_changed_[host->id] = true;
     it = candidates_.erase(it);
@@ -172,6 +172,18 @@ void ObjectMap::FollowMap(
       geometry_changed_[id] = true;
     }
   }
+}
+
+std::vector<std::int64_t> ObjectMap::SightingFrames() const {
+  std::vector<std::int64_t> frames;
+  for (const auto* entities : {&objects_, &candidates_}) {
+    for (const auto& [id, entity] : *entities) {
+      for (const ObjectSighting& sighting : entity.sightings) frames.push_back(sighting.frame);
+    }
+  }
+  std::sort(frames.begin(), frames.end());
+  frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+  return frames;
 }
 
 KeyframeObservation ObjectMap::MakeKeyframeObservation(std::int64_t keyframe_id, double timestamp,
@@ -238,7 +250,7 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   MapObject& from = objects_.at(absorbed);
   ObjectChange change = ChangeOf("merged", keyframe_id, timestamp, from, session_);
   change.merged_into = kept;
-  Absorb(into, from);
+  Absorb(into, from, options_.max_sightings);
   Reestimate(into, false, Context());
   geometry_changed_[kept] = true;
   if (observed_since_keyframe_.count(absorbed) > 0) {
@@ -296,6 +308,11 @@ void ObjectMap::Remove(const RemovalEvent& event) {
   kept.cuboid = it->second.cuboid;
   kept.has_cuboid = it->second.has_cuboid;
   kept.sightings = it->second.sightings;
+  // Only objects last seen in an earlier session are paired by their boxes and colours
+  // (ForEachBetweenSessionCandidate): the others keep their counts alone, so a long run
+  // that keeps seeing objects moved does not keep every removed one's boxes.
+  if (!kept.sightings.empty() && kept.sightings.back().session == session_)
+    kept.sightings.ForgetSightings();
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
   if (restore_) removed_[event.object_id] = {std::move(it->second), event.timestamp};

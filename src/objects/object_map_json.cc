@@ -16,13 +16,7 @@ namespace {
 
 // Sessions (map files): the first and the last that saw the object (0 and 0 without
 // sightings).
-std::pair<int, int> SessionsOf(const MapObject& object) {
-  if (object.sightings.empty()) return {0, 0};
-  const auto [first, last] = std::minmax_element(
-      object.sightings.begin(), object.sightings.end(),
-      [](const ObjectSighting& a, const ObjectSighting& b) { return a.session < b.session; });
-  return {first->session, last->session};
-}
+std::pair<int, int> SessionsOf(const MapObject& object) { return object.sightings.SessionRange(); }
 
 }  // namespace
 
@@ -36,7 +30,7 @@ std::vector<ObjectRecord> LiveObjectRecords(const ObjectMap& map) {
     record.first_seen = object.first_timestamp;
     record.last_seen = object.last_timestamp;
     record.first_session = SessionsOf(object).first;
-    record.observations = static_cast<int>(object.sightings.size());
+    record.observations = static_cast<int>(object.sightings.total());
     records.push_back(record);
   }
   return records;
@@ -54,7 +48,7 @@ std::string ObjectsJson(const ObjectMap& map, const std::vector<ObjectStatus>& s
         {"class", CocoClassName(object.class_id)},
         {"cuboid", CuboidJson(object.cuboid)},
         {"yaw_from", object.yaw_from_points ? "map points" : "boxes"},
-        {"observations", object.sightings.size()},
+        {"observations", object.sightings.total()},
         {"map_points", ObjectPointSet(object, map.options().min_point_votes).size()},
         {"first_seen", object.first_timestamp},
         {"last_seen", object.last_timestamp},

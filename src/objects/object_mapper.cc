@@ -78,8 +78,9 @@ void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
   map_.SetUp(up);
   map_.FollowMap(
       [&view](std::int64_t frame) -> std::optional<SE3> {
-        if (frame < 0 || frame >= static_cast<std::int64_t>(view.frame_poses.size())) return {};
-        return view.frame_poses[static_cast<std::size_t>(frame)];
+        const auto found = view.frame_poses.find(frame);
+        if (found == view.frame_poses.end()) return {};
+        return found->second;
       },
       [&positions](std::uint64_t point) -> std::optional<Eigen::Vector3d> {
         const auto found = positions.find(point);
@@ -90,6 +91,11 @@ void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
         const auto found = descriptors.find(point);
         return found == descriptors.end() ? nullptr : found->second;
       });
+}
+
+std::vector<std::int64_t> ObjectMapper::SightingFrames() const {
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  return map_.SightingFrames();
 }
 
 std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::Appearances() const {
@@ -128,7 +134,7 @@ void ObjectMapper::AddKeyframe(std::int64_t keyframe_id, double timestamp, const
     std::vector<ObjectChange> merges;
     observation = map_.MakeKeyframeObservation(keyframe_id, timestamp, T_cw, &merges, frame);
     ++stats_.keyframes;
-    if (record_observations_) observations_jsonl_ += ObservationToJson(observation) + "\n";
+    if (record_observations_) observations_jsonl_.Append(ObservationToJson(observation) + "\n");
   }
   manager_.Submit(std::move(observation));
 }
@@ -167,7 +173,7 @@ std::vector<ObjectRecord> ObjectMapper::LiveObjects() const {
 
 std::string ObjectMapper::ObservationsJsonl() const {
   std::lock_guard<std::mutex> lock(map_mutex_);
-  return observations_jsonl_;
+  return observations_jsonl_.Text();
 }
 
 std::string ObjectMapper::GraphJson() const { return manager_.GraphJson(); }

@@ -21,6 +21,8 @@ void ObjectsOptions::Check() const {
   }
   RequireOption(max_rays >= candidate_min_observations, "Objects.max_rays",
                 "must be at least Objects.candidate_min_observations");
+  RequireOption(max_sightings == 0 || max_sightings >= std::max(8, max_rays),
+                "Objects.max_sightings", "must be 0 (keep all) or at least Objects.max_rays and 8");
   RequireOption(up.allFinite() && up.norm() > 1e-9, "Objects.up", "must be a non-zero vector");
 }
 

@@ -27,19 +27,18 @@ SeenAsClass SeenAsClassIn(const SessionObjects& objects) {
   SeenAsClass seen;
   const auto add = [&](const MapObject& object) {
     bool earlier = false;
-    std::optional<double> first, last;
-    for (const ObjectSighting& sighting : object.sightings) {
-      if (sighting.class_id != object.class_id) continue;
-      if (sighting.session != objects.session) {
+    const SightingHistory::ClassSpan* now = nullptr;
+    for (const auto& [key, span] : object.sightings.spans()) {
+      if (key.second != object.class_id) continue;
+      if (key.first != objects.session) {
         earlier = true;
-        continue;
+      } else {
+        now = &span;
       }
-      if (!first) first = sighting.timestamp;
-      last = sighting.timestamp;
     }
-    if (!last) return;
-    if (!earlier) seen.first[object.id] = *first;
-    seen.last[object.id] = *last;
+    if (now == nullptr) return;
+    if (!earlier) seen.first[object.id] = now->first_timestamp;
+    seen.last[object.id] = now->last_timestamp;
   };
   for (const auto& [id, object] : objects.live) add(object);
   for (const auto& [id, object] : objects.removed_in_run) add(object);

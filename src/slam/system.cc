@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 
 #include "ocg/core/cpu_time.h"
@@ -20,6 +21,16 @@ StampedPose MakePose(double timestamp, const std::string& text, const SE3& T_cw)
   pose.timestamp_text = text;
   pose.T_wc = T_cw.Inverse();
   return pose;
+}
+
+// The decimals with which timestamp prints as text ("%.*f"), or -1 when none does.
+std::int8_t DecimalsOf(double timestamp, const std::string& text) {
+  const std::size_t point = text.find('.');
+  const int decimals = point == std::string::npos ? 0 : static_cast<int>(text.size() - point - 1);
+  if (decimals > 12 || text.size() > 40) return -1;
+  char printed[64];
+  std::snprintf(printed, sizeof printed, "%.*f", decimals, timestamp);
+  return text == printed ? static_cast<std::int8_t>(decimals) : std::int8_t{-1};
 }
 
 }  // namespace
@@ -98,14 +109,15 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   }
   FrameRecord record;
   record.timestamp = timestamp;
-  record.timestamp_text = timestamp_text;
+  record.text_decimals = DecimalsOf(timestamp, timestamp_text);
+  if (record.text_decimals < 0) timestamp_texts_[frames_.size()] = timestamp_text;
   record.state = result.state;
   record.relocalized = result.relocalized;
   record.new_keyframe = result.new_keyframe;
-  record.local_mapping_seconds = pending_mapping_seconds_;
-  record.tracking_seconds = Seconds(start) - pending_mapping_seconds_;
-  record.tracking_cpu_seconds = ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_;
-  record.map_lock_wait_seconds = result.map_lock_wait_seconds;
+  if (pending_mapping_seconds_ > 0.0) timings_.local_mapping.Add(pending_mapping_seconds_);
+  timings_.tracking.Add(Seconds(start) - pending_mapping_seconds_);
+  timings_.tracking_cpu.Add(ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_);
+  timings_.map_lock_wait.Add(result.map_lock_wait_seconds);
   {
     const std::unique_lock<std::mutex> lock = map_.LockForTracking();
     record.map = map_.current_map();
@@ -242,7 +254,7 @@ std::vector<StampedPose> System::CameraTrajectory(int map) const {
     const FrameRecord& record = frames_[i];
     if (const std::optional<SE3> T_cw =
             PoseFromReference(map_, record.reference, record.T_c_reference))
-      poses.push_back(MakePose(record.timestamp, record.timestamp_text, *T_cw));
+      poses.push_back(MakePose(record.timestamp, TimestampText(i), *T_cw));
   }
   return poses;
 }
@@ -257,6 +269,30 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
     poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
   }
   return poses;
+}
+
+std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t>& frames) const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  std::vector<std::optional<SE3>> poses(frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i] >= frames_.size()) continue;
+    const FrameRecord& record = frames_[frames[i]];
+    if (!record.tracked) continue;
+    // As FrameMapsLocked: the frame is placed in its reference keyframe's map now.
+    const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
+    if (!reference || reference->map != map_.current_map()) continue;
+    poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
+  }
+  return poses;
+}
+
+std::string System::TimestampText(std::size_t frame) const {
+  const FrameRecord& record = frames_.at(frame);
+  if (record.text_decimals < 0) return timestamp_texts_.at(frame);
+  char printed[64];
+  std::snprintf(printed, sizeof printed, "%.*f", static_cast<int>(record.text_decimals),
+                record.timestamp);
+  return printed;
 }
 
 const ExtractedFeatures* System::LastFrameFeatures() const {

@@ -154,15 +154,15 @@ void ExpectObjectsFollowASimilarity(double scale) {
   SlamMapView view;
   for (int frame = 0; frame < 60; ++frame) {
     const Sim3 S_cw = Sim3(scene.T_cw[static_cast<std::size_t>(frame)]) * moved.Inverse();
-    view.frame_poses.push_back(SE3(S_cw.rotation(), S_cw.translation() / S_cw.scale()));
+    view.frame_poses[frame] = SE3(S_cw.rotation(), S_cw.translation() / S_cw.scale());
   }
   // The map points of the table (points far off it would sway the supporting plane).
   for (int i = 0; i < scene.options.points_on_table; ++i) {
     view.map_points.push_back(moved * scene.points[static_cast<std::size_t>(i)]);
     view.map_point_ids.push_back(static_cast<std::uint64_t>(i));
   }
-  for (const std::optional<SE3>& T_cw : view.frame_poses)
-    view.camera_rotations.push_back(T_cw->Inverse().rotation());
+  for (const auto& [frame, T_cw] : view.frame_poses)
+    view.camera_rotations.push_back(T_cw.Inverse().rotation());
   mapper.FollowSlamMap(view, 1);
   EXPECT_LT((mapper.Up() - Eigen::Vector3d::UnitZ()).norm(), 0.02);
   const auto after = LiveByClass(mapper);

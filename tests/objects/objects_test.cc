@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <tuple>
 
 #include "ocg/io/trajectory.h"
@@ -1465,6 +1466,50 @@ TEST_F(TwoObjectScene, ARemovedObjectFoundAgainAtItsPlaceIsRestored) {
     EXPECT_TRUE(outcome.observation.restored.empty()) << what;
     for (const ObjectChange& entry : outcome.changes) EXPECT_NE(entry.type, "restored") << what;
   }
+}
+
+// A camera going back and forth over the same arc for 800 frames: each object keeps at
+// most Objects.max_sightings sightings, yet reports every one it had, stays where it is, and
+// nothing else appears (issue 33: each revisit added a sighting of ~0.3 kB, for good).
+TEST_F(TwoObjectScene, ARevisitedObjectKeepsABoundedHistoryAndAnswersAsBefore) {
+  const auto run = [&](int max_sightings) {
+    ObjectsOptions options;
+    options.max_sightings = max_sightings;
+    ObjectMap map(options, Camera());
+    std::vector<ObjectChange> merges;
+    for (int frame = 0; frame < 800; ++frame) {
+      const int step = frame % 80 < 40 ? frame % 80 : 80 - frame % 80;  // forward and back
+      const SE3 T_cw = OrbitPose(0.02 * step);
+      map.AddFrame(frame, frame / 30.0, T_cw,
+                   FilterDetections(DetectionsAt(T_cw), options, Camera()));
+      if (frame % 10 == 9) map.MakeKeyframeObservation(frame / 10, frame / 30.0, T_cw, &merges);
+    }
+    EXPECT_TRUE(merges.empty());
+    return map;
+  };
+  const ObjectMap bounded = run(64);
+  const ObjectMap all = run(0);
+  ASSERT_EQ(bounded.objects().size(), 2u);
+  ASSERT_EQ(all.objects().size(), 2u);
+  const nlohmann::json listed = nlohmann::json::parse(ObjectsJson(bounded, {}))["objects"];
+  for (const auto& [id, object] : bounded.objects()) {
+    const MapObject& whole = all.objects().at(id);
+    EXPECT_LE(object.sightings.size(), 64u);
+    EXPECT_GT(whole.sightings.size(), 700u);
+    EXPECT_EQ(object.sightings.total(), whole.sightings.size());
+    EXPECT_EQ(object.class_id, whole.class_id);
+    EXPECT_DOUBLE_EQ(object.last_timestamp, whole.last_timestamp);
+    const Cuboid& truth = object.class_id == 41 ? cup_ : laptop_;
+    EXPECT_LT((object.cuboid.centre - truth.centre).norm(), 0.15 * truth.size.maxCoeff());
+    EXPECT_LT((object.cuboid.centre - whole.cuboid.centre).norm(), 0.05 * truth.size.maxCoeff());
+    for (const nlohmann::json& entry : listed) {
+      if (entry["id"] == id) {
+        EXPECT_EQ(entry["observations"], whole.sightings.size());
+      }
+    }
+  }
+  EXPECT_EQ(bounded.SeenAsClassThisSession().first, all.SeenAsClassThisSession().first);
+  EXPECT_EQ(bounded.SeenAsClassThisSession().last, all.SeenAsClassThisSession().last);
 }
 
 }  // namespace

@@ -52,6 +52,13 @@ class SmokeFeed {
   }
   // The camera-to-world poses of the frames fed with a view, by timestamp.
   const std::vector<StampedPose>& groundtruth() const { return groundtruth_; }
+  // The view of frame `shown` (scene and camera as then), given as the system's frame at
+  // time `seconds` (a camera coming back to where it was).
+  TrackingResult FeedView(System& system, int shown, double seconds) {
+    const double t = shown / scene_.fps;
+    return system.TrackImage(renderer_.Colour(t, sim::CameraPoseAt(scene_, t), shown), seconds,
+                             std::to_string(seconds));
+  }
   cv::Mat Gray(int frame) {
     const double t = frame / scene_.fps;
     cv::Mat gray;
@@ -287,6 +294,56 @@ TEST(InitializationMatching, EveryLevelKeepsABlurredViewMatched) {
   const int all = count(true, &correct_all);
   EXPECT_GE(correct_all, 2 * correct_level0) << level0 << " level-0 matches, " << all << " in all";
   EXPECT_GE(correct_all, all * 9 / 10);
+}
+
+// Every frame of a run keeps a record (the trajectory needs it), so a record is small: the
+// timestamp's text is not kept when printing the time gives it back, and timings are
+// summarised (issue 33). Texts no printing gives back (EuRoC's nanoseconds) are kept whole.
+TEST(FrameRecords, KeepEveryTimestampTextInAFewTensOfBytes) {
+  static_assert(sizeof(FrameRecord) <= 96, "a record is kept for every frame of a run");
+  const Vocabulary vocabulary = DefaultVocabulary();
+  SystemConfig config;
+  config.camera = testing::TestCamera(525.0, 319.5, 239.5);
+  System system(config, vocabulary);
+  const cv::Mat grey(480, 640, CV_8UC1, cv::Scalar(128));
+  const std::vector<std::pair<double, std::string>> stamps = {
+      {1305031102.175304, "1305031102.175304"},       // TUM
+      {1403715273.262142976, "1403715273262142976"},  // EuRoC: nanoseconds
+      {7.0, "7"},
+      {0.1, "0.100"},
+      {12.5, "12.50000000000000000001"}};
+  for (const auto& [timestamp, text] : stamps) system.TrackImage(grey, timestamp, text);
+  ASSERT_EQ(system.Frames().size(), stamps.size());
+  for (std::size_t i = 0; i < stamps.size(); ++i)
+    EXPECT_EQ(system.TimestampText(i), stamps[i].second);
+  EXPECT_EQ(system.Timings().tracking.count(), stamps.size());
+}
+
+// A camera going back over the path it came, and forward again, sees nothing new: the map
+// must not grow with the revisits (issue 33; keyframe culling, as ORB-SLAM's, takes out
+// the keyframes a revisit adds where others already see their points).
+TEST(Revisits, APathPlayedBackAndForthDoesNotGrowTheMap) {
+  const Vocabulary vocabulary = DefaultVocabulary();
+  SmokeFeed feed;
+  System system(feed.config(), vocabulary);
+  constexpr int kLeg = 30;
+  int given = 0;
+  const auto leg = [&](bool forward) {
+    for (int i = 0; i < kLeg; ++i) {
+      feed.FeedView(system, forward ? i : kLeg - 1 - i, given / feed.scene().fps);
+      ++given;
+    }
+  };
+  leg(true);
+  const std::size_t keyframes = system.KeyFrameCount();
+  const std::size_t points = system.MapPointCount();
+  ASSERT_GE(keyframes, 5u) << "the smoke preset made too few keyframes";
+  leg(false);  // back
+  leg(true);   // and forward again
+  system.Shutdown();
+  EXPECT_LE(system.KeyFrameCount(), keyframes + 2);
+  EXPECT_LE(system.MapPointCount(), points + points / 5);
+  EXPECT_GE(system.CameraTrajectory().size(), static_cast<std::size_t>(given - 5));
 }
 
 }  // namespace

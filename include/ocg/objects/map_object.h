@@ -19,30 +19,10 @@
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/object_change.h"
 #include "ocg/objects/objects_options.h"
+#include "ocg/objects/sighting_history.h"
 #include "ocg/ocg/observation.h"
 
 namespace ocg {
-
-struct ObjectSighting {
-  std::int64_t frame = 0;
-  SE3 T_cw;
-  Box2 box;
-  bool truncated = false;
-  // The box shares area with a more confident box of its class in the frame
-  // (BesideAMoreConfidentBoxOfItsClass): its centre may be on the other object (a second
-  // box on it, or a box sliding onto it as the view changes). It neither helps a candidate
-  // become an object nor keeps an object through the hygiene (Objects.min_sightings); a
-  // map object's geometry uses it like any other. Not saved in map files.
-  bool crowded = false;
-  int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
-  int session = 0;   // the session (map files: 0 for the first run) that saw it
-  // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
-  // the sightings at that session's keyframes (ObjectMap::SetSightingColours).
-  std::optional<ColourHistogram> colour;
-  // Seconds, the frame's timestamp (SeenAsClass()). Not saved in map files: 0 in sightings
-  // loaded from one.
-  double timestamp = 0.0;
-};
 
 // A SLAM map point seen inside an object's boxes (SLAM runs only).
 struct ObjectPoint {
@@ -56,8 +36,9 @@ struct ObjectPoint {
 // A map object, or a candidate (id < 0) not yet triangulated.
 struct MapObject {
   ObjectId id = 0;
-  int class_id = 0;                       // the most frequent class of its sightings
-  std::vector<ObjectSighting> sightings;  // every one, in frame order
+  int class_id = 0;  // the most frequent class of its sightings
+  // In frame order; beyond Objects.max_sightings a bounded sample with exact counts.
+  SightingHistory sightings;
   Cuboid cuboid;
   bool has_cuboid = false;
   bool yaw_from_points = false;  // else from the boxes' widths
@@ -95,11 +76,10 @@ bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& conte
 
 // Another record of the same object, from: its sightings (in frame order) and point votes
 // join into's, whose class becomes its sightings' majority. Geometry is left to the caller.
-void Absorb(MapObject& into, const MapObject& from);
+// max_sightings: Objects.max_sightings.
+void Absorb(MapObject& into, const MapObject& from, int max_sightings);
 // A vote of the object for each point in its box, which takes the point's position.
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points);
-// The most frequent class among the sightings (not empty); the lower id on a tie.
-int MajorityClass(const std::vector<ObjectSighting>& sightings);
 // Every n-th index of count so that at most limit remain, first and last kept.
 std::vector<std::size_t> Thinned(std::size_t count, std::size_t limit);
 

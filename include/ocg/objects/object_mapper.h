@@ -7,12 +7,14 @@
 // the map goes through map_mutex_. Readers (ObjectsJson() ...) may be called from any
 // thread; they see whole frames.
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "ocg/core/text_spool.h"
 #include "ocg/objects/object_map.h"
 #include "ocg/ocg/manager.h"
 #include "ocg/ocg/options.h"
@@ -23,7 +25,9 @@ struct MapFileAccess;
 
 // What a SLAM run shows the object layer at a keyframe, after its bundle adjustment.
 struct SlamMapView {
-  std::vector<std::optional<SE3>> frame_poses;    // by the frame numbers given to AddFrame
+  // Camera poses by the frame numbers given to AddFrame: those of SightingFrames() that
+  // have one (a pose for every frame of a long run would grow with it).
+  std::map<std::int64_t, SE3> frame_poses;
   std::vector<Eigen::Vector3d> map_points;        // world
   std::vector<std::uint64_t> map_point_ids;       // of map_points, one each
   std::vector<Descriptor> map_point_descriptors;  // of map_points, one each, or none
@@ -58,6 +62,8 @@ class ObjectMapper {
   // (RANSAC seeded with seed) refined by the objects' bottoms, the sightings moved to their
   // frames' optimized poses and the objects' points to their optimized positions.
   void FollowSlamMap(const SlamMapView& view, std::uint64_t seed);
+  // The frames whose poses FollowSlamMap() reads: ObjectMap::SightingFrames().
+  std::vector<std::int64_t> SightingFrames() const;
   // Hands the OCG this keyframe (at the last added frame's pose). frame: that frame's
   // features (SLAM runs; OCG.mode "points" searches the points of the objects not detected
   // in them), read during the call only.
@@ -107,7 +113,7 @@ class ObjectMapper {
   ObjectMap map_;
   ObjectLayerStats stats_;
   bool record_observations_ = false;
-  std::string observations_jsonl_;
+  TextSpool observations_jsonl_;  // grows with the run: in a temporary file
   OcgManager manager_;
 };
 

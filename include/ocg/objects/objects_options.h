@@ -72,6 +72,10 @@ struct ObjectsOptions {
   // Objects.max_rays: the rays used to triangulate an object's centre (evenly thinned
   // beyond this, so an object's cost stays bounded however long it is watched).
   int max_rays = 60;
+  // Objects.max_sightings: the sightings an object keeps at most (SightingHistory: beyond
+  // it a sample spread evenly over the run, the newest quarter whole, with exact counts),
+  // so a long run that keeps revisiting an object does not grow with it. 0: keep all.
+  int max_sightings = 4096;
 
   // Objects.merge_distance: two objects never seen in the same frame whose centres are
   // closer than this share of the larger one's largest extent (of the smaller one's when
@@ -216,6 +220,12 @@ struct ObjectsOptions {
     visit("Objects.max_rays", self.max_rays, OptionBound::AtLeast(2),
           "rays used per triangulation (evenly thinned beyond; at least "
           "`candidate_min_observations`)");
+    visit("Objects.max_sightings", self.max_sightings, OptionBound::NonNegative(),
+          "sightings an object keeps at most (0 keeps all, else at least `Objects.max_rays` and "
+          "8); beyond it the first, the newest quarter and a sample spread evenly over the run "
+          "(the same frames for every object), with exact counts (observations, classes, "
+          "sessions, first and last seen), so memory stays bounded on a long run that keeps "
+          "revisiting it ([robustness.md](robustness.md) \"Long runs\")");
     visit("Objects.merge_distance", self.merge_distance, OptionBound::NonNegative(),
           "two objects never seen in the same frame, closer than this share of the larger one's "
           "largest extent (of the smaller one's when their classes differ: one object under two "

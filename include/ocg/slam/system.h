@@ -8,12 +8,15 @@
 // on its own thread, fed through a bounded queue, and loop closing on another, fed by
 // local mapping.
 
+#include <cstdint>
 #include <functional>
 #include <iosfwd>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "ocg/core/statistics.h"
 #include "ocg/features/bow_database.h"
 #include "ocg/features/vocabulary.h"
 #include "ocg/io/trajectory.h"
@@ -37,25 +40,34 @@ struct SystemConfig {
   std::uint64_t seed = 42;  // System.seed: loop closing's RANSAC
 };
 
+// One frame given to TrackImage, as the trajectories need it: kept for every frame of the
+// run, so kept small (about 100 bytes; its timestamp's text and timings are not in it:
+// System::TimestampText(), System::Timings()).
 struct FrameRecord {
   double timestamp = 0.0;
-  std::string timestamp_text;
-  TrackingState state = TrackingState::kNoImages;
-  bool relocalized = false;
-  bool new_keyframe = false;
-  double tracking_seconds = 0.0;       // feature extraction and tracking
-  double tracking_cpu_seconds = 0.0;   // the same, CPU time of the tracking thread
-  double local_mapping_seconds = 0.0;  // sequential mode: the keyframe's local mapping
-  double map_lock_wait_seconds = 0.0;  // tracking waiting for the map lock (threaded mode)
   // Pose relative to the reference keyframe when tracked (ORB-SLAM2's way of writing
   // the full trajectory after the keyframes have been optimized).
-  bool tracked = false;
   KeyFrameId reference = 0;
   SE3 T_c_reference;
   // The map the frame was tracked in (0, 1, ... in the order they were started); a map
   // reset is forgotten, its frames untracked. A merge moves frames into another map:
   // System::FrameMaps() says where each frame is now.
   int map = 0;
+  TrackingState state = TrackingState::kNoImages;
+  bool relocalized = false;
+  bool new_keyframe = false;
+  bool tracked = false;
+  // The timestamp's text is the timestamp printed with this many decimals ("%.*f"), or,
+  // when -1, kept whole by the System (a text no printing of the number gives back).
+  std::int8_t text_decimals = -1;
+};
+
+// The timings of every frame given to TrackImage, summarised (seconds).
+struct FrameTimings {
+  DurationSummary tracking;       // feature extraction and tracking, per frame
+  DurationSummary tracking_cpu;   // the same, CPU time of the tracking thread
+  DurationSummary local_mapping;  // sequential mode: local mapping, per keyframe
+  DurationSummary map_lock_wait;  // tracking waiting for the map lock (threaded mode)
 };
 
 // One map of the atlas: every map the run started (tracking got lost in one too long and
@@ -123,6 +135,8 @@ class System {
   // call order, in the current map's frame; none for frames not tracked, whose map was
   // reset or that are placed in another map (FrameMaps() says which).
   std::vector<std::optional<SE3>> FramePoses() const;
+  // The same for some frames (call indices; those beyond the last call have none).
+  std::vector<std::optional<SE3>> FramePoses(const std::vector<std::size_t>& frames) const;
   // The positions of the current map's points (for the object layer's supporting plane
   // and point sets), with their ids and descriptors in the same order when those are
   // given.
@@ -139,6 +153,9 @@ class System {
   // The camera-to-world rotations of the keyframes in the current map.
   std::vector<Eigen::Matrix3d> KeyFrameRotations() const;
   const std::vector<FrameRecord>& Frames() const { return frames_; }
+  // The timestamp text TrackImage was given with frame (an index of Frames()).
+  std::string TimestampText(std::size_t frame) const;
+  const FrameTimings& Timings() const { return timings_; }
   // The current map's live keyframes and points.
   std::size_t KeyFrameCount() const;
   std::size_t MapPointCount() const;
@@ -175,6 +192,8 @@ class System {
   std::unique_ptr<LoopClosing> loop_closing_;
   std::unique_ptr<Tracking> tracking_;
   std::vector<FrameRecord> frames_;
+  std::map<std::size_t, std::string> timestamp_texts_;  // FrameRecord::text_decimals -1
+  FrameTimings timings_;
   double pending_mapping_seconds_ = 0.0;
   double pending_mapping_cpu_seconds_ = 0.0;
   int resets_ = 0;

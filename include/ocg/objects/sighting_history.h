@@ -1,0 +1,140 @@
+#pragma once
+// An object's sightings, bounded: a long run that keeps revisiting an object must not keep
+// every box it was ever detected in (issue 33: about 0.6 kB a frame on the smoke preset
+// played forward and back, without end). What the object map asks of the whole history is
+// kept exactly in running counts (how many sightings, how many uncrowded, per class and
+// session, first and last timestamps); the boxes themselves (geometry, partial views,
+// "seen together") are a bounded sample:
+//
+// - the first sighting and the newest `capacity / 4` ones, whole;
+// - of the rest, those at frames with at least `level()` trailing zero bits (frame numbers
+//   as given): one in every 2^level frames, the same frames for every object. The level
+//   rises when the history holds more than `capacity`, so the kept boxes stay spread
+//   evenly over the run (as Objects.max_rays thins them) and two objects detected in the
+//   same frames keep the same ones (ObjectMap's SeenTogether compares frames).
+//
+// Below capacity nothing is dropped: a run whose objects are never seen more than
+// `capacity` times (Objects.max_sightings) behaves as with every sighting kept.
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "ocg/core/box2.h"
+#include "ocg/core/lie.h"
+#include "ocg/objects/colour_signature.h"
+
+namespace ocg {
+
+// A sighting's colour signature, held apart: most sightings never get one (only those at
+// keyframes, at the end of a run), and inline it would be most of a sighting's size.
+// Reads and assigns as a std::optional<ColourHistogram>.
+class SightingColour {
+ public:
+  SightingColour() = default;
+  SightingColour(std::nullopt_t) {}  // NOLINT(google-explicit-constructor): as optional
+  SightingColour(const std::optional<ColourHistogram>& colour)  // NOLINT: as optional
+      : histogram_(colour ? std::make_shared<const ColourHistogram>(*colour) : nullptr) {}
+  explicit operator bool() const { return histogram_ != nullptr; }
+  const ColourHistogram& operator*() const { return *histogram_; }
+  operator std::optional<ColourHistogram>() const {  // NOLINT: as optional
+    return histogram_ ? std::optional<ColourHistogram>(*histogram_) : std::nullopt;
+  }
+
+ private:
+  std::shared_ptr<const ColourHistogram> histogram_;  // immutable: copies share it
+};
+
+struct ObjectSighting {
+  std::int64_t frame = 0;
+  SE3 T_cw;
+  Box2 box;
+  bool truncated = false;
+  // The box shares area with a more confident box of its class in the frame
+  // (BesideAMoreConfidentBoxOfItsClass): its centre may be on the other object (a second
+  // box on it, or a box sliding onto it as the view changes). It neither helps a candidate
+  // become an object nor keeps an object through the hygiene (Objects.min_sightings); a
+  // map object's geometry uses it like any other. Not saved in map files.
+  bool crowded = false;
+  int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
+  int session = 0;   // the session (map files: 0 for the first run) that saw it
+  // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
+  // the sightings at that session's keyframes (ObjectMap::SetSightingColours).
+  SightingColour colour;
+  // Seconds, the frame's timestamp (SeenAsClass()). Not saved in map files: 0 in sightings
+  // loaded from one.
+  double timestamp = 0.0;
+};
+
+class SightingHistory {
+ public:
+  // The sightings of one session as one class: how many, and the timestamps (seconds) of
+  // the first and the last.
+  struct ClassSpan {
+    std::size_t count = 0;
+    double first_timestamp = 0.0;
+    double last_timestamp = 0.0;
+  };
+  // (session, class id) -> span
+  using Spans = std::map<std::pair<int, int>, ClassSpan>;
+
+  SightingHistory() = default;
+  // A history of exactly these sightings (map files), in frame order; the counts are
+  // theirs.
+  explicit SightingHistory(std::vector<ObjectSighting> sightings);
+
+  // A new sighting, at a frame after every kept one's. capacity (at least 8): the
+  // sightings kept at most; 0 keeps all.
+  void Add(const ObjectSighting& sighting, std::size_t capacity);
+  // The counts alone stay (what SeenAsClass and the change log ask of a removed object
+  // whose boxes nothing reads again).
+  void ForgetSightings() { kept_ = std::vector<ObjectSighting>(); }
+  // Another history of the same object joins this one: the kept sightings in frame order
+  // (merged, then bounded by capacity as Add bounds them), the counts added.
+  void Merge(const SightingHistory& other, std::size_t capacity);
+
+  // The kept sightings, in frame order. Changing one changes neither its frame nor what
+  // the counts hold (truncated and colour are not counted).
+  const std::vector<ObjectSighting>& kept() const { return kept_; }
+  std::vector<ObjectSighting>::iterator begin() { return kept_.begin(); }
+  std::vector<ObjectSighting>::iterator end() { return kept_.end(); }
+  std::vector<ObjectSighting>::const_iterator begin() const { return kept_.begin(); }
+  std::vector<ObjectSighting>::const_iterator end() const { return kept_.end(); }
+  std::size_t size() const { return kept_.size(); }  // kept; total() for all
+  bool empty() const { return kept_.empty(); }
+  ObjectSighting& operator[](std::size_t i) { return kept_[i]; }
+  const ObjectSighting& operator[](std::size_t i) const { return kept_[i]; }
+  const ObjectSighting& front() const { return kept_.front(); }  // the first ever
+  const ObjectSighting& back() const { return kept_.back(); }    // the newest
+
+  // Every sighting ever added (objects.json's "observations").
+  std::size_t total() const { return total_; }
+  // Those not crowded (the hygiene's Objects.min_sightings).
+  std::size_t uncrowded() const { return uncrowded_; }
+  const Spans& spans() const { return spans_; }
+  // The most frequent class of every sighting; the lower id on a tie. 0 when empty.
+  int MajorityClass() const;
+  // Whether some session saw both objects.
+  bool SharesASessionWith(const SightingHistory& other) const;
+  // The lowest and the highest session that saw it ({0, 0} when empty).
+  std::pair<int, int> SessionRange() const;
+  // The kept sightings are those at frames with at least this many trailing zero bits
+  // (besides the first and the newest).
+  int level() const { return level_; }
+
+ private:
+  void Count(const ObjectSighting& sighting);
+  void Bound(std::size_t capacity);
+
+  std::vector<ObjectSighting> kept_;
+  std::size_t total_ = 0;
+  std::size_t uncrowded_ = 0;
+  Spans spans_;
+  int level_ = 0;
+};
+
+}  // namespace ocg
