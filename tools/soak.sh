@@ -3,7 +3,7 @@
 # (docs/robustness.md, "Long runs")
 #
 #   tools/soak.sh [MINUTES] [--preset NAME] [--frames N] [--out DIR] [--bin DIR]
-#                 [--data DIR] [--max-growth PERCENT]
+#                 [--data DIR] [--max-growth PERCENT] [--max-fps N]
 #
 # Renders a preset once (ocg_synth --detector realistic, kept in --data), builds from it a
 # long sequence played forward and back with fresh timestamps (no frame after the first
@@ -21,13 +21,16 @@
 #   --bin DIR        ocg_synth and ocg_slam (default build/tools)
 #   --data DIR       where rendered presets are kept (default OUT/data)
 #   --max-growth P   exit 1 when resident memory grows more than P % after the first pass
+#   --max-fps N      the sequence holds enough passes for MINUTES at up to N frames a second
+#                    (default 50; a small scene on a fast machine runs faster: the run must
+#                    still be going when the soak stops it)
 # Exit status: 0 when the run wrote its outputs (and, with --max-growth, the growth is
 # within it), 1 otherwise, 2 for a wrong command line.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; }
 
-minutes=60 preset=round_2 frames=0 out=soak_out bin="$HERE/../build/tools" data="" max_growth=""
+minutes=60 preset=round_2 frames=0 out=soak_out bin="$HERE/../build/tools" data="" max_growth="" max_fps=50
 while [ $# -gt 0 ]; do
   case $1 in
     -h | --help) usage; exit 0 ;;
@@ -37,6 +40,7 @@ while [ $# -gt 0 ]; do
     --bin) bin=$2; shift 2 ;;
     --data) data=$2; shift 2 ;;
     --max-growth) max_growth=$2; shift 2 ;;
+    --max-fps) max_fps=$2; shift 2 ;;
     [0-9]*) minutes=$1; shift ;;
     *) echo "soak.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -61,11 +65,11 @@ if [ ! -f "$source/rgb.txt" ]; then
     --keyframe-interval 0 --overwrite --log-level warn >/dev/null
 fi
 
-# The long sequence: forward and back, enough passes for MINUTES at up to 50 frames a
-# second, each frame with a fresh timestamp at the preset's frame rate; images and
+# The long sequence: forward and back, enough passes for MINUTES at up to --max-fps frames
+# a second, each frame with a fresh timestamp at the preset's frame rate; images and
 # detection files are links to the preset's.
 sequence="$out/sequence"
-passes=$(python3 "$HERE/soak_sequence.py" "$source" "$sequence" "$minutes")
+passes=$(python3 "$HERE/soak_sequence.py" "$source" "$sequence" "$minutes" "$max_fps")
 settings="$out/settings.yaml"
 {
   grep -v '^System' "$source/camera.yaml"

@@ -10,7 +10,7 @@ BIN=$2
 source "$(dirname "$0")/check_helpers.sh"
 json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 
-check "the soak runs and reports" bash "$TOOLS/soak.sh" 2 --preset smoke --frames 120 \
+check "the soak runs and reports" bash "$TOOLS/soak.sh" 2 --preset smoke --frames 120 --max-fps 400 \
   --out "$WORK/soak" --bin "$BIN"
 cat "$WORK/out"
 output_has "the soak measures the growth after the first pass" "after the first pass"
