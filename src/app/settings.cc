@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <type_traits>
 
 #include "ocg/core/file_io.h"
 #include "ocg/core/options.h"
@@ -18,35 +19,32 @@ bool IsKnownForeignKey(const std::string& key) {
          key == "Viewer.imageViewScale";
 }
 
-void CheckAll(const Settings& settings) {
-  settings.camera.Check();
-  settings.system.Check();
-  settings.orb.Check();
-  settings.matcher.Check();
-  settings.vocabulary.Check();
-  settings.initializer.Check();
-  settings.tracking.Check();
-  settings.local_mapping.Check();
-  settings.loop_closing.Check();
-  settings.objects.Check();
-  settings.ocg.Check();
-  settings.viewer.Check();
+// Every module's options with a field list, in reading order, with its section name (the
+// prefix of its keys): the one list of modules behind reading, checking and the docs tables.
+// The camera, read first, has no field list (its keys depend on the file's layout).
+template <typename SettingsType, typename Visit>
+void ForEachModule(SettingsType& settings, Visit&& visit) {
+  visit("System", settings.system);
+  visit("ORBextractor", settings.orb);
+  visit("Matcher", settings.matcher);
+  visit("Vocabulary", settings.vocabulary);
+  visit("Initializer", settings.initializer);
+  visit("Tracking", settings.tracking);
+  visit("LocalMapping", settings.local_mapping);
+  visit("LoopClosing", settings.loop_closing);
+  visit("Objects", settings.objects);
+  visit("OCG", settings.ocg);
+  visit("Viewer", settings.viewer);
 }
 
-void ReadEveryModule(const SettingsFile& file, Settings* settings_out) {
-  Settings& settings = *settings_out;
-  ReadSettings(file, &settings.camera);
-  ReadSettings(file, &settings.system);
-  ReadSettings(file, &settings.orb);
-  ReadSettings(file, &settings.matcher);
-  ReadSettings(file, &settings.vocabulary);
-  ReadSettings(file, &settings.initializer);
-  ReadSettings(file, &settings.tracking);
-  ReadSettings(file, &settings.local_mapping);
-  ReadSettings(file, &settings.loop_closing);
-  ReadSettings(file, &settings.objects);
-  ReadSettings(file, &settings.ocg);
-  ReadSettings(file, &settings.viewer);
+void CheckAll(const Settings& settings) {
+  settings.camera.Check();
+  ForEachModule(settings, [](const char*, const auto& options) { options.Check(); });
+}
+
+void ReadEveryModule(const SettingsFile& file, Settings* settings) {
+  ReadSettings(file, &settings->camera);
+  ForEachModule(*settings, [&file](const char*, auto& options) { ReadSettings(file, &options); });
 }
 
 }  // namespace
@@ -116,17 +114,12 @@ std::vector<std::string> KnownSettingsKeys() {
 }
 
 std::vector<SettingsSection> DescribeSettings() {
-  return {{"System", DescribeOptionFields<SystemOptions>()},
-          {"ORBextractor", DescribeOptionFields<OrbExtractorOptions>()},
-          {"Matcher", DescribeOptionFields<MatcherOptions>()},
-          {"Vocabulary", DescribeOptionFields<VocabularyOptions>()},
-          {"Initializer", DescribeOptionFields<InitialMapOptions>()},
-          {"Tracking", DescribeOptionFields<TrackingOptions>()},
-          {"LocalMapping", DescribeOptionFields<LocalMappingOptions>()},
-          {"LoopClosing", DescribeOptionFields<LoopClosingOptions>()},
-          {"Objects", DescribeOptionFields<ObjectsOptions>()},
-          {"OCG", DescribeOptionFields<OcgOptions>()},
-          {"Viewer", DescribeOptionFields<ViewerOptions>()}};
+  std::vector<SettingsSection> sections;
+  const Settings defaults;
+  ForEachModule(defaults, [&sections](const char* name, const auto& options) {
+    sections.push_back({name, DescribeOptionFields<std::decay_t<decltype(options)>>()});
+  });
+  return sections;
 }
 
 std::string SettingsTableMarkdown(const SettingsSection& section) {
