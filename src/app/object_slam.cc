@@ -114,7 +114,10 @@ class ObjectSlam::Impl {
     last_timestamp_ = timestamp;
     last_frame_ = {result.state, result.T_cw, result.new_keyframe, result.relocalized,
                    result.inliers};
-    if (progress_.Due(SecondsSince(start_))) progress_.Add(Status());
+    const double seconds = SecondsSince(start_);
+    // Between frames: what the run freed goes back to the system (app_detail::ReleaseFreeHeap).
+    heap_release_.MaybeRelease(seconds);
+    if (progress_.Due(seconds)) progress_.Add(Status());
     return result.T_cw;
   }
 
@@ -136,6 +139,7 @@ class ObjectSlam::Impl {
     status.map_points = system_.MapPointCount();
     status.objects = objects_.LiveObjectCount();
     status.resident_bytes = app_detail::ResidentMemoryBytes();
+    status.heap_bytes = app_detail::HeapInUseBytes();
     return status;
   }
 
@@ -265,6 +269,7 @@ class ObjectSlam::Impl {
   const RunStop* stop_;
   bool interrupted_ = false;  // the stop was requested before Shutdown()
   app_detail::ProgressSeries progress_;
+  app_detail::HeapRelease heap_release_;
 
  private:
   // run.json's "maps": every map of the run (docs/slam.md "Lost tracking and new maps").

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -13,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "ocg/core/file_io.h"
 #include "ocg/core/map_file.h"
@@ -531,6 +533,8 @@ TEST(ObjectSlam, StatusCountsTheRunAndRunJsonKeepsItsSeries) {
   EXPECT_GT(status.map_points, 100u);
   EXPECT_GT(status.objects, 0u);
   EXPECT_GT(status.resident_bytes, 10'000'000u);
+  EXPECT_GT(status.heap_bytes, 1'000'000u);
+  EXPECT_LT(status.heap_bytes, status.resident_bytes);
   slam.Shutdown();
   const nlohmann::json report = slam.Save(testing::MakeTempDir("object_slam_status"), {});
   EXPECT_EQ(report["interrupted"], false);
@@ -540,6 +544,7 @@ TEST(ObjectSlam, StatusCountsTheRunAndRunJsonKeepsItsSeries) {
   EXPECT_EQ(last["keyframes"], report["keyframes"]);
   EXPECT_EQ(last["map_points"], report["map_points"]);
   EXPECT_GT(last["resident_mb"].get<double>(), 10.0);
+  EXPECT_GT(last["heap_mb"].get<double>(), 1.0);
 }
 
 // A stop requested between frames: the caller's loop sees it, and run.json says the run
@@ -581,6 +586,50 @@ TEST(ProgressSeries, StaysShortAndSpansTheWholeRun) {
   EXPECT_EQ(json.back()["seconds"], 36000.5);
   for (std::size_t i = 1; i < json.size(); ++i)
     EXPECT_GT(json[i]["seconds"].get<double>(), json[i - 1]["seconds"].get<double>());
+}
+
+// A heap whose free memory lies in holes between live blocks (what a long run that frees
+// in another order than it allocated leaves): free() gives none of it back, as only the
+// heap's top can be trimmed; ReleaseFreeHeap() gives back the free pages in the holes.
+TEST(ReleaseFreeHeap, GivesBackTheFreePagesBetweenLiveBlocks) {
+  constexpr std::size_t kBlock = 16 * 1024, kBlocks = 2048, kKeepEvery = 32;  // 32 MB
+  std::vector<char*> blocks;
+  for (std::size_t i = 0; i < kBlocks; ++i) {
+    blocks.push_back(static_cast<char*>(std::malloc(kBlock)));
+    ASSERT_NE(blocks.back(), nullptr);
+    std::memset(blocks.back(), static_cast<int>(i), kBlock);  // resident
+  }
+  for (std::size_t i = 0; i < kBlocks; ++i) {
+    if (i % kKeepEvery != kKeepEvery - 1) {
+      std::free(blocks[i]);
+      blocks[i] = nullptr;
+    }
+  }
+  const std::size_t holes = app_detail::ResidentMemoryBytes();
+  app_detail::ReleaseFreeHeap();
+  const std::size_t released = app_detail::ResidentMemoryBytes();
+  const std::size_t freed = kBlock * (kBlocks - kBlocks / kKeepEvery);  // 31 MB
+  EXPECT_GT(holes, released + freed / 2)
+      << "resident " << holes / 1e6 << " MB with 31 MB free in holes, " << released / 1e6
+      << " MB after ReleaseFreeHeap";
+  long sum = 0;
+  for (char* block : blocks) {
+    if (block != nullptr) sum += block[0];
+    std::free(block);
+  }
+  EXPECT_GT(sum, 0);
+}
+
+// Released at most once an interval of the run's wall time, the first at its start.
+TEST(HeapRelease, ReleasesOnceAnInterval) {
+  app_detail::HeapRelease release(10.0);
+  EXPECT_TRUE(release.MaybeRelease(0.0));
+  EXPECT_FALSE(release.MaybeRelease(5.0));
+  EXPECT_TRUE(release.MaybeRelease(10.0));
+  EXPECT_FALSE(release.MaybeRelease(19.9));
+  EXPECT_TRUE(release.MaybeRelease(47.0));
+  EXPECT_FALSE(release.MaybeRelease(49.0));
+  EXPECT_TRUE(release.MaybeRelease(50.0));
 }
 
 }  // namespace
