@@ -385,11 +385,9 @@ class ObjectSlam::Impl {
         app_detail::Timing(mapping.map_lock_held_seconds);
     // CPU time of the local mapping thread: comparable between runs on a loaded machine.
     timing["local_mapping_cpu_per_keyframe"] = app_detail::Timing(mapping.keyframe_cpu_seconds);
-    timing["local_mapping_cpu_per_keyframe"]["total_s"] = std::accumulate(
-        mapping.keyframe_cpu_seconds.begin(), mapping.keyframe_cpu_seconds.end(), 0.0);
+    timing["local_mapping_cpu_per_keyframe"]["total_s"] = mapping.keyframe_cpu_seconds.sum();
     timing["local_ba_cpu_per_keyframe"] = app_detail::Timing(mapping.ba_cpu_seconds);
-    timing["local_ba_cpu_per_keyframe"]["total_s"] =
-        std::accumulate(mapping.ba_cpu_seconds.begin(), mapping.ba_cpu_seconds.end(), 0.0);
+    timing["local_ba_cpu_per_keyframe"]["total_s"] = mapping.ba_cpu_seconds.sum();
     // Threaded local mapping catching up (docs/slam.md "Threads and determinism").
     report["local_adjustments_skipped"] = mapping.local_adjustments_skipped;
     report["local_adjustments_interrupted"] = mapping.local_adjustments_interrupted;
