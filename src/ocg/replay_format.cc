@@ -204,8 +204,8 @@ std::string ObservationFieldsMarkdown() {
       "|---|---|---|---|---|\n";
   const auto add = [&text](const ObservationField& field, const auto& member) {
     const char* absent = !field.optional()            ? "an error"
-                         : field.written_when_empty() ? "empty (always written)"
-                                                      : "empty (written when not)";
+                         : field.written_when_empty() ? "empty or 0; always written"
+                                                      : "empty; written when not";
     text += std::string("| `") + field.name + "` | " + ObservationFieldType(member) + " | " +
             (*field.unit != '\0' ? field.unit : "") + " | " + absent + " | " + field.meaning +
             " |\n";

@@ -9,6 +9,7 @@
 // OCG_EVIDENCE_SOURCE(NAME, Class, "mode") line. The build lists that folder's files
 // (src/objects/CMakeLists.txt), so the registry (EvidenceSources) holds every source without
 // a line elsewhere; EvidenceProvidersFor gives those the OCG's modes turn on.
+
 #include <cstdint>
 #include <map>
 #include <memory>
