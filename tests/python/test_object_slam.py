@@ -270,3 +270,19 @@ def test_the_module_names_the_interpreter_it_was_built_for():
     version = "(Python %d.%d)" % sys.version_info[:2]
     assert ocg.BUILT_FOR_PYTHON.endswith(version), ocg.BUILT_FOR_PYTHON
     assert os.path.isabs(ocg.BUILT_FOR_PYTHON.split(" ")[0])
+
+
+def test_an_interpreter_without_numpy_is_told_which_one_has_it(source_dir):
+    """pyenv's python3 before Debian's on PATH loads the native module (same version) but has
+    no NumPy: importing ocg, or running an example, names the interpreter ocg was built for
+    instead of failing at the first array or with a bare 'No module named numpy'."""
+    block_numpy = "import sys; sys.modules['numpy'] = None; "
+    script = os.path.join(source_dir, "examples", "change_detector.py")
+    for code in ("import ocg",
+                 "import runpy; sys.argv = [%r]; runpy.run_path(%r, run_name='__main__')"
+                 % (script, script)):
+        result = subprocess.run([sys.executable, "-c", block_numpy + code],
+                                capture_output=True, text=True)
+        assert result.returncode != 0, code
+        assert "ocg needs NumPy" in result.stderr, result.stderr
+        assert ocg.BUILT_FOR_PYTHON in result.stderr, result.stderr
