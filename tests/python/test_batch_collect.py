@@ -117,6 +117,24 @@ def test_detect_and_snapshots_keys_are_checked_before_any_job(source_dir, tools,
     assert not (tmp_path / "out").exists()
 
 
+def test_a_detections_folder_inside_the_sequence_given_as_groundtruth_is_named(source_dir, tools,
+                                                                              tmp_path):
+    """groundtruth: is relative to the sequence folder, detections: to the configuration: a
+    user writing `detections: detections` for SEQ/detections is told the path to give."""
+    sequence = tum_folder(tmp_path)
+    (sequence / "detections").mkdir()
+    config = tmp_path / "batch.yaml"
+    config.write_text("tools: %s\nout: out\nsequences:\n"
+                      "  - {path: seq, settings: s.yaml, detections: detections}\n" % tools)
+    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
+                          capture_output=True, text=True)
+    assert done.returncode == 1
+    assert "sequences[0].detections: no such folder: %s" % (tmp_path / "detections") \
+        in done.stderr, done.stderr
+    assert "the sequence's own is %s" % (sequence / "detections") in done.stderr, done.stderr
+    assert not (tmp_path / "out").exists()
+
+
 def test_a_sequences_own_settings_keys_are_read_strictly_before_any_job(source_dir, tools,
                                                                         tmp_path):
     config = tmp_path / "batch.yaml"
