@@ -88,6 +88,25 @@ def test_tables_report_moves_loops_and_what_each_object_map_holds(tmp_path):
     assert "| paper |" not in objects and "| kitti |" not in objects
 
 
+def test_a_table_i_without_rows_says_why(tmp_path):
+    """Real sequences without objects_gt: Table I has no row, and says so under its header."""
+    out = make_batch(tmp_path)
+    for run in ("smoke/default/paper/sequential-1", "smoke/default/improved/sequential-1"):
+        path = os.path.join(out, "scores", run + ".json")
+        score = json.load(open(path))
+        del score["objects"]
+        write(path, score)
+    done = subprocess.run([sys.executable, COLLECT, os.path.join(out, "batch.json")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    table_one = open(os.path.join(out, "table_I.md")).read()
+    assert "| smoke |" not in table_one
+    assert "No row: Table I scores object maps against an object ground truth" in table_one
+    with_rows = make_batch(tmp_path / "with")
+    subprocess.run([sys.executable, COLLECT, os.path.join(with_rows, "batch.json")], check=True)
+    assert "No row" not in open(os.path.join(with_rows, "table_I.md")).read()
+
+
 def tum_folder(folder):
     sequence = folder / "seq"
     (sequence / "rgb").mkdir(parents=True)
