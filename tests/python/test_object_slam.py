@@ -205,6 +205,11 @@ def test_timestamps_must_be_finite_and_increase(smoke):
     with pytest.raises(ValueError, match="0.5 is not later"):
         slam.track(image, 0.5)
     assert slam.track(image, 1.5).state == "not_initialized"
+    # Times as TUM gives them: both named with the digits that tell them apart.
+    assert slam.track(image, 1305031229.528748).state == "not_initialized"
+    with pytest.raises(ValueError, match=r"1305031229\.5287\d+ is not later than the last "
+                                         r"frame's 1305031229\.528748"):
+        slam.track(image, 1305031229.52874)
     slam.shutdown()
     assert slam.camera_trajectory().shape[0] == 0
 
