@@ -31,6 +31,11 @@ try:
     from ._ocg import *  # noqa: F401,F403  (the native module defines __all__-free names)
     from ._ocg import __doc__ as _native_doc  # noqa: F401
 except ImportError as _error:
+    if getattr(_error, "name", None) == __name__ + "._ocg":
+        # The package folder is written when CMake configures; the module is a build target.
+        raise ImportError(
+            "ocg's native module is not built in " + __path__[0] + ": build it with "
+            "cmake --build BUILD --target ocg_python (tools/demo.sh builds it)") from _error
     raise ImportError(
         "ocg's native module was built for " + BUILT_FOR_PYTHON + ", but this is "
         + _sys.executable + " (Python %d.%d): run it with that interpreter, or rebuild with "

@@ -3,6 +3,7 @@ the errors a Python caller can make are named."""
 import filecmp
 import json
 import os
+import shutil
 import subprocess
 import sys
 import threading
@@ -291,3 +292,17 @@ def test_an_interpreter_without_numpy_is_told_which_one_has_it(source_dir):
         assert result.returncode != 0, code
         assert "ocg needs NumPy" in result.stderr, result.stderr
         assert ocg.BUILT_FOR_PYTHON in result.stderr, result.stderr
+
+
+def test_a_package_folder_without_its_native_module_says_to_build_it(tmp_path):
+    """CMake writes build/python/ocg/__init__.py when configuring; the native module is a
+    target of its own. Imported before it is built, ocg says so, not that the interpreter
+    (the very one it was built for) is the wrong one."""
+    package = tmp_path / "ocg"
+    package.mkdir()
+    shutil.copy(os.path.join(os.path.dirname(ocg.__file__), "__init__.py"), package)
+    result = subprocess.run([sys.executable, "-c", "import ocg"], capture_output=True,
+                            text=True, env=dict(os.environ, PYTHONPATH=str(tmp_path)))
+    assert result.returncode != 0
+    assert "native module is not built in %s" % package in result.stderr, result.stderr
+    assert "--target ocg_python" in result.stderr, result.stderr
