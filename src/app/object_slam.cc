@@ -517,10 +517,11 @@ std::optional<SE3> ObjectSlam::Track(const cv::Mat& image, double timestamp,
         std::to_string(timestamp));
   }
   if (impl_->frames_ > 0 && !(timestamp > impl_->last_timestamp_)) {
+    // Every digit (%.17g): TUM times (1.3e9 s) differ from the tenth digit on.
     char message[200];
     std::snprintf(message, sizeof(message),
-                  "ObjectSlam::Track: frame times must increase strictly: %.9g is not later than "
-                  "the last frame's %.9g",
+                  "ObjectSlam::Track: frame times must increase strictly: %.17g is not later "
+                  "than the last frame's %.17g",
                   timestamp, impl_->last_timestamp_);
     throw std::invalid_argument(message);
   }

@@ -88,6 +88,25 @@ def test_tables_report_moves_loops_and_what_each_object_map_holds(tmp_path):
     assert "| paper |" not in objects and "| kitti |" not in objects
 
 
+def test_a_table_i_without_rows_says_why(tmp_path):
+    """Real sequences without objects_gt: Table I has no row, and says so under its header."""
+    out = make_batch(tmp_path)
+    for run in ("smoke/default/paper/sequential-1", "smoke/default/improved/sequential-1"):
+        path = os.path.join(out, "scores", run + ".json")
+        score = json.load(open(path))
+        del score["objects"]
+        write(path, score)
+    done = subprocess.run([sys.executable, COLLECT, os.path.join(out, "batch.json")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    table_one = open(os.path.join(out, "table_I.md")).read()
+    assert "| smoke |" not in table_one
+    assert "No row: Table I scores object maps against an object ground truth" in table_one
+    with_rows = make_batch(tmp_path / "with")
+    subprocess.run([sys.executable, COLLECT, os.path.join(with_rows, "batch.json")], check=True)
+    assert "No row" not in open(os.path.join(with_rows, "table_I.md")).read()
+
+
 def tum_folder(folder):
     sequence = folder / "seq"
     (sequence / "rgb").mkdir(parents=True)
@@ -114,6 +133,24 @@ def test_detect_and_snapshots_keys_are_checked_before_any_job(source_dir, tools,
                           capture_output=True, text=True)
     assert done.returncode == 1
     assert message in done.stderr, done.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_detections_folder_inside_the_sequence_given_as_groundtruth_is_named(source_dir, tools,
+                                                                              tmp_path):
+    """groundtruth: is relative to the sequence folder, detections: to the configuration: a
+    user writing `detections: detections` for SEQ/detections is told the path to give."""
+    sequence = tum_folder(tmp_path)
+    (sequence / "detections").mkdir()
+    config = tmp_path / "batch.yaml"
+    config.write_text("tools: %s\nout: out\nsequences:\n"
+                      "  - {path: seq, settings: s.yaml, detections: detections}\n" % tools)
+    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
+                          capture_output=True, text=True)
+    assert done.returncode == 1
+    assert "sequences[0].detections: no such folder: %s" % (tmp_path / "detections") \
+        in done.stderr, done.stderr
+    assert "the sequence's own is %s" % (sequence / "detections") in done.stderr, done.stderr
     assert not (tmp_path / "out").exists()
 
 
