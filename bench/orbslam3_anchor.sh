@@ -114,7 +114,7 @@ g++ -std=c++11 -DCOMPILEDWITHC11 -O2 -march=native -o "$DRIVER" "$SOURCE/bench/o
   -L"$ORB3/lib" -Wl,-rpath,"$ORB3/lib" \
   -L"$ORB3/Thirdparty/DBoW2/lib" -Wl,-rpath,"$ORB3/Thirdparty/DBoW2/lib" \
   -L"$ORB3/Thirdparty/g2o/lib" -Wl,-rpath,"$ORB3/Thirdparty/g2o/lib" \
-  -lORB_SLAM3 -lDBoW2 -lg2o -lpangolin $(pkg-config --libs opencv4) \
+  -lORB_SLAM3 -lDBoW2 -lg2o -lpangolin -lGLEW -lGL $(pkg-config --libs opencv4) \
   -lboost_serialization -lcrypto -lpthread
 
 # Frames tracked after the first one, and the ATE, of a TUM trajectory.
