@@ -8,6 +8,7 @@
 #include <cmath>
 #include <iostream>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <sstream>
 
 #include "ocg/eval/trajectory_error.h"
@@ -60,11 +61,13 @@ class SmokeFeed {
     return system.TrackImage(renderer_.Colour(t, sim::CameraPoseAt(scene_, t), shown), seconds,
                              std::to_string(seconds));
   }
-  cv::Mat Gray(int frame) {
+  cv::Mat Colour(int frame) {
     const double t = frame / scene_.fps;
+    return renderer_.Colour(t, sim::CameraPoseAt(scene_, t), frame);
+  }
+  cv::Mat Gray(int frame) {
     cv::Mat gray;
-    cv::cvtColor(renderer_.Colour(t, sim::CameraPoseAt(scene_, t), frame), gray,
-                 cv::COLOR_BGR2GRAY);
+    cv::cvtColor(Colour(frame), gray, cv::COLOR_BGR2GRAY);
     return gray;
   }
   const sim::Scene& scene() const { return scene_; }
@@ -220,21 +223,34 @@ TEST(MultiMap, ANewMapMergesIntoTheOldOneWhenTheCameraComesBack) { LeaveTheMapAn
 // fast as the scene renders, the merge comes when the loop closing thread gets to it.
 TEST(MultiMap, ThreadedModeMergesToo) { LeaveTheMapAndComeBack(false); }
 
+// Maps that never merge: a new map after Tracking.newMapAfterLostSeconds of 0.5 s, no
+// merging.
+SystemConfig TwoMapsConfig() {
+  SystemConfig config;
+  config.tracking.new_map_after_lost_seconds = 0.5;
+  config.loop_closing.merge_maps = false;
+  return config;
+}
+
+// The smoke preset's first 3 s, lost, then a second map from 9 s to 12 s on the path,
+// mature enough not to be reset when lost. Returns the next frame.
+int MakeTwoMaps(SmokeFeed& feed, System& system) {
+  int frame = MapThreeSecondsThenLoseTrack(feed, system);
+  EXPECT_EQ(system.NewMaps(), 1);
+  for (double scene_t = 9.0; scene_t < 12.0; scene_t += 1.0 / feed.scene().fps)
+    feed.FeedAt(system, frame++, scene_t, false);
+  return frame;
+}
+
 // Relocalization tries the keyframes of every map: lost in a second map, the camera is
 // found again at the place of the first, and tracking goes on in that map.
 TEST(MultiMap, RelocalizationFindsThePlaceOfAnEarlierMap) {
   const Vocabulary vocabulary = DefaultVocabulary();
-  SystemConfig config;
-  config.tracking.new_map_after_lost_seconds = 0.5;
-  config.loop_closing.merge_maps = false;  // relocalization alone brings it back
+  const SystemConfig config = TwoMapsConfig();  // relocalization alone brings it back
   SmokeFeed feed(config);
   System system(feed.config(), vocabulary);
   const double fps = feed.scene().fps;
-  int frame = MapThreeSecondsThenLoseTrack(feed, system);
-  ASSERT_EQ(system.NewMaps(), 1);
-  // The second map, from 9 s on, mature enough not to be reset when lost.
-  for (double scene_t = 9.0; scene_t < 12.0; scene_t += 1.0 / fps)
-    feed.FeedAt(system, frame++, scene_t, false);
+  int frame = MakeTwoMaps(feed, system);
   ASSERT_GT(system.KeyFrameCount(),
             static_cast<std::size_t>(config.tracking.min_keyframes_to_keep_map));
   // Lost briefly (shorter than Tracking.newMapAfterLostSeconds), then back at 1.5 s.
@@ -269,16 +285,10 @@ TEST(MultiMap, RelocalizationFindsThePlaceOfAnEarlierMap) {
 // was not current, at the place it shows.
 TEST(MultiMap, AMapFileKeepsEveryMapAndALaterSessionRelocalizesInAny) {
   const Vocabulary vocabulary = DefaultVocabulary();
-  SystemConfig config;
-  config.tracking.new_map_after_lost_seconds = 0.5;
-  config.loop_closing.merge_maps = false;
-  SmokeFeed feed(config);
+  SmokeFeed feed(TwoMapsConfig());
   System system(feed.config(), vocabulary);
   const double fps = feed.scene().fps;
-  int frame = MapThreeSecondsThenLoseTrack(feed, system);
-  ASSERT_EQ(system.NewMaps(), 1);
-  for (double scene_t = 9.0; scene_t < 12.0; scene_t += 1.0 / fps)
-    feed.FeedAt(system, frame++, scene_t, false);
+  int frame = MakeTwoMaps(feed, system);
   system.Shutdown();
   const std::vector<MapSummary> maps = system.Maps();
   ASSERT_EQ(maps.size(), 2u);
