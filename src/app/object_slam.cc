@@ -185,13 +185,14 @@ class ObjectSlam::Impl {
   void ContinueMap(std::istream& in, const app_detail::SessionRecord& record,
                    const std::string& path, std::uint32_t file_version) {
     ReadMapPart(path, "SLAM map", [&] {
-      system_.LoadMap(in, record.frames);
+      system_.LoadMap(in, record.frames,
+                      file_version >= 5 ? MapFileFormat::kAtlas : MapFileFormat::kSingleMap);
       return 0;
     });
     session_ = record.sessions;
     frame_offset_ = record.frames;
     loaded_map_ = path;
-    loaded_keyframes_ = system_.KeyFrameCount();
+    loaded_keyframes_ = system_.AtlasKeyFrameCount();
     app_detail::CheckNotEmpty(loaded_keyframes_, path);  // files before version 4
     if (record.has_objects && objects_.Enabled()) {
       ReadMapPart(path, "object map", [&] {
@@ -211,7 +212,7 @@ class ObjectSlam::Impl {
 
   void SaveMap(const std::string& path, const std::string& vocabulary_file) {
     // A map without a keyframe holds no place a later session could relocalize in.
-    if (system_.KeyFrameCount() == 0) {
+    if (system_.AtlasKeyFrameCount() == 0) {
       throw MapFileError("not writing the map file '" + path +
                          "': the map is empty (no keyframe: the run never initialized, see "
                          "run.json's initialization)");
@@ -228,7 +229,7 @@ class ObjectSlam::Impl {
     record.vocabulary_file = vocabulary_file;
     record.orb = settings_.orb;
     record.vocabulary_fingerprint = app_detail::VocabularyFingerprint(vocabulary_);
-    record.keyframes = system_.KeyFrameCount();
+    record.keyframes = system_.AtlasKeyFrameCount();
     record.sessions = session_ + 1;
     record.frames = frame_offset_ + frames_;
     record.has_objects = objects_.Enabled();
