@@ -179,6 +179,14 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
     record.class_id = entry.class_id;
     record.cuboid = entry.cuboid;
     record.last_seen = entry.last_seen.value_or(entry.timestamp);
+    // Nor did one whose place holds a live object of its class (a duplicate removed beside
+    // the object it doubled, an object re-created where it stands): it is still there.
+    const bool still_there = std::any_of(live.begin(), live.end(), [&](const ObjectRecord& o) {
+      return o.class_id == record.class_id &&
+             (o.cuboid.centre - record.cuboid.centre).norm() / LargerExtent(o, record) <=
+                 context.moves.same_place_factor;
+    });
+    if (still_there) continue;
     const bool earlier = context.session > 0 && record.last_seen < context.session_start;
     (earlier ? seen_before : seen_now).push_back(record);
   }

@@ -260,7 +260,7 @@ TEST(ChangeLog, InASessionAMoveHasNoReach) {
 }
 
 // Two cups carried past each other within a session: cup 3 (at x = 0, last seen 1021)
-// went to x = 0.8, first seen at 1030, while cup 4 (at x = 0.9) was still seen (until
+// went to x = 0.75, first seen at 1030, while cup 4 (at x = 0.9) was still seen (until
 // 1040); cup 4 then went to x = 0.3, first seen at 1060. The nearest pair (3 to the cup
 // at 0.3) would leave cup 4 no object that appeared after its last sighting: the pairs are
 // chosen together, as many as the times allow.
@@ -268,13 +268,28 @@ TEST(ChangeLog, InASessionObjectsCarriedPastEachOtherPairByTheirTimes) {
   InSessionMove log;
   log.changes.push_back(Removed(4, kCup, 0.9, 1055, 1040));
   const nlohmann::json changes =
-      Revise(log.changes, {Live(9, kCup, 0.8, 1030), Live(10, kCup, 0.3, 1060)}, log.context)
+      Revise(log.changes, {Live(9, kCup, 0.75, 1030), Live(10, kCup, 0.3, 1060)}, log.context)
           .at("changes");
   ASSERT_EQ(changes.size(), 2u) << changes.dump(1);
   EXPECT_EQ(changes[0]["type"], "moved");
   EXPECT_EQ(changes[0]["to"]["object_id"], 9);
   EXPECT_EQ(changes[1]["type"], "moved");
   EXPECT_EQ(changes[1]["to"]["object_id"], 10);
+}
+
+// A removal whose place still holds a live object of its class moved nowhere: a duplicate
+// of a mouse removed beside it (straight_1, seed 12) took the new place of a mouse carried
+// from elsewhere, whose removal then stayed a removal.
+TEST(ChangeLog, ARemovalWhosePlaceHoldsAnObjectOfItsClassIsNoMove) {
+  InSessionMove log;
+  log.changes.push_back(Removed(4, kCup, 1.0, 1055, 1021));  // cup 4: doubled cup 8
+  const nlohmann::json changes =
+      Revise(log.changes, {Live(8, kCup, 1.05, 1000), Live(9, kCup, 0.6, 1060)}, log.context)
+          .at("changes");
+  ASSERT_EQ(changes.size(), 2u) << changes.dump(1);
+  EXPECT_EQ(changes[0]["type"], "moved");  // cup 3, carried 0.6 away (cup 4 is nearer)
+  EXPECT_EQ(changes[0]["to"]["object_id"], 9);
+  EXPECT_EQ(changes[1]["type"], "removed");
 }
 
 TEST(ChangeLog, InASessionAnObjectOfAnotherClassIsNoMove) {
@@ -296,7 +311,8 @@ TEST(ChangeLog, ARestoredRemovalIsNoMove) {
   ChangeLogContext context;
   context.session = 1;
   context.session_start = 2000;
-  const nlohmann::json changes = Revise(Changes{gone}, objects, context).at("changes");
+  // Without the restore, cup 3 is not live at its place: a move.
+  const nlohmann::json changes = Revise(Changes{gone}, Objects{objects[1]}, context).at("changes");
   ASSERT_EQ(changes[0]["type"], "moved") << "without the restore, the case is a move";
   const nlohmann::json revised = Revise(Changes{gone, back}, objects, context).at("changes");
   ASSERT_EQ(revised.size(), 3u) << revised.dump(1);
