@@ -70,13 +70,7 @@ std::vector<MoveLink> PairMoves(const std::vector<ObjectRecord>& removed,
       const ObjectRecord& from = removed[r];
       const ObjectRecord& to = appeared[a];
       if (from.class_id != to.class_id || !(to.first_seen > from.last_seen)) continue;
-      MoveCandidate candidate{
-          r,
-          a,
-          (from.cuboid.centre - to.cuboid.centre).norm() / LargerExtent(from, to),
-          std::nullopt,
-          false,
-          std::nullopt};
+      MoveCandidate candidate{r, a, RelativeDistance(from, to), std::nullopt, false, std::nullopt};
       if (candidate.relative <= context.moves.same_place_factor) continue;
       // The box appearance holds far more of an object's texture than its map points.
       const std::vector<Descriptor>* from_look = look_in(context.box_appearance, from.id);
@@ -183,8 +177,7 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
     // the object it doubled, an object re-created where it stands): it is still there.
     const bool still_there = std::any_of(live.begin(), live.end(), [&](const ObjectRecord& o) {
       return o.class_id == record.class_id &&
-             (o.cuboid.centre - record.cuboid.centre).norm() / LargerExtent(o, record) <=
-                 context.moves.same_place_factor;
+             RelativeDistance(o, record) <= context.moves.same_place_factor;
     });
     if (still_there) continue;
     const bool earlier = context.session > 0 && record.last_seen < context.session_start;

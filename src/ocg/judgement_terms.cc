@@ -162,16 +162,6 @@ std::string JudgementTermNames() {
   return names;
 }
 
-std::string ImprovedTermNames() {
-  std::string names;
-  for (const JudgementTerm& term : JudgementTerms()) {
-    if (!term.in_improved) continue;
-    if (!names.empty()) names += "+";
-    names += term.name;
-  }
-  return names;
-}
-
 std::string JudgementTermsMarkdown() {
   std::ostringstream out;
   out << "<!-- settings-table OCG.mode -->\n"

@@ -116,6 +116,18 @@ def tum_folder(folder):
     return sequence
 
 
+def refusal(source_dir, tools, folder, sequence_entry):
+    """ocg_batch on a configuration of one sequence (its YAML flow mapping), expected to stop
+    before any job: the error text; asserts exit status 1 and no output folder."""
+    config = folder / "batch.yaml"
+    config.write_text("tools: %s\nout: out\nsequences:\n  - %s\n" % (tools, sequence_entry))
+    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
+                          capture_output=True, text=True)
+    assert done.returncode == 1
+    assert not (folder / "out").exists()
+    return done.stderr
+
+
 @pytest.mark.parametrize("entry, message", [
     ("detect: {score: 2}", "sequences[0].detect.score: expected a confidence in (0, 1), got 2"),
     ("detect: {scor: 0.3}", "sequences[0].detect.scor: unknown key (known: model, score, tile)"),
@@ -126,14 +138,8 @@ def tum_folder(folder):
 def test_detect_and_snapshots_keys_are_checked_before_any_job(source_dir, tools, tmp_path, entry,
                                                               message):
     tum_folder(tmp_path)
-    config = tmp_path / "batch.yaml"
-    config.write_text("tools: %s\nout: out\nsequences:\n  - {path: seq, settings: s.yaml, %s}\n" % (
-        tools, entry))
-    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
-                          capture_output=True, text=True)
-    assert done.returncode == 1
-    assert message in done.stderr, done.stderr
-    assert not (tmp_path / "out").exists()
+    stderr = refusal(source_dir, tools, tmp_path, "{path: seq, settings: s.yaml, %s}" % entry)
+    assert message in stderr, stderr
 
 
 def test_a_detections_folder_inside_the_sequence_given_as_groundtruth_is_named(source_dir, tools,
@@ -142,26 +148,16 @@ def test_a_detections_folder_inside_the_sequence_given_as_groundtruth_is_named(s
     user writing `detections: detections` for SEQ/detections is told the path to give."""
     sequence = tum_folder(tmp_path)
     (sequence / "detections").mkdir()
-    config = tmp_path / "batch.yaml"
-    config.write_text("tools: %s\nout: out\nsequences:\n"
-                      "  - {path: seq, settings: s.yaml, detections: detections}\n" % tools)
-    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
-                          capture_output=True, text=True)
-    assert done.returncode == 1
+    stderr = refusal(source_dir, tools, tmp_path,
+                     "{path: seq, settings: s.yaml, detections: detections}")
     assert "sequences[0].detections: no such folder: %s" % (tmp_path / "detections") \
-        in done.stderr, done.stderr
-    assert "the sequence's own is %s" % (sequence / "detections") in done.stderr, done.stderr
-    assert not (tmp_path / "out").exists()
+        in stderr, stderr
+    assert "the sequence's own is %s" % (sequence / "detections") in stderr, stderr
 
 
 def test_a_sequences_own_settings_keys_are_read_strictly_before_any_job(source_dir, tools,
                                                                         tmp_path):
-    config = tmp_path / "batch.yaml"
-    config.write_text("tools: %s\nout: out\nsequences:\n"
-                      "  - {preset: smoke, set: {Objects.min_confidenc: 0.3}}\n" % tools)
-    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
-                          capture_output=True, text=True)
-    assert done.returncode == 1
-    assert "sequences[0].set:" in done.stderr, done.stderr
-    assert "did you mean 'Objects.min_confidence'?" in done.stderr, done.stderr
-    assert not (tmp_path / "out").exists()
+    stderr = refusal(source_dir, tools, tmp_path,
+                     "{preset: smoke, set: {Objects.min_confidenc: 0.3}}")
+    assert "sequences[0].set:" in stderr, stderr
+    assert "did you mean 'Objects.min_confidence'?" in stderr, stderr

@@ -68,6 +68,10 @@ struct RecordedMove {
 // The larger of the two objects' largest extents (map units), at least 1e-6.
 double LargerExtent(const ObjectRecord& a, const ObjectRecord& b);
 
+// The distance of the two objects' centres in units of LargerExtent(a, b): what the move
+// and same-place factors compare with.
+double RelativeDistance(const ObjectRecord& a, const ObjectRecord& b);
+
 // Pairs removed objects with appeared ones into moves: same class, centres within the
 // distances of options. require_order: the appeared one must have been first seen after
 // the removed one was last seen (within one session: it appeared after its old place was

@@ -107,9 +107,6 @@ const std::vector<JudgementTerm>& JudgementTerms();
 // "a, b, c": the terms' names in order, for messages and docs.
 std::string JudgementTermNames();
 
-// "a+b+c": the terms "improved" switches on, in order.
-std::string ImprovedTermNames();
-
 // The modes table of docs/ocg.md (mode, in improved, reads, effect), between the lines
 // `<!-- settings-table OCG.mode -->` and `<!-- end settings-table -->`
 // (tools/settings_docs.py writes it there).
