@@ -144,6 +144,19 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
 }
 
 void LocalMapping::LinkKeyFrame(const KeyFramePtr& keyframe) {
+  if (keyframe->anchor) {
+    // Made by tracking before a loop correction, merge or global adjustment that moved
+    // the map while it waited here: it moves as the keyframe it was placed on did (into
+    // the map that one is in now, after a merge).
+    if (keyframe->anchor->corrections != map_->corrections()) {
+      if (const std::optional<AnchoredPose> pose = PoseFromAnchor(*map_, *keyframe->anchor)) {
+        keyframe->T_cw = pose->T_cw;
+        keyframe->map = pose->map;
+        ++stats_.keyframes_followed_corrections;
+      }
+    }
+    keyframe->anchor.reset();
+  }
   map_->Add(keyframe);
   for (std::size_t i = 0; i < keyframe->points.size(); ++i) {
     const MapPointPtr point = keyframe->points[i];

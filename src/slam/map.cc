@@ -141,11 +141,24 @@ void Map::MoveMap(int from, int into, const Sim3& S_into_from) {
     first_keyframes_.erase(from);
   }
   if (current_map_ == from) current_map_ = into;
+  merged_into_[from] = {into, S_into_from.scale()};
   ++merges_;
   last_merge_scale_ = S_into_from.scale();
 }
 
+double Map::ScaleInto(int from, int to) const {
+  double scale = 1.0;
+  for (int map = from; map != to;) {
+    const auto merged = merged_into_.find(map);
+    if (merged == merged_into_.end()) return 1.0;
+    scale *= merged->second.second;
+    map = merged->second.first;
+  }
+  return scale;
+}
+
 void Map::Clear() {
+  merged_into_.clear();
   keyframes_.clear();
   points_.clear();
   next_keyframe_id_ = 0;
@@ -340,6 +353,24 @@ void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
   keyframe->bow = BowVector();
   keyframe->feature_vector = FeatureVector();
   keyframe->points = std::vector<MapPointPtr>();
+}
+
+std::optional<AnchoredPose> PoseFromAnchor(const Map& map, const Anchor& anchor) {
+  SE3 relative = anchor.T_c_keyframe;
+  KeyFramePtr keyframe = anchor.keyframe;
+  while (keyframe && map.GetKeyFrame(keyframe->id) != keyframe) {
+    if (!keyframe->anchor) return std::nullopt;  // erased with its map
+    // Not linked yet: its pose and its anchor's relative pose were measured together, in
+    // the same map and units as the relative pose on it.
+    relative = relative * keyframe->anchor->T_c_keyframe;
+    keyframe = keyframe->anchor->keyframe;
+  }
+  if (!keyframe) return std::nullopt;
+  const double scale = map.ScaleInto(anchor.map, keyframe->map);
+  if (scale != 1.0) relative = SE3(relative.rotation(), relative.translation() * scale);
+  const std::optional<SE3> T_cw = PoseFromReference(map, keyframe->id, relative);
+  if (!T_cw) return std::nullopt;
+  return AnchoredPose{*T_cw, keyframe->map};
 }
 
 std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,

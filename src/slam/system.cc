@@ -118,14 +118,23 @@ TrackingResult System::TrackImage(const cv::Mat& image, double timestamp,
   timings_.tracking.Add(Seconds(start) - pending_mapping_seconds_);
   timings_.tracking_cpu.Add(ThreadCpuSeconds() - cpu_start - pending_mapping_cpu_seconds_);
   timings_.map_lock_wait.Add(result.map_lock_wait_seconds);
-  {
-    const std::unique_lock<std::mutex> lock = map_.LockForTracking();
-    record.map = map_.current_map();
-    result.merged = map_.merges() != merges_seen_;
-    merges_seen_ = map_.merges();
+  if (after_tracking_) after_tracking_();
+  // One look at the map for the frame's record: in threaded mode the loop closing thread
+  // may have moved it (a merge: into another map) since tracking placed the frame, so the
+  // frame is placed again as the map now stands (Tracking::LastFramePoseNow), and the map,
+  // the merge flag and the reference keyframe are read in that same state.
+  const std::unique_lock<std::mutex> lock = map_.LockForTracking();
+  record.map = map_.current_map();
+  result.merged = map_.merges() != merges_seen_;
+  merges_seen_ = map_.merges();
+  if (result.T_cw && tracking_->MapMovedSinceLastFrame()) {
+    result.T_cw = tracking_->LastFramePoseNow();
+    for (TrackedPoint& point : result.points) {  // what the object layer places objects on
+      const auto found = map_.points().find(point.id);
+      if (found != map_.points().end()) point.position = found->second->position;
+    }
   }
   if (result.T_cw) {
-    const std::unique_lock<std::mutex> lock = map_.LockForTracking();
     // The reference is the current map's newest keyframe.
     KeyFramePtr reference;
     for (auto it = map_.keyframes().rbegin(); it != map_.keyframes().rend(); ++it) {
@@ -148,6 +157,10 @@ std::function<ExtractedFeatures(const cv::Mat&)> System::MakeFeatureExtractor() 
   auto extractor = std::make_shared<OrbExtractor>(config_.orb);
   const PinholeCamera camera = config_.camera;
   return [extractor, camera](const cv::Mat& image) { return extractor->Extract(image, camera); };
+}
+
+bool System::MappingIdle() const {
+  return config_.sequential || (local_mapping_->Idle() && loop_closing_->Idle());
 }
 
 void System::Shutdown() {

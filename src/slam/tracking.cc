@@ -159,7 +159,9 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
         KeyFramePtr keyframe;
         {
           const std::unique_lock<std::mutex> lock = LockMap();
+          FollowCorrections(frame);
           keyframe = CreateKeyFrame(frame);
+          keyframe->anchor = anchor_;
           Anchor(frame, keyframe);
         }
         result.new_keyframe = true;
@@ -209,9 +211,10 @@ TrackingResult Tracking::Track(const cv::Mat& image, double timestamp,
                  ToString(state_));
   }
   result.state = state_;
-  result.T_cw = state_ == TrackingState::kOk ? frame.T_cw : std::nullopt;
   if (state_ == TrackingState::kOk) {
     const std::unique_lock<std::mutex> lock = LockMap();  // positions move in BA
+    FollowCorrections(frame);
+    result.T_cw = frame.T_cw;
     for (std::size_t i = 0; i < frame.points.size(); ++i) {
       const MapPointPtr& point = frame.points[i];
       if (!point || point->bad || (i < frame.outlier.size() && frame.outlier[i])) continue;
@@ -657,13 +660,39 @@ bool Tracking::Relocalize(Frame& frame) {
 
 void Tracking::Anchor(const Frame& frame, const KeyFramePtr& keyframe) {
   if (!frame.T_cw || !keyframe) return;
-  anchor_keyframe_ = keyframe->id;
-  T_last_anchor_ = *frame.T_cw * keyframe->T_cw.Inverse();
-  anchored_corrections_ = dependencies_.map->corrections();
+  anchor_.keyframe = keyframe;
+  anchor_.T_c_keyframe = *frame.T_cw * keyframe->T_cw.Inverse();
+  anchor_.map = keyframe->map;
+  anchor_.corrections = dependencies_.map->corrections();
+}
+
+void Tracking::FollowCorrections(Frame& frame) {
+  const std::uint64_t corrections = dependencies_.map->corrections();
+  if (corrections == anchor_.corrections) return;
+  // Placed again on the same keyframe: the relative pose, its map and units stay.
+  anchor_.corrections = corrections;
+  if (!frame.T_cw || !anchor_.keyframe) return;
+  if (const std::optional<AnchoredPose> pose = PoseFromAnchor(*dependencies_.map, anchor_)) {
+    frame.T_cw = pose->T_cw;
+    spdlog::debug("frame {}: the map was corrected; re-anchored on keyframe {}", frame.id,
+                  anchor_.keyframe->id);
+  }
+}
+
+bool Tracking::MapMovedSinceLastFrame() const {
+  return dependencies_.map->corrections() != anchor_.corrections;
+}
+
+std::optional<SE3> Tracking::LastFramePoseNow() const {
+  if (!last_frame_ || !last_frame_->T_cw) return std::nullopt;
+  if (dependencies_.map->corrections() == anchor_.corrections || !anchor_.keyframe)
+    return last_frame_->T_cw;
+  const std::optional<AnchoredPose> pose = PoseFromAnchor(*dependencies_.map, anchor_);
+  if (!pose) return std::nullopt;
+  return pose->T_cw;
 }
 
 void Tracking::ReanchorLastFrame() {
-  const std::uint64_t corrections = dependencies_.map->corrections();
   if (dependencies_.map->merges() != anchored_merges_) {
     // The map was merged into another, of other units: the motion model's step too.
     anchored_merges_ = dependencies_.map->merges();
@@ -672,14 +701,10 @@ void Tracking::ReanchorLastFrame() {
                       velocity_->translation() * dependencies_.map->last_merge_scale());
     }
   }
-  if (corrections == anchored_corrections_) return;
-  anchored_corrections_ = corrections;
-  if (!last_frame_ || !last_frame_->T_cw) return;
-  if (const std::optional<SE3> pose =
-          PoseFromReference(*dependencies_.map, anchor_keyframe_, T_last_anchor_)) {
-    last_frame_->T_cw = *pose;
-    spdlog::debug("frame {}: the map was corrected; re-anchored on keyframe {}", last_frame_->id,
-                  anchor_keyframe_);
+  if (last_frame_) {
+    FollowCorrections(*last_frame_);
+  } else {
+    anchor_.corrections = dependencies_.map->corrections();
   }
 }
 
@@ -709,6 +734,7 @@ void Tracking::Reset(bool keep_map) {
   last_frame_.reset();
   velocity_.reset();
   reference_.reset();
+  anchor_ = ocg::Anchor();
 }
 
 }  // namespace ocg

@@ -166,6 +166,44 @@ class GrowingMap : public ::testing::Test {
   std::vector<Eigen::Vector3d> truth_points_;
 };
 
+// A keyframe made by tracking waits in local mapping's queue (threaded mode) while the
+// loop closing thread merges its map into another: the merge moves the map's keyframes and
+// points by the Sim(3) between the maps, but not this keyframe, which is not in the map
+// yet. Linked with the pose tracking gave it, it stood in the old map's frame and units
+// among points moved to the new one (and was tagged with the map that no longer exists).
+// Linked now, it is placed again on the keyframe tracking placed it on.
+TEST_F(GrowingMap, AKeyFrameWaitingForLocalMappingFollowsAMergeOfItsMap) {
+  const KeyFramePtr keyframe = TrackedKeyFrame();  // keyframe 4, at its true place, map 0
+  const SE3 tracked = keyframe->T_cw;
+  const KeyFramePtr placed_on = map_.GetKeyFrame(3);
+  keyframe->anchor = Anchor{placed_on, tracked * placed_on->T_cw.Inverse(), 0, map_.corrections()};
+  // Map 0 goes into map 1 (as a merge does: under a scale, a turn and a shift).
+  const Sim3 S_into_from(0.5, Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY())),
+                         Eigen::Vector3d(1.0, -2.0, 0.5));
+  map_.StartNewMap();
+  map_.SetCurrentMap(0);
+  map_.MoveMap(0, 1, S_into_from);
+  map_.CountCorrection();
+  BowDatabase database(16);
+  LocalMapping mapping(Camera(), pyramid_, MatcherOptions{}, LocalMappingOptions{}, &map_,
+                       &database);
+  mapping.ProcessKeyFrame(keyframe);
+  EXPECT_EQ(mapping.Stats().keyframes_followed_corrections, 1);
+  EXPECT_FALSE(keyframe->anchor);  // linked: the map holds it from now on
+  EXPECT_EQ(keyframe->map, 1);
+  const Eigen::Vector3d centre = S_into_from * tracked.Inverse().translation();
+  EXPECT_LT((keyframe->Centre() - centre).norm(), 1e-6) << "metres of map 1";
+  const Eigen::Matrix3d rotation = tracked.rotation() * S_into_from.rotation().transpose();
+  EXPECT_LT((keyframe->T_cw.rotation() - rotation).norm(), 1e-9);
+  // Its points project where it saw them, as before the merge.
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kPoints); ++i) {
+    const MapPointPtr& point = keyframe->points[i];
+    ASSERT_TRUE(point);
+    const Eigen::Vector2d pixel = Camera().ProjectUndistorted(keyframe->T_cw * point->position);
+    EXPECT_LT((pixel - keyframe->features.undistorted[i]).norm(), 1e-6) << i;
+  }
+}
+
 TEST_F(GrowingMap, WhatWasAddedDuringAnAdjustmentFollowsItsCorrection) {
   // Drift: the last two keyframes stand 5 cm off, the points 2 cm off.
   const Eigen::Vector3d drift(0.05, -0.02, 0.03);

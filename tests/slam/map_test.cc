@@ -33,6 +33,36 @@ MapPointPtr AddPoint(Map& map, const std::vector<std::pair<KeyFramePtr, int>>& s
   return point;
 }
 
+// A frame placed on a keyframe that still waits for local mapping (threaded mode), and a
+// merge meanwhile moves the keyframe's map into another under a scale: the frame is
+// found through that keyframe's own anchor (a keyframe of the map), its relative
+// translation taken into the new map's units.
+TEST(Map, APoseOnAKeyFrameNotYetLinkedFollowsAMergeThroughItsAnchor) {
+  Map map;
+  map.StartNewMap();                               // map 1, merged into map 0 below
+  const KeyFramePtr linked = AddKeyFrame(map, 0);  // map 1, at x = 0
+  linked->map = 1;
+  const SE3 T_pending_cw(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.4, 0.0, 0.0));
+  auto pending = std::make_shared<KeyFrame>();  // at x = 0.4: made by tracking, queued
+  pending->id = map.NextKeyFrameId();
+  pending->T_cw = T_pending_cw;
+  pending->map = 1;
+  pending->anchor = Anchor{linked, T_pending_cw * linked->T_cw.Inverse(), 1, map.corrections()};
+  const SE3 T_frame_cw(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.5, 0.0, 0.0));
+  const Anchor frame{pending, T_frame_cw * pending->T_cw.Inverse(), 1, map.corrections()};
+  // Map 1 goes into map 0 at half the scale, shifted by 2 m along y.
+  const Sim3 S_into_from(0.5, Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 2.0, 0.0));
+  map.MoveMap(1, 0, S_into_from);
+  map.CountCorrection();
+  EXPECT_DOUBLE_EQ(map.ScaleInto(1, 0), 0.5);
+  EXPECT_DOUBLE_EQ(map.ScaleInto(0, 0), 1.0);
+  const std::optional<AnchoredPose> pose = PoseFromAnchor(map, frame);
+  ASSERT_TRUE(pose);
+  EXPECT_EQ(pose->map, 0);
+  // The frame stood at x = 0.5 in map 1: x = 0.25, y = 2 in map 0.
+  EXPECT_LT((pose->T_cw.Inverse().translation() - Eigen::Vector3d(0.25, 2.0, 0.0)).norm(), 1e-12);
+}
+
 // Local mapping, holding the lock between two steps, lets a tracker that waits for it go
 // first; the mutex alone would let local mapping go on (it still holds the lock) and the
 // tracker would wait for every later step too.

@@ -123,6 +123,9 @@ struct LocalMappingStats {
   // Threaded mode: times local mapping released the map lock between steps because
   // tracking waited for it.
   int map_lock_yields = 0;
+  // Threaded mode: keyframes that waited in the queue while a loop correction, merge or
+  // global adjustment moved the map, placed again from their anchor when linked.
+  int keyframes_followed_corrections = 0;
 };
 
 class LocalMapping {

@@ -60,6 +60,16 @@ struct MapPoint {
   double FoundRatio() const { return static_cast<double>(found) / visible; }
 };
 
+// A pose measured relative to a keyframe, and in which state of the map it was measured:
+// tracking places each frame and each new keyframe so, on another thread than the loop
+// closing that may move the map meanwhile (PoseFromAnchor).
+struct Anchor {
+  KeyFramePtr keyframe;  // may still wait for local mapping (not in the map yet)
+  SE3 T_c_keyframe;
+  int map = 0;                    // keyframe->map when measured: a merge since changes units
+  std::uint64_t corrections = 0;  // Map::corrections() when measured
+};
+
 struct KeyFrame {
   KeyFrameId id = 0;
   std::uint64_t frame_id = 0;
@@ -83,6 +93,11 @@ struct KeyFrame {
   // Culled keyframes: the pose relative to the parent at culling time, so that frames
   // that referred to it can follow the parent's later corrections.
   SE3 T_c_parent;
+  // A keyframe made by tracking, until local mapping links it into the map: where the
+  // frame it was made of stood then. A loop correction, merge or global adjustment that
+  // moves the map before the link does not see it (it is not in the map yet); linking
+  // places it again from this anchor (LocalMapping), so it follows them.
+  std::optional<Anchor> anchor;
 
   Eigen::Vector3d Centre() const { return T_cw.Inverse().translation(); }
   int TrackedPoints(int min_observations) const;
@@ -104,6 +119,16 @@ std::optional<PointProjection> ProjectPoint(const PinholeCamera& camera, const I
                                             bool check_scale);
 
 class Map;
+
+// Where a pose measured relative to an anchor stands now: the anchor's keyframe as the map
+// now holds it (a keyframe not yet linked through its own anchor, a culled one through
+// its parent), the relative translation in the units of that keyframe's map now (times
+// the scale of every merge of the anchor's map since). None when the keyframe is gone.
+struct AnchoredPose {
+  SE3 T_cw;
+  int map = 0;  // the map the pose is in now
+};
+std::optional<AnchoredPose> PoseFromAnchor(const Map& map, const Anchor& anchor);
 
 // The pose now of a frame placed relative to a keyframe (T_c_reference), following a
 // culled keyframe to its parent with the relative pose kept at culling (ORB-SLAM2's way),
@@ -148,6 +173,9 @@ class Map {
   // is in the old units.
   int merges() const { return merges_; }
   double last_merge_scale() const { return last_merge_scale_; }
+  // Distances measured in map `from` times this are in map `to`'s units: the product of the
+  // scales of the merges that took from into to (1 when from is to or never went into it).
+  double ScaleInto(int from, int to) const;
 
   std::mutex& mutex() const { return mutex_; }
   // Changing the map over several steps (local mapping's work on a keyframe, a loop
@@ -225,7 +253,8 @@ class Map {
   int map_count_ = 1;
   int merges_ = 0;
   double last_merge_scale_ = 1.0;
-  std::map<int, KeyFrameId> first_keyframes_;  // per map
+  std::map<int, std::pair<int, double>> merged_into_;  // merged map -> (into, scale)
+  std::map<int, KeyFrameId> first_keyframes_;          // per map
   std::map<KeyFrameId, KeyFramePtr> keyframes_;
   std::map<MapPointId, MapPointPtr> points_;
 };

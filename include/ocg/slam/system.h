@@ -115,6 +115,13 @@ class System {
   // Finishes local mapping (threaded mode) and stops its thread. Idempotent; rethrows a
   // failure of the local mapping thread.
   void Shutdown();
+  // Whether local mapping and loop closing (its global adjustment included) have nothing
+  // queued nor running (threaded mode; always true in sequential mode).
+  bool MappingIdle() const;
+  // Tests: called by TrackImage on the caller's thread after tracking has placed the frame
+  // and before the frame is recorded (in threaded mode the mapping threads may move the
+  // map in between; a hook that waits for them puts every correction exactly there).
+  void SetAfterTrackingHook(std::function<void()> hook) { after_tracking_ = std::move(hook); }
 
   // Camera-to-world poses (TUM convention) of the keyframes of the main map (the map
   // with the most tracked frames; the current one on a tie or with a single map).
@@ -213,6 +220,7 @@ class System {
   std::vector<int> FrameMapsLocked() const;
   bool shut_down_ = false;
   bool map_loaded_ = false;
+  std::function<void()> after_tracking_;
 };
 
 }  // namespace ocg

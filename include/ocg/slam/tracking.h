@@ -143,7 +143,8 @@ struct TrackingResult {
   // after are in different frames).
   bool switched_map = false;
   // Set by System: a merge moved the current map into another map's frame during this
-  // frame (in threaded mode: since the last frame); poses before are in the old frame.
+  // frame (in threaded mode: since the last frame was recorded); this frame's pose and
+  // points are in the merged frame, poses before are in the old frame.
   bool merged = false;
   int inliers = 0;
   // Time spent waiting for the map lock while tracking this frame [s]: in threaded mode,
@@ -192,6 +193,13 @@ class Tracking {
   const ExtractedFeatures* LastFrameFeatures() const {
     return last_frame_ ? &last_frame_->features : nullptr;
   }
+  // The last frame tracked, placed as the map now stands (call with Map::mutex() held): its
+  // tracked pose, or, when the loop closing thread moved the map since Track() placed it,
+  // where its keyframe took it (through a merge: into the other map's frame). None before
+  // a frame was tracked or when its keyframe is gone.
+  std::optional<SE3> LastFramePoseNow() const;
+  // Whether the map was moved since the last frame was placed (Map::mutex() held).
+  bool MapMovedSinceLastFrame() const;
 
  private:
   bool Initialize(Frame& frame);
@@ -213,6 +221,10 @@ class Tracking {
   // map since the last frame was placed: the last frame moves with its keyframe, or the
   // motion model would predict from where the map no longer is. Under the map lock.
   void ReanchorLastFrame();
+  // The same for the frame being tracked (anchored), at each step that uses its pose with
+  // the map under a lock taken since it was placed (a new keyframe, the points it reports):
+  // in threaded mode the loop closing thread may have moved the map in between.
+  void FollowCorrections(Frame& frame);
 
   PinholeCamera camera_;
   double fps_;
@@ -236,10 +248,10 @@ class Tracking {
   std::unique_ptr<Frame> last_frame_;
   std::optional<SE3> velocity_;  // T_current_last
   KeyFramePtr reference_;
-  KeyFrameId anchor_keyframe_ = 0;  // the last frame's, with its pose relative to it
-  SE3 T_last_anchor_;
-  std::uint64_t anchored_corrections_ = 0;  // Map::corrections() when it was placed
-  int anchored_merges_ = 0;                 // Map::merges() then
+  // The last frame's keyframe, its pose relative to it and Map::corrections() when it was
+  // placed.
+  ocg::Anchor anchor_;
+  int anchored_merges_ = 0;  // Map::merges() then
   std::uint64_t last_keyframe_frame_id_ = 0;
   std::uint64_t last_relocalization_frame_id_ = 0;
   int frames_lost_ = 0;  // in a row, in this map
