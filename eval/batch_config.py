@@ -20,8 +20,11 @@ EXECUTIONS = ("sequential", "threaded")
 NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
 TOP_KEYS = {"out", "tools", "sequences", "modes", "variants", "executions", "repeats",
             "realtime", "max_dt"}
-GENERATED_KEYS = {"name", "preset", "seed", "frames", "size", "detector", "snapshots", "set"}
+GENERATED_KEYS = {"name", "preset", "seed", "seeds", "frames", "size", "detector", "look",
+                  "images", "snapshots", "set"}
 DETECTORS = ("independent", "realistic")
+LOOKS = ("procedural", "realistic")
+POSES = ("slam", "groundtruth")
 USER_KEYS = {"name", "path", "format", "settings", "groundtruth", "detections", "detect",
              "objects_gt", "max_frames", "snapshots", "set"}
 DETECT_KEYS = {"score", "model", "tile"}
@@ -192,8 +195,43 @@ def _check_settings(source, tools, sequences, variants):
                     "" if base is None else " (over %s's settings)" % sequence["name"]))
 
 
-def load(config_path, script_dir, out_override=None):
-    """Returns the resolved batch (a dict) or raises ConfigError naming file and key."""
+def parse_seeds(text):
+    """'1,11-14' -> [1, 11, 12, 13, 14] (ocg_batch --seeds)."""
+    seeds = []
+    for part in str(text).split(","):
+        low, _, high = part.strip().partition("-")
+        if not low.isdigit() or (high and not high.isdigit()) or int(high or low) < int(low):
+            raise ConfigError("--seeds: expected seeds and ranges such as 1,11-14, got %r" % text)
+        seeds += list(range(int(low), int(high or low) + 1))
+    return seeds
+
+
+def _seed_list(source, key, entry, seeds_override):
+    """The seeds of a generated sequence: seed: (default 1) or seeds: [...], or --seeds."""
+    if "seed" in entry and "seeds" in entry:
+        _fail(source, key + ".seeds", "give either seed: or seeds:, not both")
+    if "seeds" in entry:
+        seeds = entry["seeds"]
+        if not isinstance(seeds, list) or not seeds:
+            _fail(source, key + ".seeds", "expected a non-empty list of seeds, e.g. [1, 11, 12]")
+        if "name" in entry:
+            _fail(source, key + ".name", "a sequence of several seeds is named <preset>_s<seed>")
+        for index, seed in enumerate(seeds):
+            _whole(source, "%s.seeds[%d]" % (key, index), seed, 0)
+        if len(set(seeds)) != len(seeds):
+            _fail(source, key + ".seeds", "a seed is listed twice")
+    else:
+        seeds = [_whole(source, key + ".seed", entry.get("seed", 1), 0)]
+    if seeds_override is not None:
+        if "name" in entry and len(seeds_override) > 1:
+            _fail(source, key + ".name", "--seeds gives several seeds: drop the name")
+        seeds = seeds_override
+    return seeds
+
+
+def load(config_path, script_dir, out_override=None, seeds_override=None):
+    """Returns the resolved batch (a dict) or raises ConfigError naming file and key.
+    seeds_override: the seeds of every generated sequence instead of the file's."""
     source = config_path
     try:
         with open(config_path) as handle:
@@ -241,7 +279,7 @@ def load(config_path, script_dir, out_override=None):
             if entry["preset"] not in presets:
                 _fail(source, key + ".preset", "unknown preset %r (known: %s)" % (
                     entry["preset"], ", ".join(presets)))
-            seed = _whole(source, key + ".seed", entry.get("seed", 1), 0)
+            seeds = _seed_list(source, key, entry, seeds_override)
             frames = _whole(source, key + ".frames", entry.get("frames", 0), 0)
             size = entry.get("size", "")
             if size and not re.match(r"^\d+x\d+$", str(size)):
@@ -250,12 +288,21 @@ def load(config_path, script_dir, out_override=None):
             if detector and detector not in DETECTORS:
                 _fail(source, key + ".detector", "expected %s, got %r" % (
                     " or ".join(DETECTORS), detector))
-            sequence = {"name": entry.get("name", "%s_s%d" % (entry["preset"], seed)),
-                        "generated": True, "preset": entry["preset"], "seed": seed,
-                        "frames": frames, "size": str(size), "detector": detector,
-                        "format": "tum", "max_frames": 0, "detect": None,
-                        "snapshots": _snapshots(source, key + ".snapshots",
-                                                entry.get("snapshots", False))}
+            look = entry.get("look", "")  # "": the preset's own
+            if look and look not in LOOKS:
+                _fail(source, key + ".look", "expected %s, got %r" % (" or ".join(LOOKS), look))
+            images = entry.get("images", True)
+            if not isinstance(images, bool):
+                _fail(source, key + ".images", "expected true or false (false: detections "
+                      "and ground truth only, for ground-truth poses)")
+            generated = [{"name": entry.get("name", "%s_s%d" % (entry["preset"], seed)),
+                          "generated": True, "preset": entry["preset"], "seed": seed,
+                          "frames": frames, "size": str(size), "detector": detector,
+                          "look": look, "images": images,
+                          "format": "tum", "max_frames": 0, "detect": None,
+                          "snapshots": _snapshots(source, key + ".snapshots",
+                                                  entry.get("snapshots", False))}
+                         for seed in seeds]
         else:
             extra = sorted(set(entry) - USER_KEYS)
             if extra:
@@ -292,22 +339,24 @@ def load(config_path, script_dir, out_override=None):
                       "detect a EuRoC folder with ocg_detect --images FOLDER and give "
                       "detections:")
             sequence["first_image"] = _first_image(source, key, path, form)
+            generated = [sequence]
         # Settings keys of this sequence alone, on top of its settings file (the variants'
         # keys go on top of them): what a real sequence's camera or scene needs.
         own = entry.get("set", {})
         if not isinstance(own, dict):
             _fail(source, key + ".set", "expected {settings key: value}")
-        sequence["set"] = flatten(own, "", {})
-        for setting, value in sequence["set"].items():
-            if setting == "System.sequential":
-                _fail(source, "%s.set.%s" % (key, setting), "set by executions: (sequential, "
-                      "threaded)")
-        if not NAME.match(str(sequence["name"])):
-            _fail(source, key + ".name", "use letters, digits, '_', '-' and '.' only")
-        if sequence["name"] in names:
-            _fail(source, key + ".name", "%r is used twice" % sequence["name"])
-        names.add(sequence["name"])
-        sequences.append(sequence)
+        for sequence in generated:
+            sequence["set"] = flatten(own, "", {})
+            for setting, value in sequence["set"].items():
+                if setting == "System.sequential":
+                    _fail(source, "%s.set.%s" % (key, setting), "set by executions: "
+                          "(sequential, threaded)")
+            if not NAME.match(str(sequence["name"])):
+                _fail(source, key + ".name", "use letters, digits, '_', '-' and '.' only")
+            if sequence["name"] in names:
+                _fail(source, key + ".name", "%r is used twice" % sequence["name"])
+            names.add(sequence["name"])
+            sequences.append(sequence)
 
     modes = raw.get("modes", ["paper"])
     if not isinstance(modes, list) or not modes:
@@ -322,6 +371,18 @@ def load(config_path, script_dir, out_override=None):
     variants = raw.get("variants", {"default": {}})
     if not isinstance(variants, dict) or not variants:
         _fail(source, "variants", "expected a mapping: variant name -> {settings key: value}")
+    poses = {}  # variant -> slam (ocg_slam run) or groundtruth (ocg_slam objects)
+    for name, overrides in variants.items():
+        if isinstance(overrides, dict) and "poses" in overrides:
+            overrides = dict(overrides)
+            poses[name] = overrides.pop("poses")
+            variants[name] = overrides
+            if poses[name] not in POSES:
+                _fail(source, "variants.%s.poses" % name, "expected slam (SLAM's poses, from "
+                      "the images) or groundtruth (the sequence's ground-truth trajectory, "
+                      "no images), got %r" % (poses[name],))
+        else:
+            poses[name] = "slam"
     for name, overrides in variants.items():
         if not NAME.match(str(name)):
             _fail(source, "variants.%s" % name, "use letters, digits, '_', '-' and '.' only")
@@ -364,21 +425,31 @@ def load(config_path, script_dir, out_override=None):
         _fail(source, "out", "required: the folder of the runs, tables and plots")
 
     _check_settings(source, tools, sequences, variants)
+    if any(p == "slam" for p in poses.values()):
+        for index, sequence in enumerate(sequences):
+            if sequence["generated"] and not sequence["images"]:
+                _fail(source, "sequences[%d].images" % index, "false, but a variant runs SLAM "
+                      "on the images (give every variant poses: groundtruth, or images: true)")
 
     runs = []
     for sequence in sequences:
         has_objects = sequence["generated"] or sequence["detections"] is not None or \
             sequence["detect"] is not None
         for variant in variants:
+            if poses[variant] == "groundtruth" and not (
+                    has_objects and (sequence["generated"] or sequence["groundtruth"])):
+                continue  # nothing to map objects from: no detections or no trajectory
             for mode in (modes if has_objects else ["slam"]):
                 for execution in executions:
+                    if poses[variant] == "groundtruth" and execution != "sequential":
+                        continue  # ocg_slam objects has no threads
                     count = repeats if execution == "threaded" else 1
                     for repeat in range(1, count + 1):
                         runs.append("%s/%s/%s/%s-%d" % (sequence["name"], variant, mode,
                                                           execution, repeat))
     return {"config": os.path.abspath(config_path), "out": out, "tools": tools,
             "sequences": sequences, "modes": modes, "variants": variants,
-            "executions": executions, "repeats": repeats, "realtime": realtime,
+            "poses": poses, "executions": executions, "repeats": repeats, "realtime": realtime,
             "max_dt": float(max_dt), "runs": runs}
 
 

@@ -5,7 +5,9 @@ system, and plots the ATE per sequence and system.
 Usage: collect.py OUT/batch.json
 Writes OUT/table_I.md, table_I.csv, table_II.md, table_II.csv, objects.md (what each
 system's object map holds, for every sequence with detections, ground truth or not),
-timing.md (tracking time: the one figure that depends on the machine), failed_runs.csv,
+timing.md (tracking time: the one figure that depends on the machine), seeds.md and
+seeds.csv (per preset, over the seeds of its generated sequences: median and worst Acc,
+moves reported right), failed_runs.csv,
 plots/ate.png. The Markdown layout of Table I is tools/object_table.py's,
 with the moves reported right (a `moved` entry in changes.json towards the right object)
 after it.
@@ -281,6 +283,51 @@ def object_maps(batch, systems):
     write_table(batch["out"], "objects.md", lines)
 
 
+def seeds_summary(batch, systems):
+    """OUT/seeds.md and seeds.csv: per preset and system (variant, mode, execution), over the
+    seeds of the generated sequences: the median and the worst Acc (with its seed), and the
+    moves reported right, summed over the seeds and as the median of each seed's fraction.
+    A seed's figure is the median over its runs. Returns the Markdown lines (empty when no
+    generated sequence has an object score)."""
+    generated = {s["name"]: s for s in batch["sequences"] if s["generated"] and "preset" in s}
+    groups = {}  # (preset, variant, mode, execution) -> [(seed, acc, moves_right, gt_moves)]
+    for key, scores in systems.items():
+        sequence = generated.get(key[0])
+        measured = [s["objects"] for s in scores if s.get("objects")]
+        if sequence is None or not measured:
+            continue
+        groups.setdefault((sequence["preset"],) + key[1:], []).append(
+            (sequence["seed"], statistics.median(m["acc"] for m in measured),
+             statistics.median(m.get("moves_right", 0) for m in measured),
+             measured[0].get("gt_moves", 0)))
+    if not groups:
+        return []
+    lines = table_header(["preset", "variant", "mode", "execution"],
+                         ["seeds", "Acc median", "Acc worst (seed)", "moves right",
+                          "moves right, median fraction"])
+    rows = []
+    for key, seeds in groups.items():
+        accs = [acc for _, acc, _, _ in seeds]
+        worst = min(seeds, key=lambda item: (item[1], item[0]))
+        right, moves = sum(item[2] for item in seeds), sum(item[3] for item in seeds)
+        fractions = [item[2] / item[3] for item in seeds if item[3]]
+        fraction = statistics.median(fractions) if fractions else None
+        lines.append("| " + " | ".join(list(key) + [
+            ",".join(str(item[0]) for item in seeds), "%.3f" % statistics.median(accs),
+            "%.3f (%d)" % (worst[1], worst[0]),
+            "%g of %d" % (right, moves) if moves else "-",
+            "%.0f %%" % (100 * fraction) if fraction is not None else "-"]) + " |")
+        rows.append(list(key) + [" ".join(str(item[0]) for item in seeds),
+                                 statistics.median(accs), worst[1], worst[0], right, moves,
+                                 "" if fraction is None else fraction])
+    write_csv(os.path.join(batch["out"], "seeds.csv"),
+              ["preset", "variant", "mode", "execution", "seeds", "acc_median", "acc_worst",
+               "acc_worst_seed", "moves_right", "gt_moves", "moves_right_fraction_median"],
+              rows)
+    write_table(batch["out"], "seeds.md", lines)
+    return lines
+
+
 def plot_ate(path, series):
     """One panel per sequence: every run's ATE per system, the median as a bar."""
     import matplotlib
@@ -319,6 +366,7 @@ def main():
     series = table_two(batch, systems, failures)
     object_maps(batch, systems)
     timing_table(batch, systems)
+    seeds_summary(batch, systems)
     write_failures(batch, failures)
     plot_ate(os.path.join(batch["out"], "plots", "ate.png"), series)
     if failures:

@@ -205,6 +205,14 @@ void SceneRenderer::AppendPose(int object_id, const PlacedPose& pose) {
   object_items_.at(object_id).push_back(MakeObjectItem(*object, pose));
 }
 
+void SceneRenderer::PopPose(int object_id) {
+  SceneObject* object = scene_.FindObject(object_id);
+  if (object == nullptr || object->history.size() < 2)
+    throw std::invalid_argument("no scheduled pose of object " + std::to_string(object_id));
+  object->history.pop_back();
+  object_items_.at(object_id).pop_back();
+}
+
 std::vector<const DrawItem*> SceneRenderer::ItemsAt(double t, int skip_object, bool mark_walkers) {
   std::vector<const DrawItem*> items;
   for (const DrawItem& item : furniture_) items.push_back(&item);
@@ -331,36 +339,91 @@ bool ChangeIsUnseen(SceneRenderer& renderer, int object_id, const PlacedPose& be
   return true;
 }
 
+// Every change ScheduleMoves added (history entries from first_added[id] on) at a time
+// from `from` on still unseen, with every change now in place?
+bool ScheduledChangesUnseen(const Scene& scene, SceneRenderer& renderer,
+                            const std::map<int, std::size_t>& first_added, double from) {
+  for (const SceneObject& object : scene.objects) {
+    for (std::size_t i = std::max<std::size_t>(1, first_added.at(object.id));
+         i < object.history.size(); ++i) {
+      if (object.history[i].time >= from &&
+          !ChangeIsUnseen(renderer, object.id, object.history[i - 1], object.history[i],
+                          object.history[i].time)) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Schedules one change at the first unseen moment from its earliest time (careful: a moment
+// at which every change already scheduled after it stays unseen too); false when none is.
+bool ScheduleMove(Scene& scene, const PlannedMove& move, SceneRenderer& renderer,
+                  const std::map<int, std::size_t>* careful) {
+  SceneObject* object = scene.FindObject(move.object_id);
+  if (object == nullptr)
+    throw std::runtime_error("planned move of unknown object " + std::to_string(move.object_id));
+  const PlacedPose before = object->history.back();
+  PlacedPose after = before;
+  after.present = !move.removal;
+  after.centre = move.new_centre;
+  after.yaw = move.new_yaw;
+  // Every third frame is a candidate; the check itself covers the frames around it.
+  const int first = static_cast<int>(std::ceil(move.earliest * scene.fps));
+  for (int frame = first; frame < scene.FrameCount() - 1; frame += 3) {
+    const double t = (frame + 0.5) / scene.fps;  // between two frames
+    if (t <= before.time || !ChangeIsUnseen(renderer, object->id, before, after, t)) continue;
+    after.time = t;
+    object->history.push_back(after);
+    renderer.AppendPose(object->id, after);
+    // The change shows in the checks of changes up to a frame and a half before it.
+    if (careful == nullptr ||
+        ScheduledChangesUnseen(scene, renderer, *careful, t - 1.5 / scene.fps)) {
+      return true;
+    }
+    object->history.pop_back();
+    renderer.PopPose(object->id);
+  }
+  return false;
+}
+
 }  // namespace
 
 void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRenderer& renderer) {
+  std::map<int, std::size_t> first_added;  // per object, its history's size before
+  for (const SceneObject& object : scene.objects) first_added[object.id] = object.history.size();
+  // The first pass, as scenes have always been made: each change at its first unseen
+  // moment given the changes listed before it.
+  bool scheduled = true;
   for (const PlannedMove& move : moves) {
-    SceneObject* object = scene.FindObject(move.object_id);
-    if (object == nullptr)
-      throw std::runtime_error("planned move of unknown object " + std::to_string(move.object_id));
-    const PlacedPose before = object->history.back();
-    PlacedPose after = before;
-    after.present = !move.removal;
-    after.centre = move.new_centre;
-    after.yaw = move.new_yaw;
-    bool scheduled = false;
-    // Every third frame is a candidate; the check itself covers the frames around it.
-    const int first = static_cast<int>(std::ceil(move.earliest * scene.fps));
-    for (int frame = first; frame < scene.FrameCount() - 1; frame += 3) {
-      const double t = (frame + 0.5) / scene.fps;  // between two frames
-      if (t <= before.time) continue;
-      if (ChangeIsUnseen(renderer, object->id, before, after, t)) {
-        after.time = t;
-        object->history.push_back(after);
-        renderer.AppendPose(object->id, after);
-        scheduled = true;
-        break;
-      }
+    scheduled = ScheduleMove(scene, move, renderer, nullptr);
+    if (!scheduled) break;
+  }
+  if (scheduled && ScheduledChangesUnseen(scene, renderer, first_added, 0.0)) return;
+  // It failed: start again with the careful pass.
+  for (SceneObject& object : scene.objects) {
+    while (object.history.size() > first_added.at(object.id)) {
+      object.history.pop_back();
+      renderer.PopPose(object.id);
     }
-    if (!scheduled) {
-      throw std::runtime_error("no time after " + std::to_string(move.earliest) +
-                               " s at which object " + std::to_string(move.object_id) +
-                               " can change unseen");
+  }
+  for (const PlannedMove& move : moves) {
+    bool done = ScheduleMove(scene, move, renderer, &first_added);
+    for (const PlannedMove& alternative : move.alternatives) {
+      if (done) break;
+      const SceneObject* object = scene.FindObject(alternative.object_id);
+      const bool changed =
+          object == nullptr || object->history.size() > first_added.at(alternative.object_id);
+      if (!changed) done = ScheduleMove(scene, alternative, renderer, &first_added);
+    }
+    if (!done) {
+      throw std::runtime_error(
+          "no time after " + std::to_string(move.earliest) + " s at which object " +
+          std::to_string(move.object_id) + " can change unseen" +
+          (move.alternatives.empty()
+               ? std::string()
+               : ", nor any of its " + std::to_string(move.alternatives.size()) + " alternatives") +
+          " (every change scheduled after it staying unseen)");
     }
   }
 }

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
+#include <set>
 #include <stdexcept>
 
 namespace ocg::sim {
@@ -103,6 +105,11 @@ class Placer {
       if (IsFree(centre, half, ignore_id)) return centre;
     }
     return std::nullopt;
+  }
+
+  // Whether an object of this kind fits at centre (every pose of every other object counts).
+  bool Fits(const ObjectKind& kind, const Eigen::Vector3d& centre, int ignore_id) const {
+    return IsFree(centre, Footprint(kind.size), ignore_id);
   }
 
   // Adds an object on one half of the table; absent_at_start: it appears later (an
@@ -414,6 +421,97 @@ std::vector<Walker> PlanWalkers(const Scene& scene, std::uint64_t seed, double f
   return walkers;
 }
 
+namespace {
+
+// Stand-ins for the moves and removals, for ScheduleMoves when a change has no moment at
+// which it goes unseen: a move across the partition on a round path (its own half was
+// full) shows one of its two places at every moment. Per move, in order: the same object to
+// another place on its own half (the partition hides both places from the same stretch of
+// path); objects of the new place's half that change in no plan, into that place; such
+// objects to a free place on their own half. Per removal: such objects removed. Up to four
+// per change. planning holds every planned place, and each stand-in's place is reserved in
+// it as it is drawn; the generator is their own, so the planned changes stay as drawn.
+void AddAlternatives(Scene& planning, std::uint64_t seed, std::vector<PlannedMove>& moves) {
+  constexpr std::size_t kMaxAlternatives = 4;
+  std::mt19937_64 rng(seed * 31 + 13);
+  Placer placer(planning, rng);
+  std::set<int> taken;  // objects that change in a plan or a stand-in already
+  for (const PlannedMove& move : moves) taken.insert(move.object_id);
+  auto free_on_table = [&](const SceneObject& object) {
+    const double on_table = kTableTop + object.size.z() / 2;
+    return taken.count(object.id) == 0 && object.history[0].present &&
+           std::abs(object.history[0].centre.z() - on_table) < 1e-9;
+  };
+  auto reserve = [](SceneObject& object, const PlannedMove& change) {
+    PlacedPose marker = object.history[0];  // reserve the place for later choices
+    marker.time = 1.0;
+    marker.present = !change.removal;
+    marker.centre = change.new_centre;
+    object.history.push_back(marker);
+  };
+  // object to a free place on its own half (or removed)
+  auto elsewhere = [&](SceneObject& object, bool removal) -> std::optional<PlannedMove> {
+    PlannedMove alternative;
+    alternative.object_id = object.id;
+    alternative.removal = removal;
+    if (!removal) {
+      const ObjectKind kind{object.class_id, object.shape, object.size};
+      const int side = object.history[0].centre.y() < 0 ? -1 : 1;
+      const auto place = placer.FreePlace(kind, side, object.id, &object.history[0].centre);
+      if (!place) return std::nullopt;
+      alternative.new_centre = *place;
+      alternative.new_yaw = std::uniform_real_distribution<double>(-kMaxYaw, kMaxYaw)(rng);
+    }
+    reserve(object, alternative);
+    return alternative;
+  };
+  for (PlannedMove& move : moves) {
+    SceneObject* object = planning.FindObject(move.object_id);
+    if (object == nullptr || !object->history[0].present) continue;  // an addition
+    std::vector<PlannedMove>& alternatives = move.alternatives;
+    if (!move.removal) {
+      if (auto alternative = elsewhere(*object, false)) alternatives.push_back(*alternative);
+      // Into the planned place, which the planned object then leaves free.
+      const std::vector<PlacedPose> reserved = object->history;
+      object->history.resize(1);
+      for (SceneObject& other : planning.objects) {
+        if (alternatives.size() >= kMaxAlternatives - 1) break;
+        if (!free_on_table(other) ||
+            (other.history[0].centre.y() < 0) != (move.new_centre.y() < 0)) {
+          continue;
+        }
+        const ObjectKind kind{other.class_id, other.shape, other.size};
+        Eigen::Vector3d centre = move.new_centre;
+        centre.z() = kTableTop + other.size.z() / 2;
+        const double min_move = std::max(0.25, other.size.maxCoeff());
+        if ((centre - other.history[0].centre).head<2>().norm() < min_move ||
+            !placer.Fits(kind, centre, other.id)) {
+          continue;
+        }
+        PlannedMove alternative;
+        alternative.object_id = other.id;
+        alternative.new_centre = centre;
+        alternative.new_yaw = move.new_yaw;
+        reserve(other, alternative);
+        alternatives.push_back(alternative);
+        taken.insert(other.id);
+      }
+      object->history = reserved;
+    }
+    for (SceneObject& other : planning.objects) {
+      if (alternatives.size() >= kMaxAlternatives) break;
+      if (!free_on_table(other)) continue;
+      if (auto alternative = elsewhere(other, move.removal)) {
+        alternatives.push_back(*alternative);
+        taken.insert(other.id);
+      }
+    }
+    for (PlannedMove& alternative : alternatives) alternative.earliest = move.earliest;
+  }
+}
+
+}  // namespace
+
 std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene,
                                      std::uint64_t seed) {
   const PresetSpec* spec = LookupPreset(name);
@@ -464,6 +562,7 @@ std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene
     move.earliest = LapDuration(scene.path) * (0.8 + 0.8 * index++ / std::max(1, total));
     moves.push_back(move);
   }
+  AddAlternatives(planning, seed, moves);
   return moves;
 }
 

@@ -161,3 +161,110 @@ def test_a_sequences_own_settings_keys_are_read_strictly_before_any_job(source_d
                      "{preset: smoke, set: {Objects.min_confidenc: 0.3}}")
     assert "sequences[0].set:" in stderr, stderr
     assert "did you mean 'Objects.min_confidence'?" in stderr, stderr
+
+
+def test_seeds_summary_gives_median_and_worst_acc_and_moves_right_per_preset(tmp_path):
+    """seeds.md: per preset and system, over the generated sequences of several seeds, the
+    median and the worst Acc (with its seed) and the moves right, summed and as the median of
+    each seed's fraction; a seed's figure is the median over its runs; a preset without moves
+    has no moves figure."""
+    out = str(tmp_path / "out")
+    sequences, runs, scores = [], [], {}
+    # (preset, seed, acc, moves_right, gt_moves) per gt-poses run
+    cases = [("round_2", 1, 0.95, 9, 10), ("round_2", 11, 0.85, 4, 9), ("round_2", 12, 0.90, 8, 8),
+             ("desk_static", 1, 1.0, 0, 0), ("desk_static", 11, 0.97, 0, 0)]
+    for preset, seed, acc, right, moves in cases:
+        name = "%s_s%d" % (preset, seed)
+        sequences.append({"name": name, "generated": True, "preset": preset, "seed": seed})
+        for variant, shift in (("gt_poses", 0.0), ("slam_poses", -0.1)):
+            run = "%s/%s/improved/sequential-1" % (name, variant)
+            runs.append(run)
+            score = objects_score(right)
+            score.update(acc=round(acc + shift, 3), gt_moves=moves)
+            scores[run] = {"frames": 10, "frames_tracked": 10, "keyframes": 2, "loops": 0,
+                           "tracking_ms": 1.0, "ate": {"rmse": 0.001, "scale": 1.0},
+                           "objects": score}
+    # A second repeat of one seed: the seed counts once, with its runs' median.
+    runs.append("round_2_s12/gt_poses/improved/threaded-1")
+    runs.append("round_2_s12/gt_poses/improved/threaded-2")
+    for index, acc in ((1, 0.7), (2, 0.8)):
+        score = objects_score(6)
+        score.update(acc=acc, gt_moves=8)
+        scores["round_2_s12/gt_poses/improved/threaded-%d" % index] = {"objects": score}
+    write(os.path.join(out, "batch.json"), {"out": out, "runs": runs, "sequences": sequences})
+    for run, score in scores.items():
+        write(os.path.join(out, "scores", run + ".json"), score)
+    done = subprocess.run([sys.executable, COLLECT, os.path.join(out, "batch.json")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    summary = open(os.path.join(out, "seeds.md")).read()
+    assert "| preset | variant | mode | execution | seeds | Acc median | Acc worst (seed) |" \
+        in summary
+    # Fractions 0.9, 0.444, 1.0: median 90 %; moves 21 of 27.
+    assert "| round_2 | gt_poses | improved | sequential | 1,11,12 | 0.900 | 0.850 (11) | " \
+        "21 of 27 | 90 % |" in summary, summary
+    assert "| round_2 | slam_poses | improved | sequential | 1,11,12 | 0.800 | 0.750 (11) |" \
+        in summary, summary
+    assert "| round_2 | gt_poses | improved | threaded | 12 | 0.750 | 0.750 (12) | 6 of 8 | " \
+        "75 % |" in summary, summary
+    assert "| desk_static | gt_poses | improved | sequential | 1,11 | 0.985 | 0.970 (11) | - | - |" \
+        in summary, summary
+    assert summary in done.stdout  # printed too
+    rows = open(os.path.join(out, "seeds.csv")).read().splitlines()
+    assert rows[0].startswith("preset,variant,mode,execution,seeds,acc_median,acc_worst,")
+    assert len(rows) == 1 + 5
+    # Sequences of one seed each, without preset (a hand-made batch): no summary.
+    plain = make_batch(tmp_path / "plain")
+    subprocess.run([sys.executable, COLLECT, os.path.join(plain, "batch.json")], check=True,
+                   capture_output=True)
+    assert not os.path.exists(os.path.join(plain, "seeds.md"))
+
+
+def test_seeds_look_images_and_poses_keys_resolve_and_are_checked(source_dir, tools, tmp_path):
+    """seeds: makes one sequence per seed (--seeds replaces them), look: and images: reach
+    ocg_synth, a variant's poses: groundtruth runs the object layer on the ground truth
+    (sequential only), and wrong values stop the batch naming the key."""
+    sys.path.insert(0, os.path.join(source_dir, "eval"))
+    import batch_config
+    config = tmp_path / "b.yaml"
+
+    def load(text, seeds=None):
+        config.write_text("tools: %s\nout: out\n%s" % (tools, text))
+        return batch_config.load(str(config), tools, None, seeds)
+
+    batch = load("sequences:\n  - {preset: smoke, seeds: [1, 12], look: realistic}\n"
+                 "modes: [improved]\nexecutions: [sequential, threaded]\nrepeats: 2\n"
+                 "variants:\n  gt: {poses: groundtruth}\n  slam: {Objects.min_confidence: 0.3}\n")
+    assert [s["name"] for s in batch["sequences"]] == ["smoke_s1", "smoke_s12"]
+    assert batch["sequences"][1]["seed"] == 12 and batch["sequences"][1]["look"] == "realistic"
+    assert batch["poses"] == {"gt": "groundtruth", "slam": "slam"}
+    assert batch["variants"]["gt"] == {}
+    assert [r for r in batch["runs"] if r.startswith("smoke_s1/")] == [
+        "smoke_s1/gt/improved/sequential-1", "smoke_s1/slam/improved/sequential-1",
+        "smoke_s1/slam/improved/threaded-1", "smoke_s1/slam/improved/threaded-2"]
+    batch = load("sequences:\n  - {preset: smoke, seeds: [1, 12]}\n  - {preset: round_2}\n",
+                 seeds=batch_config.parse_seeds("21-22,30"))
+    assert [s["name"] for s in batch["sequences"]] == [
+        "smoke_s21", "smoke_s22", "smoke_s30", "round_2_s21", "round_2_s22", "round_2_s30"]
+    gt_only = load("sequences:\n  - {preset: smoke, images: false}\n"
+                   "variants: {gt: {poses: groundtruth}}\n")
+    assert gt_only["sequences"][0]["images"] is False
+    for text, message in [
+            ("sequences:\n  - {preset: smoke, seed: 1, seeds: [2]}\n",
+             "sequences[0].seeds: give either seed: or seeds:"),
+            ("sequences:\n  - {preset: smoke, seeds: [2, 2]}\n",
+             "sequences[0].seeds: a seed is listed twice"),
+            ("sequences:\n  - {preset: smoke, seeds: [1, 2], name: x}\n",
+             "sequences[0].name: a sequence of several seeds is named <preset>_s<seed>"),
+            ("sequences:\n  - {preset: smoke, look: shiny}\n",
+             "sequences[0].look: expected procedural or realistic, got 'shiny'"),
+            ("sequences:\n  - {preset: smoke, images: false}\n",
+             "sequences[0].images: false, but a variant runs SLAM on the images"),
+            ("sequences:\n  - {preset: smoke}\nvariants: {gt: {poses: gps}}\n",
+             "variants.gt.poses: expected slam"),
+    ]:
+        with pytest.raises(batch_config.ConfigError) as error:
+            load(text)
+        assert message in str(error.value), str(error.value)
+    with pytest.raises(batch_config.ConfigError):
+        batch_config.parse_seeds("5-3")

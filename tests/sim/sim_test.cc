@@ -252,6 +252,116 @@ TEST(Changes, ScheduledChangesHappenUnseenAndVisibleOnesAreRefused) {
   EXPECT_TRUE(fs::is_empty(dir)) << "a refused scene left files";
 }
 
+// A scene at 160 x 120 (intrinsics scaled), so that the scheduler's renders are cheap.
+void QuarterSize(Scene& scene) {
+  scene.camera.fx /= 4;
+  scene.camera.fy /= 4;
+  scene.camera.cx = (scene.camera.cx + 0.5) / 4 - 0.5;
+  scene.camera.cy = (scene.camera.cy + 0.5) / 4 - 0.5;
+  scene.camera.width = 160;
+  scene.camera.height = 120;
+}
+
+// smoke's room and camera path with two objects of our own, for the scheduler.
+Scene TwoObjectScene(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  Scene scene = MakePreset("smoke", 1);
+  QuarterSize(scene);
+  scene.objects.resize(2);
+  const Eigen::Vector3d sizes[] = {{0.085, 0.085, 0.10}, {0.40, 0.12, 0.30}};  // cup, a screen
+  const Eigen::Vector3d places[] = {a, b};
+  for (int i = 0; i < 2; ++i) {
+    SceneObject& object = scene.objects[static_cast<size_t>(i)];
+    object.id = i + 1;
+    object.shape = Shape::kBox;
+    object.size = sizes[i];
+    object.history.resize(1);
+    object.history[0] = PlacedPose{0.0, true, places[i], 0.0};
+    object.history[0].centre.z() = 0.75 + sizes[i].z() / 2;
+  }
+  return scene;
+}
+
+TEST(Changes, AMoveWithNoUnseenMomentGivesWayToItsAlternative) {
+  // round_2, seed 12: its fifth move takes object 10 across the partition (its own half
+  // was full). On the round path the partition hides one half at a time and the table's
+  // ends show both, so one of the two places is always in view. At 160 x 120 and 5 frames
+  // a second, to keep the renders cheap.
+  Scene scene = MakePreset("round_2", 12);
+  std::vector<PlannedMove> moves = PresetMoves("round_2", scene, 12);
+  QuarterSize(scene);
+  scene.fps = 5;
+  const auto crossing = std::find_if(moves.begin(), moves.end(),
+                                     [&](const PlannedMove& move) { return move.object_id == 10; });
+  ASSERT_NE(crossing, moves.end());
+  const Eigen::Vector3d from = scene.FindObject(10)->history[0].centre;
+  ASSERT_LT(from.y() * crossing->new_centre.y(), 0.0) << "not across the partition any more";
+  ASSERT_FALSE(crossing->alternatives.empty());
+  PlannedMove move = *crossing;
+  move.earliest = 0.0;
+  {
+    Scene plain = scene;
+    PlannedMove without = move;
+    without.alternatives.clear();
+    SceneRenderer renderer(plain);
+    EXPECT_THROW(ScheduleMoves(plain, {without}, renderer), std::runtime_error);
+  }
+  SceneRenderer renderer(scene);
+  ScheduleMoves(scene, {move}, renderer);
+  int changed = 0;
+  for (const SceneObject& object : scene.objects) {
+    if (object.history.size() == 1) continue;
+    ++changed;
+    EXPECT_NE(object.id == 10 ? object.history[1].centre : Eigen::Vector3d::Zero(),
+              crossing->new_centre);
+    const auto stand_in = std::find_if(
+        move.alternatives.begin(), move.alternatives.end(), [&](const PlannedMove& alternative) {
+          return alternative.object_id == object.id &&
+                 (alternative.removal || alternative.new_centre == object.history[1].centre);
+        });
+    EXPECT_NE(stand_in, move.alternatives.end()) << "object " << object.id;
+  }
+  EXPECT_EQ(changed, 1);
+  SceneRenderer check(scene);
+  EXPECT_NO_THROW(ValidateChanges(scene, check));
+}
+
+TEST(Changes, AChangeScheduledEarlierDoesNotRevealALaterOne) {
+  // The cup (1) stands on the near half right behind the screen (2), which hides it from the
+  // camera at the start of the second lap; the cup shifts then. The screen is removed,
+  // listed after the cup but free to go earlier: at the first moment the camera is away
+  // from both, in the first lap, which would leave the cup in view when it shifts.
+  Scene scene = TwoObjectScene({0.0, -0.35, 0}, {0.0, -0.52, 0});
+  const double lap = LapDuration(scene.path);
+  PlannedMove shift;
+  shift.object_id = 1;
+  shift.new_centre = {0.06, -0.35, 0.80};
+  shift.earliest = lap + 0.5;
+  PlannedMove removal;
+  removal.object_id = 2;
+  removal.removal = true;
+  {  // Each alone happens unseen, the cup while the screen stands.
+    Scene alone = scene;
+    SceneRenderer renderer(alone);
+    ScheduleMoves(alone, {shift}, renderer);
+    ASSERT_LT(alone.FindObject(1)->history[1].time, lap + 2.0);
+    Scene open = scene;
+    open.objects.pop_back();
+    SceneRenderer open_renderer(open);
+    EXPECT_GT(open_renderer.VisiblePixels(1, open.objects[0].history[0],
+                                          alone.FindObject(1)->history[1].time,
+                                          CameraPoseAt(open, alone.FindObject(1)->history[1].time)),
+              0)
+        << "the screen does not hide the cup";
+  }
+  SceneRenderer renderer(scene);
+  ScheduleMoves(scene, {shift, removal}, renderer);
+  const double shifted = scene.FindObject(1)->history.at(1).time;
+  const double removed = scene.FindObject(2)->history.at(1).time;
+  EXPECT_GT(removed, shifted) << "the removal would show the cup when it shifts";
+  SceneRenderer check(scene);
+  EXPECT_NO_THROW(ValidateChanges(scene, check));
+}
+
 TEST(Presets, FramesHaveManyWellSpreadFastCorners) {
   for (const std::string& name : PresetNames()) {
     const Scene scene = MakePreset(name, 1);

@@ -43,6 +43,8 @@ class SceneRenderer {
   // Appends a pose to an object's history (a change just scheduled), so later renders
   // and visibility checks see it.
   void AppendPose(int object_id, const PlacedPose& pose);
+  // Undoes the last AppendPose of an object (a change tried and given up).
+  void PopPose(int object_id);
   // The pixels that show a walker at time t from T_cw (CV_8UC1, 255 there), through the
   // output camera's lens; all 0 without walkers.
   cv::Mat WalkerMask(double t, const SE3& T_cw);
@@ -73,7 +75,13 @@ class SceneRenderer {
 // Turns planned moves into history entries, each at the first frame from its earliest
 // time at which neither the old nor the new place is visible (checked by rendering, one
 // frame before and after, with the changes scheduled before it in place). renderer must
-// have been made from scene. Throws std::runtime_error when no such time exists.
+// have been made from scene.
+// When that first pass fails (a move with no unseen moment, or a change scheduled earlier
+// in time than one before it that makes the earlier-listed one visible, e.g. by removing
+// its occluder), a careful pass starts again: a moment is taken only if every change
+// already scheduled after it stays unseen, and a move with no such moment gives way to its
+// alternatives (PlannedMove::alternatives) in order. Scenes the first pass makes are kept
+// byte for byte. Throws std::runtime_error when the careful pass fails too.
 void ScheduleMoves(Scene& scene, const std::vector<PlannedMove>& moves, SceneRenderer& renderer);
 
 // Refuses (std::invalid_argument naming object and time) a scene whose changes happen

@@ -25,6 +25,10 @@ struct PlannedMove {
   double new_yaw = 0.0;
   double earliest = 0.0;  // seconds
   bool removal = false;   // removed instead of moved
+  // Stand-ins, tried in order when this change has no moment at which it goes unseen
+  // (ScheduleMoves): the same object to another place, or another object that changes in
+  // no other plan. Their places are free of every planned place.
+  std::vector<PlannedMove> alternatives;
 };
 
 // People walking through a scene's room (a bonn-style dynamic scene), from first_time to
@@ -39,7 +43,9 @@ struct PlannedMove {
 std::vector<Walker> PlanWalkers(const Scene& scene, std::uint64_t seed, double first_time = 3.0,
                                 double min_camera_distance = 1.0);
 
-// The moves a preset wants (empty for custom scenes and desk_static).
+// The moves a preset wants (empty for custom scenes and desk_static). Each move and removal
+// carries up to three alternatives, drawn after every planned change with a generator of
+// their own, so they alter none of the planned changes.
 std::vector<PlannedMove> PresetMoves(const std::string& name, const Scene& scene,
                                      std::uint64_t seed);
 
