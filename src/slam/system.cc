@@ -258,6 +258,15 @@ std::vector<StampedPose> System::KeyFrameTrajectory(int map) const {
   return poses;
 }
 
+std::optional<SE3> System::FramePoseLocked(const FrameRecord& record) const {
+  // The relative pose was measured in the units of the map the frame was tracked in: a
+  // merge of that map since scales it (PoseFromAnchor), as it scaled the keyframe's map.
+  const std::optional<AnchoredPose> pose = PoseFromAnchor(
+      map_, Anchor{map_.GetKeyFrame(record.reference), record.T_c_reference, record.map, 0});
+  if (!pose) return std::nullopt;
+  return pose->T_cw;
+}
+
 std::vector<StampedPose> System::CameraTrajectory(int map) const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   const std::vector<int> frame_maps = FrameMapsLocked();
@@ -265,8 +274,7 @@ std::vector<StampedPose> System::CameraTrajectory(int map) const {
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     if (frame_maps[i] != map) continue;
     const FrameRecord& record = frames_[i];
-    if (const std::optional<SE3> T_cw =
-            PoseFromReference(map_, record.reference, record.T_c_reference))
+    if (const std::optional<SE3> T_cw = FramePoseLocked(record))
       poses.push_back(MakePose(record.timestamp, TimestampText(i), *T_cw));
   }
   return poses;
@@ -279,7 +287,7 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const FrameRecord& record = frames_[i];
     if (frame_maps[i] != map_.current_map()) continue;
-    poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
+    poses[i] = FramePoseLocked(record);
   }
   return poses;
 }
@@ -294,7 +302,7 @@ std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t
     // As FrameMapsLocked: the frame is placed in its reference keyframe's map now.
     const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
     if (!reference || reference->map != map_.current_map()) continue;
-    poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
+    poses[i] = FramePoseLocked(record);
   }
   return poses;
 }

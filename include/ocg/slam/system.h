@@ -218,6 +218,9 @@ class System {
   std::vector<MapMerge> AllMerges() const;
   // FrameMaps() with map_.mutex() held.
   std::vector<int> FrameMapsLocked() const;
+  // A tracked frame's pose as the map now stands (map_.mutex() held); none when its
+  // reference keyframe is gone.
+  std::optional<SE3> FramePoseLocked(const FrameRecord& record) const;
   bool shut_down_ = false;
   bool map_loaded_ = false;
   std::function<void()> after_tracking_;
