@@ -13,7 +13,8 @@ in view, so a written scene is a valid one. Printed per scene: `ok` with the SHA
 scene.yaml and objects_gt.json, or `refused` with ocg_synth's last line. With --baseline,
 the same scene is made by that binary too (into OUT/baseline/), and a scene both accept
 must be byte-identical (`identical` or `DIFFERENT`); a scene only the baseline refuses is
-`newly accepted`. Exit status 1 when a scene is refused by OCG_SYNTH or differs.
+`newly accepted` (`baseline refused too` when both refuse it). Exit status 1 when a scene
+is refused by OCG_SYNTH or differs.
 
 A scene takes 10-70 s on a shared 2-core machine (the scheduling renders the visibility
 of every change at every third frame): run it under `nice`, in the background.
@@ -72,7 +73,8 @@ def main():
                 before, _ = make(args.baseline, preset, seed,
                                  os.path.join(args.out, "baseline", name), extra)
                 if before is None:
-                    line += "  (baseline refused: newly accepted)"
+                    line += "  (baseline refused%s)" % (" too" if digest is None else
+                                                        ": newly accepted")
                 elif digest == before:
                     line += "  identical"
                 else:
