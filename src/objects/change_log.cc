@@ -112,6 +112,16 @@ std::vector<MoveLink> PairMoves(const std::vector<ObjectRecord>& removed,
   return moves;
 }
 
+// Whether two cuboids can share space: their centres nearer than the mean of their largest
+// extents. Farther, they are two objects whatever their orientations (side by side, they
+// touch at the mean of their extents along the line between them). The same place by
+// same_place_factor (one larger extent) also takes a neighbour standing beside an object:
+// two phones side by side, 0.15 apart, one of them estimated 0.09 long.
+bool CouldOverlap(const ObjectRecord& a, const ObjectRecord& b) {
+  return (a.cuboid.centre - b.cuboid.centre).norm() <
+         0.5 * (a.cuboid.size.maxCoeff() + b.cuboid.size.maxCoeff());
+}
+
 // times[id] (SeenAsClass's), else fallback.
 double TimeOr(const std::map<ObjectId, double>& times, ObjectId id, double fallback) {
   const auto found = times.find(id);
@@ -175,9 +185,9 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
     record.last_seen = entry.last_seen.value_or(entry.timestamp);
     // Nor did one whose place holds a live object of its class (a duplicate removed beside
     // the object it doubled, an object re-created where it stands): it is still there.
+    // Not a neighbour of its class standing beside it (two phones side by side).
     const bool still_there = std::any_of(live.begin(), live.end(), [&](const ObjectRecord& o) {
-      return o.class_id == record.class_id &&
-             RelativeDistance(o, record) <= context.moves.same_place_factor;
+      return o.class_id == record.class_id && CouldOverlap(o, record);
     });
     if (still_there) continue;
     const bool earlier = context.session > 0 && record.last_seen < context.session_start;

@@ -37,8 +37,8 @@ SeenAsClass SeenAsClassIn(const SessionObjects& objects) {
       }
     }
     if (now == nullptr) return;
-    if (!earlier) seen.first[object.id] = now->first_timestamp;
-    seen.last[object.id] = now->last_timestamp;
+    if (!earlier) seen.first[object.id] = now->SupportedFirst();
+    seen.last[object.id] = now->SupportedLast();
   };
   for (const auto& [id, object] : objects.live) add(object);
   for (const auto& [id, object] : objects.removed_in_run) add(object);

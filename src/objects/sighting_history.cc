@@ -29,12 +29,47 @@ SightingHistory::SightingHistory(std::vector<ObjectSighting> sightings)
 void SightingHistory::Count(const ObjectSighting& sighting) {
   ++total_;
   if (!sighting.crowded) ++uncrowded_;
-  const auto [span, added] = spans_.try_emplace({sighting.session, sighting.class_id});
-  if (added || sighting.timestamp < span->second.first_timestamp)
-    span->second.first_timestamp = sighting.timestamp;
-  if (added || sighting.timestamp > span->second.last_timestamp)
-    span->second.last_timestamp = sighting.timestamp;
-  ++span->second.count;
+  spans_[{sighting.session, sighting.class_id}].Add(sighting.timestamp);
+}
+
+void SightingHistory::ClassSpan::Add(double timestamp) {
+  ClassSpan one;
+  one.count = 1;
+  one.first_timestamp = one.last_timestamp = timestamp;
+  Merge(one);
+}
+
+void SightingHistory::ClassSpan::Merge(const ClassSpan& other) {
+  if (other.count == 0) return;
+  if (count == 0) {
+    *this = other;
+    return;
+  }
+  // The two earliest and the two latest of both are among each side's own.
+  std::vector<double> times = Extremes();
+  const std::vector<double> theirs = other.Extremes();
+  times.insert(times.end(), theirs.begin(), theirs.end());
+  std::sort(times.begin(), times.end());
+  count += other.count;
+  first_timestamp = times.front();
+  second_timestamp = times[1];
+  last_timestamp = times.back();
+  second_last_timestamp = times[times.size() - 2];
+}
+
+std::vector<double> SightingHistory::ClassSpan::Extremes() const {
+  switch (count) {
+    case 0:
+      return {};
+    case 1:
+      return {first_timestamp};
+    case 2:
+      return {first_timestamp, last_timestamp};
+    case 3:  // the middle one is both second and second last
+      return {first_timestamp, second_timestamp, last_timestamp};
+    default:
+      return {first_timestamp, second_timestamp, second_last_timestamp, last_timestamp};
+  }
 }
 
 void SightingHistory::Add(const ObjectSighting& sighting, std::size_t capacity) {
@@ -53,11 +88,7 @@ void SightingHistory::Merge(const SightingHistory& other, std::size_t capacity) 
   total_ += other.total_;
   uncrowded_ += other.uncrowded_;
   for (const auto& [key, theirs] : other.spans_) {
-    const auto [span, added] = spans_.try_emplace(key, theirs);
-    if (added) continue;
-    span->second.count += theirs.count;
-    span->second.first_timestamp = std::min(span->second.first_timestamp, theirs.first_timestamp);
-    span->second.last_timestamp = std::max(span->second.last_timestamp, theirs.last_timestamp);
+    spans_[key].Merge(theirs);
   }
   level_ = std::max(level_, other.level_);
   Bound(capacity);

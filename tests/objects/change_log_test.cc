@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
@@ -10,6 +12,7 @@
 #include "ocg/objects/box_appearance.h"
 #include "ocg/objects/change_log.h"
 #include "ocg/objects/object_map.h"
+#include "ocg/objects/session_appearance.h"
 
 namespace ocg {
 namespace {
@@ -290,6 +293,54 @@ TEST(ChangeLog, ARemovalWhosePlaceHoldsAnObjectOfItsClassIsNoMove) {
   EXPECT_EQ(changes[0]["type"], "moved");  // cup 3, carried 0.6 away (cup 4 is nearer)
   EXPECT_EQ(changes[0]["to"]["object_id"], 9);
   EXPECT_EQ(changes[1]["type"], "removed");
+}
+
+// A neighbour of its class standing beside the removed cup (their cuboids touch, one
+// larger extent apart: a smaller cup whose centre is 0.1 from the removed one's) does not
+// hold its place: the removal is the move to the cup that appeared 1 away. A cup whose
+// cuboid overlaps the place (0.07 away, same size) still does.
+TEST(ChangeLog, ANeighbourOfItsClassBesideARemovalDoesNotHoldItsPlace) {
+  InSessionMove log;
+  ObjectRecord neighbour = Live(7, kCup, 0.1, 900);
+  neighbour.cuboid.size = Eigen::Vector3d(0.06, 0.06, 0.06);
+  const nlohmann::json move = log.Entry({neighbour, Live(9, kCup, 1.0, 1060)});
+  EXPECT_EQ(move["type"], "moved") << move.dump(1);
+  EXPECT_EQ(move["to"]["object_id"], 9);
+  EXPECT_EQ(log.Entry({Live(7, kCup, 0.07, 900), Live(9, kCup, 1.0, 1060)})["type"], "removed");
+}
+
+// A cup seen at its place until 1020.6 is carried across the room at 1022; a stray cup
+// box at the new place at 1020.2 (another object's, called a cup) joins the cup that
+// comes there, seen from 1022.5 on. The pairing's times are supported ones (the second
+// box, the second last): the newcomer was seen after the cup left, a move (by every box's
+// time it was seen first, and the cup stayed a removal).
+TEST(ChangeLog, OneStrayBoxAtTheNewPlaceDoesNotDateTheNewcomer) {
+  std::map<ObjectId, MapObject> live, removed;
+  const auto sight = [](MapObject* object, double time) {
+    ObjectSighting sighting;
+    sighting.frame = static_cast<std::int64_t>(std::lround((time - 1000) * 10));
+    sighting.class_id = kCup;
+    sighting.timestamp = time;
+    object->sightings.Add(sighting, 0);
+  };
+  MapObject& gone = removed[5];
+  gone.id = 5;
+  gone.class_id = kCup;
+  for (double time = 1010.0; time < 1020.65; time += 0.1) sight(&gone, time);
+  MapObject& newcomer = live[9];
+  newcomer.id = 9;
+  newcomer.class_id = kCup;
+  sight(&newcomer, 1020.2);
+  for (double time = 1022.5; time < 1048; time += 0.1) sight(&newcomer, time);
+  ChangeLogContext context;
+  context.session_start = 1000;
+  context.seen_as_class = SeenAsClassIn(SessionObjects{live, removed, 0, 0});
+  const nlohmann::json move =
+      Revise({Removed(5, kCup, 0.0, 1054, 1020.6)}, {Live(9, kCup, 1.27, 1020.2)}, context)
+          .at("changes")
+          .at(0);
+  EXPECT_EQ(move["type"], "moved") << move.dump(1);
+  EXPECT_EQ(move["to"]["object_id"], 9);
 }
 
 TEST(ChangeLog, InASessionAnObjectOfAnotherClassIsNoMove) {

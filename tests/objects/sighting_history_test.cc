@@ -122,6 +122,35 @@ TEST(SightingHistory, AMergeAddsTheCountsAndStaysBounded) {
   EXPECT_FALSE(later.SharesASessionWith(b));
 }
 
+// A span dates an object's sightings as its class with support: the second sighting and
+// the second last, so that one stray box before (or after) does not. Spans merged give
+// what one span of every sighting gives.
+TEST(SightingHistory, AClassSpanDatesItsSightingsBySupport) {
+  SightingHistory::ClassSpan span;
+  span.Add(50.0);
+  EXPECT_EQ(span.SupportedFirst(), 50.0);  // one sighting: its own time
+  EXPECT_EQ(span.SupportedLast(), 50.0);
+  for (double time : {10.0, 52.0, 51.0, 90.0}) span.Add(time);  // 10 and 90: stray boxes
+  EXPECT_EQ(span.first_timestamp, 10.0);
+  EXPECT_EQ(span.last_timestamp, 90.0);
+  EXPECT_EQ(span.SupportedFirst(), 50.0);
+  EXPECT_EQ(span.SupportedLast(), 52.0);
+  const std::vector<double> times = {7, 3, 9, 1, 8, 2, 6, 4, 5};
+  for (std::size_t split = 0; split <= times.size(); ++split) {
+    SightingHistory::ClassSpan all, a, b;
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      all.Add(times[i]);
+      (i < split ? a : b).Add(times[i]);
+    }
+    a.Merge(b);
+    EXPECT_EQ(a.count, all.count);
+    EXPECT_EQ(a.SupportedFirst(), 2.0) << "split " << split;
+    EXPECT_EQ(a.SupportedLast(), 8.0) << "split " << split;
+    EXPECT_EQ(a.first_timestamp, 1.0);
+    EXPECT_EQ(a.last_timestamp, 9.0);
+  }
+}
+
 TEST(SightingHistory, ZeroCapacityKeepsAll) {
   SightingHistory history;
   for (std::int64_t frame = 0; frame < 5000; ++frame) history.Add(SightingAt(frame), 0);

@@ -76,8 +76,10 @@ struct ChangeLogContext {
 // many pairs as the times allow at least total cost, objects that look alike
 // (context.box_appearance, MatchFrom, or else context.appearance, MatchAppearance) before
 // nearer ones, and, where both have one, whose colours (context.colour) are alike.
-// A removal whose place holds a live object of its class (same reach) moved nowhere: a
-// duplicate removed beside the object it doubled, an object re-created where it stands.
+// A removal whose place holds a live object of its class (their cuboids can overlap:
+// centres nearer than the mean of their largest extents) moved nowhere: a duplicate
+// removed beside the object it doubled, an object re-created where it stands; a neighbour
+// of its class beside it does not hold its place.
 //  - A removed object last seen in an earlier session (last_seen before session_start, a
 //    later session only) pairs first, with the objects first seen in this session
 //    (first_session); its entry lists every candidate as evidence.

@@ -32,6 +32,10 @@ struct ObjectRecord {
 // to it), timestamps in seconds, by id. A sighting of another class (a false positive at a
 // place emptied by a move, absorbed into the object left there; a class flip) does not
 // show the object there, so a move pairing orders a removal and an appearance by these.
+// Each time is a supported one (SightingHistory::ClassSpan::SupportedFirst, SupportedLast:
+// the second sighting's, the second last's), so that one stray box of the class at the
+// new place before the move (another object's, called by its class) does not date the
+// object that came there, nor one at the old place after it the object that left.
 struct SeenAsClass {
   std::map<ObjectId, double> first;  // objects no earlier session saw
   std::map<ObjectId, double> last;

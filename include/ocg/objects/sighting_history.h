@@ -73,11 +73,27 @@ struct ObjectSighting {
 class SightingHistory {
  public:
   // The sightings of one session as one class: how many, and the timestamps (seconds) of
-  // the first and the last.
+  // the first two and the last two.
   struct ClassSpan {
     std::size_t count = 0;
     double first_timestamp = 0.0;
     double last_timestamp = 0.0;
+    double second_timestamp = 0.0;       // the second earliest (count >= 2)
+    double second_last_timestamp = 0.0;  // the second latest (count >= 2)
+    // One sighting more, at this time (any order).
+    void Add(double timestamp);
+    // Another span of the same session and class joins this one.
+    void Merge(const ClassSpan& other);
+    // When the object was seen as the class with support: the second sighting's time and
+    // the second last's (the only one's, of a single sighting). One stray box (a detection
+    // of the class somewhere else at the object's place before it came, or after it left)
+    // does not date it.
+    double SupportedFirst() const { return count >= 2 ? second_timestamp : first_timestamp; }
+    double SupportedLast() const { return count >= 2 ? second_last_timestamp : last_timestamp; }
+
+   private:
+    // The distinct sightings' times this span holds, in order (up to four).
+    std::vector<double> Extremes() const;
   };
   // (session, class id) -> span
   using Spans = std::map<std::pair<int, int>, ClassSpan>;
