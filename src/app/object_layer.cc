@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "object_map_file.h"
+#include "ocg/core/cpu_time.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/statistics.h"
 
@@ -52,6 +53,22 @@ nlohmann::json Timing(const DurationSummary& seconds) {
           {"max_ms", 1000.0 * seconds.max()}};
 }
 
+nlohmann::json PerKeyframeTiming(const std::vector<double>& cpu_seconds) {
+  const std::size_t quarter = cpu_seconds.size() / 4;
+  const auto median_ms = [&](std::size_t begin, std::size_t end) {
+    return quarter == 0 ? 0.0
+                        : 1000.0 * Median(std::vector<double>(
+                                       cpu_seconds.begin() + static_cast<std::ptrdiff_t>(begin),
+                                       cpu_seconds.begin() + static_cast<std::ptrdiff_t>(end)));
+  };
+  const double first = median_ms(0, quarter);
+  const double last = median_ms(cpu_seconds.size() - quarter, cpu_seconds.size());
+  return {{"count", cpu_seconds.size()},
+          {"first_quarter_median_ms", first},
+          {"last_quarter_median_ms", last},
+          {"last_to_first", first > 0.0 ? last / first : 0.0}};
+}
+
 std::vector<ChangeEntry> RevisedChangeLog(const ObjectMapper& mapper,
                                           const ChangeLogContext& context) {
   return ReviseChangeLog(mapper.Changes(), mapper.LiveObjects(), context);
@@ -85,6 +102,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
                            const std::string& image_path, const cv::Mat& image) {
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   if (!session_start_) session_start_ = timestamp;
   if (result.reset || result.new_map || result.switched_map) {
     // The SLAM map the objects were built in is gone (reset) or left behind for a new map
@@ -135,6 +153,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     }
   }
   seconds_.Add(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (result.new_keyframe) keyframe_cpu_seconds_.push_back(ThreadCpuSeconds() - cpu_start);
 }
 
 std::vector<ObjectView> ObjectLayer::Views() const {
@@ -261,7 +280,10 @@ nlohmann::json ObjectLayer::Write(const std::string& output) const {
                   {"colour_signatures",
                    {{"keyframe_images", colour_images_}, {"sightings", colour_signatures_}}},
                   {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
-                  {"timing", {{"objects_per_frame", Timing(seconds_)}}}});
+                  {"timing",
+                   {{"objects_per_frame", Timing(seconds_)},
+                    {"object_layer_per_keyframe", PerKeyframeTiming(keyframe_cpu_seconds_)}}},
+                  {"slam_map_full_reads", full_map_reads_}});
   if (settings_.ocg.modes().point_presence) {
     const ObjectMap::PointPresenceStats points = mapper_->PointPresenceStats();
     section["point_presence"] = {
@@ -283,6 +305,7 @@ void ObjectLayer::Start() {
   keyframes_ = 0;
   tracked_frames_ = 0;
   last_association_ = {};
+  map_version_.reset();  // the new mapper's copy of the SLAM map is empty
 }
 
 ChangeLogContext ObjectLayer::ChangeLog() const {
@@ -324,7 +347,7 @@ void ObjectLayer::StartSession(int session, std::int64_t frame_offset) {
 }
 
 void ObjectLayer::Follow(const System& system) {
-  SlamMapView view;
+  SlamMapChanges changes;
   // The earlier sessions' frames have no pose in this run: their sightings keep theirs.
   std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
   for (const std::int64_t frame : mapper_->SightingFrames()) {
@@ -333,11 +356,23 @@ void ObjectLayer::Follow(const System& system) {
   const std::vector<std::optional<SE3>> poses = system.FramePoses(calls);
   for (std::size_t i = 0; i < calls.size(); ++i) {
     if (poses[i])
-      view.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
+      changes.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
   }
-  view.map_points = system.MapPointPositions(&view.map_point_ids, &view.map_point_descriptors);
-  view.camera_rotations = system.KeyFrameRotations();
-  mapper_->FollowSlamMap(view, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
+  // What changed in the SLAM map since the last time (all of it the first time).
+  const MapChanges map = system.MapChangesSince(map_version_);
+  map_version_ = map.version;
+  changes.everything = map.everything;
+  full_map_reads_ += map.everything ? 1 : 0;
+  changes.points.reserve(map.points.size());
+  for (const MapPointState& point : map.points) {
+    changes.points.push_back(
+        {point.id, point.live ? std::optional(point.position) : std::nullopt, point.descriptor});
+  }
+  for (const KeyFrameState& keyframe : map.keyframes) {
+    changes.camera_rotations.emplace_back(
+        keyframe.id, keyframe.live ? std::optional(keyframe.R_wc) : std::nullopt);
+  }
+  mapper_->FollowSlamMap(changes, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
 }
 
 }  // namespace ocg::app_detail

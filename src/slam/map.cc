@@ -85,6 +85,7 @@ void Map::Add(const KeyFramePtr& keyframe) {
   keyframes_[keyframe->id] = keyframe;
   const auto [first, inserted] = first_keyframes_.emplace(keyframe->map, keyframe->id);
   if (!inserted && keyframe->id < first->second) first->second = keyframe->id;
+  journal_.KeyFrame(keyframe->id);
 }
 
 std::optional<KeyFrameId> Map::FirstKeyFrame(int map) const {
@@ -112,6 +113,7 @@ std::vector<KeyFrameId> Map::EraseMap(int map) {
       ++it;
     }
   }
+  journal_.Everything();
   return erased;
 }
 
@@ -143,6 +145,7 @@ void Map::MoveMap(int from, int into, const Sim3& S_into_from) {
   if (current_map_ == from) current_map_ = into;
   ++merges_;
   last_merge_scale_ = S_into_from.scale();
+  journal_.Everything();
 }
 
 void Map::Clear() {
@@ -153,6 +156,7 @@ void Map::Clear() {
   current_map_ = 0;
   map_count_ = 1;
   first_keyframes_.clear();
+  journal_.Everything();
 }
 
 void Map::AddObservation(const KeyFramePtr& keyframe, int feature, const MapPointPtr& point) {
@@ -184,6 +188,7 @@ void Map::ErasePoint(const MapPointPtr& point) {
   }
   point->observations.clear();
   points_.erase(point->id);
+  journal_.Point(point->id);
 }
 
 void Map::ReplacePoint(const MapPointPtr& old_point, const MapPointPtr& new_point) {
@@ -203,6 +208,7 @@ void Map::ReplacePoint(const MapPointPtr& old_point, const MapPointPtr& new_poin
   new_point->found += old_point->found;
   new_point->visible += old_point->visible;
   points_.erase(old_point->id);
+  journal_.Point(old_point->id);
 }
 
 void Map::UpdatePointGeometry(const MapPointPtr& point, const ScalePyramid& pyramid) const {
@@ -247,6 +253,7 @@ void Map::UpdatePointDescriptor(const MapPointPtr& point) const {
     }
   }
   point->descriptor = descriptors[best];
+  journal_.Point(point->id);
 }
 
 void Map::UpdateConnections(const KeyFramePtr& keyframe) {
@@ -340,6 +347,7 @@ void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
   keyframe->bow = BowVector();
   keyframe->feature_vector = FeatureVector();
   keyframe->points = std::vector<MapPointPtr>();
+  journal_.KeyFrame(keyframe->id);
 }
 
 std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,

@@ -315,6 +315,11 @@ std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* 
   return positions;
 }
 
+MapChanges System::MapChangesSince(std::optional<std::uint64_t> version) const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  return ChangesSince(map_, version);
+}
+
 std::vector<KeyFramePtr> System::KeyFrames() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<KeyFramePtr> keyframes;
@@ -374,6 +379,7 @@ void System::LoadMap(std::istream& in, std::uint64_t frames_before) {
       first_frame_id = std::max(first_frame_id, keyframe->frame_id + 1);
       if (!keyframe->bad) database_.Add(static_cast<int>(id), keyframe->bow);
     }
+    map_.journal().Everything();
   }
   tracking_->StartInLoadedMap(first_frame_id);
   map_loaded_ = true;

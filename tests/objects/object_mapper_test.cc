@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "growing_slam_map.h"
 #include "synthetic_scene.h"
 #include "test_support.h"
 
@@ -151,18 +152,19 @@ void ExpectObjectsFollowASimilarity(double scale) {
   const double yaw = 0.4;
   const Eigen::Quaterniond turn(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
   const Sim3 moved(scale, turn, Eigen::Vector3d(0.5, -0.3, 0.1));
-  SlamMapView view;
+  SlamMapChanges view;
+  view.everything = true;
   for (int frame = 0; frame < 60; ++frame) {
     const Sim3 S_cw = Sim3(scene.T_cw[static_cast<std::size_t>(frame)]) * moved.Inverse();
     view.frame_poses[frame] = SE3(S_cw.rotation(), S_cw.translation() / S_cw.scale());
   }
   // The map points of the table (points far off it would sway the supporting plane).
   for (int i = 0; i < scene.options.points_on_table; ++i) {
-    view.map_points.push_back(moved * scene.points[static_cast<std::size_t>(i)]);
-    view.map_point_ids.push_back(static_cast<std::uint64_t>(i));
+    view.points.push_back(
+        {static_cast<std::uint64_t>(i), moved * scene.points[static_cast<std::size_t>(i)], {}});
   }
   for (const auto& [frame, T_cw] : view.frame_poses)
-    view.camera_rotations.push_back(T_cw.Inverse().rotation());
+    view.camera_rotations.emplace_back(frame, T_cw.Inverse().rotation());
   mapper.FollowSlamMap(view, 1);
   EXPECT_LT((mapper.Up() - Eigen::Vector3d::UnitZ()).norm(), 0.02);
   const auto after = LiveByClass(mapper);
@@ -182,6 +184,37 @@ TEST(ObjectMapper, FollowsTheSlamMapWhenItsFrameMoves) { ExpectObjectsFollowASim
 // A merge of SLAM maps moves the current map into another's frame and units (docs/slam.md
 // "the atlas"): the object layer follows it as it follows any correction.
 TEST(ObjectMapper, FollowsAMergeOfTheSlamMap) { ExpectObjectsFollowASimilarity(0.6); }
+
+// Following the SLAM map costs what changed, not what the map holds: with the same changes
+// per keyframe (points added, the adjustment's window moved, points culled), a map of
+// 50,000 points costs a keyframe about as many points touched as one of 5,000 (a full
+// read would touch ten times more), the supporting plane fitted again only once a share
+// of the map has changed and still the floor's; and the copy holds every live point.
+TEST(ObjectMapper, FollowingTheSlamMapTouchesWhatChangedNotTheWholeMap) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects());
+  std::vector<double> touched;
+  for (const std::size_t size : {5000u, 50000u}) {
+    ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, true);
+    testing::GrowingSlamMap growing;
+    std::uint64_t seed = 0;
+    while (growing.points() < size) mapper.FollowSlamMap(growing.NextKeyframe(), ++seed);
+    constexpr int kKeyframes = 40;
+    std::size_t points = 0;
+    int refits = 0;
+    for (int k = 0; k < kKeyframes; ++k) {
+      mapper.FollowSlamMap(growing.NextKeyframe(), ++seed);
+      const SlamFollowWork work = mapper.LastFollowWork();
+      points += work.points_changed + work.plane_points;
+      refits += work.plane_refit ? 1 : 0;
+      EXPECT_LT((mapper.Up() - Eigen::Vector3d::UnitZ()).norm(), 0.02) << size << ", " << k;
+    }
+    EXPECT_EQ(mapper.SlamMap().points().size(), growing.points());
+    EXPECT_LT(refits, kKeyframes / 2) << size;
+    touched.push_back(static_cast<double>(points) / kKeyframes);
+    EXPECT_LT(touched.back(), 0.5 * static_cast<double>(size)) << size;
+  }
+  EXPECT_LT(touched[1], 1.5 * touched[0]);
+}
 
 }  // namespace
 }  // namespace ocg

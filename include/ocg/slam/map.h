@@ -23,6 +23,7 @@
 #include "ocg/core/lie.h"
 #include "ocg/features/orb_extractor.h"
 #include "ocg/features/vocabulary.h"
+#include "ocg/slam/map_journal.h"
 
 namespace ocg {
 
@@ -124,11 +125,15 @@ class Map {
   // The map new keyframes and points go to (tracking's), and how many maps were started
   // (indices 0 .. map_count() - 1; merged ones keep their index but hold nothing).
   int current_map() const { return current_map_; }
-  void SetCurrentMap(int map) { current_map_ = map; }
+  void SetCurrentMap(int map) {
+    if (map != current_map_) journal_.Everything();
+    current_map_ = map;
+  }
   int map_count() const { return map_count_; }
   // Starts an empty map, which becomes current; returns its index.
   int StartNewMap() {
     current_map_ = map_count_++;
+    journal_.Everything();
     return current_map_;
   }
   // The keyframes of one map, culled ones included / not.
@@ -181,7 +186,10 @@ class Map {
   }
   // keyframe->map must be set: the map's first keyframe is kept up to date here.
   void Add(const KeyFramePtr& keyframe);
-  void Add(const MapPointPtr& point) { points_[point->id] = point; }
+  void Add(const MapPointPtr& point) {
+    points_[point->id] = point;
+    journal_.Point(point->id);
+  }
   KeyFramePtr GetKeyFrame(KeyFrameId id) const;
   // Every keyframe ever added, the culled ones (bad) included: frames placed relative to
   // a culled keyframe still follow it to its parent.
@@ -212,7 +220,13 @@ class Map {
   // Loop corrections and global bundle adjustments move the whole map; a tracker whose
   // last frame was placed before the count changed re-anchors it on its keyframe.
   std::uint64_t corrections() const { return corrections_; }
-  void CountCorrection() { ++corrections_; }
+  void CountCorrection() {
+    ++corrections_;
+    journal_.Everything();
+  }
+  // What changed (map_journal.h). Whoever changes a point's position or descriptor or a
+  // keyframe's pose outside Map's methods notes it here (the adjustments' write-back).
+  MapJournal& journal() const { return journal_; }
 
  private:
   mutable std::mutex mutex_;
@@ -228,6 +242,7 @@ class Map {
   std::map<int, KeyFrameId> first_keyframes_;  // per map
   std::map<KeyFrameId, KeyFramePtr> keyframes_;
   std::map<MapPointId, MapPointPtr> points_;
+  mutable MapJournal journal_;
 };
 
 }  // namespace ocg

@@ -142,6 +142,11 @@ class System {
   // given.
   std::vector<Eigen::Vector3d> MapPointPositions(
       std::vector<MapPointId>* ids = nullptr, std::vector<Descriptor>* descriptors = nullptr) const;
+  // What changed in the current map since version (MapChanges::version of the last call;
+  // none: everything), for a reader that keeps a copy of the map (map_journal.h): the
+  // points and keyframes changed, or the whole map after a loop correction, a global
+  // adjustment, a merge, a reset or a switch of map.
+  MapChanges MapChangesSince(std::optional<std::uint64_t> version) const;
   // The keyframes in the current map (for tests and diagnostics; read them while the
   // system is idle: after Shutdown(), or between TrackImage calls in sequential mode).
   std::vector<KeyFramePtr> KeyFrames() const;
