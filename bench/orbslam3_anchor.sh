@@ -6,17 +6,20 @@
 # frame and the ATE (Sim(3), every tracked frame, `ocg_eval ate`) of both.
 #
 #   bench/orbslam3_anchor.sh ORB_SLAM3_DIR [--pangolin PREFIX] [--data DIR] [--build DIR]
-#                            [--runs N] [--out DIR]
+#                            [--runs N] [--pace S] [--out DIR]
 #
 # ORB_SLAM3_DIR: an ORB-SLAM3 v1.0 checkout built as its build.sh does (lib/libORB_SLAM3.so,
 # Thirdparty/DBoW2/lib, Thirdparty/g2o/lib). --pangolin: where Pangolin is installed when
 # not in a system path. --data: the clip (default $OCG_SHARED_DATA or ../shared/data, then
 # tum_fr1_rpy_first330). --build: our build folder (default build). --runs: ORB-SLAM3 runs
-# (its threads make each run differ; default 3). --out: work folder (default a temporary
-# one). docs/anchor_orbslam3.md says how ORB-SLAM3 was built here and what it gave.
+# (its threads make each run differ; default 3). --pace: ORB-SLAM3 gets S times each
+# frame's period (default 1, the camera's rate; more on a loaded machine, where its
+# threads would otherwise get less time than a live camera gives them). --out: work folder
+# (default a temporary one). docs/anchor_orbslam3.md says how ORB-SLAM3 was built here and
+# what it gave.
 set -euo pipefail
 
-usage() { sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+usage() { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 [ $# -ge 1 ] || usage
 ORB3=$(cd "$1" && pwd)
 shift
@@ -26,6 +29,7 @@ DATA_ROOT=${OCG_SHARED_DATA:-$SOURCE/../shared/data}
 DATA=""
 BUILD=$SOURCE/build
 RUNS=3
+PACE=1
 OUT=""
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -33,6 +37,7 @@ while [ $# -gt 0 ]; do
     --data) DATA=$2; shift 2 ;;
     --build) BUILD=$2; shift 2 ;;
     --runs) RUNS=$2; shift 2 ;;
+    --pace) PACE=$2; shift 2 ;;
     --out) OUT=$2; shift 2 ;;
     *) usage ;;
   esac
@@ -92,8 +97,10 @@ out += ['Viewer.KeyFrameSize: 0.05', 'Viewer.KeyFrameLineWidth: 1.0', 'Viewer.Gr
 open(sys.argv[2], 'w').write('\n'.join(out) + '\n')
 EOF
 
-# 3. The driver, compiled against the ORB-SLAM3 build (C++ with GNU extensions, as its
-#    libraries were built: docs/anchor_orbslam3.md).
+# 3. The driver, compiled against the ORB-SLAM3 build with the flags its libraries were built
+#    with: -march=native (ORB-SLAM3, its DBoW2 and g2o all use it; Eigen's alignment of the
+#    objects the driver and the library share depends on it) and C++11 with its
+#    COMPILEDWITHC11 (docs/anchor_orbslam3.md).
 DRIVER=$OUT/orbslam3_mono
 PANGOLIN_FLAGS=()
 if [ -n "$PANGOLIN" ]; then
@@ -101,13 +108,13 @@ if [ -n "$PANGOLIN" ]; then
   PANGOLIN_FLAGS=(-I"$PANGOLIN/include" -L"$PANGOLIN/lib" -Wl,-rpath,"$PANGOLIN/lib")
 fi
 # shellcheck disable=SC2046  # pkg-config's flags are meant to split into words
-g++ -std=gnu++14 -O2 -o "$DRIVER" "$SOURCE/bench/orbslam3_mono.cc" \
+g++ -std=c++11 -DCOMPILEDWITHC11 -O2 -march=native -o "$DRIVER" "$SOURCE/bench/orbslam3_mono.cc" \
   -I"$ORB3" -I"$ORB3/include" -I"$ORB3/include/CameraModels" -I"$ORB3/Thirdparty/Sophus" \
   -I/usr/include/eigen3 $(pkg-config --cflags opencv4) "${PANGOLIN_FLAGS[@]}" \
   -L"$ORB3/lib" -Wl,-rpath,"$ORB3/lib" \
   -L"$ORB3/Thirdparty/DBoW2/lib" -Wl,-rpath,"$ORB3/Thirdparty/DBoW2/lib" \
   -L"$ORB3/Thirdparty/g2o/lib" -Wl,-rpath,"$ORB3/Thirdparty/g2o/lib" \
-  -lORB_SLAM3 -lDBoW2 -lg2o -lpangolin $(pkg-config --libs opencv4) \
+  -lORB_SLAM3 -lDBoW2 -lg2o -lpangolin -lGLEW -lGL $(pkg-config --libs opencv4) \
   -lboost_serialization -lcrypto -lpthread
 
 # Frames tracked after the first one, and the ATE, of a TUM trajectory.
@@ -142,7 +149,7 @@ summarize "OCG-SLAM (ocg_slam run)" "$OUT/ours/CameraTrajectory.txt" >> "$TABLE"
 # 5. ORB-SLAM3, several runs (threaded: runs differ).
 for run in $(seq 1 "$RUNS"); do
   mkdir -p "$OUT/orbslam3_$run"
-  if "$DRIVER" "$VOCABULARY" "$SETTINGS" "$DATA" "$OUT/orbslam3_$run" \
+  if "$DRIVER" "$VOCABULARY" "$SETTINGS" "$DATA" "$OUT/orbslam3_$run" --pace "$PACE" \
        > "$OUT/orbslam3_$run/log.txt" 2>&1 && [ -s "$OUT/orbslam3_$run/CameraTrajectory.txt" ]; then
     summarize "ORB-SLAM3 v1.0, run $run" "$OUT/orbslam3_$run/CameraTrajectory.txt" >> "$TABLE"
   else

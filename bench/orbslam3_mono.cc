@@ -2,18 +2,23 @@
 // SLAM is compared with (docs/anchor_orbslam3.md). Not part of the project's build: it
 // needs an ORB-SLAM3 build, and bench/orbslam3_anchor.sh compiles it against one.
 //
-//   orbslam3_mono VOCABULARY.txt SETTINGS.yaml SEQUENCE_DIR OUT_DIR [--no-pacing]
+//   orbslam3_mono VOCABULARY.txt SETTINGS.yaml SEQUENCE_DIR OUT_DIR [--no-pacing | --pace S]
 //
 // Frames are handed over at the pace of their timestamps (a frame tracked faster than the
 // camera delivers waits for the next), as ORB-SLAM3's own examples do, so that its local
-// mapping thread gets the time a live camera would give it; nothing is dropped.
+// mapping thread gets the time a live camera would give it; nothing is dropped. --pace S
+// gives each frame S times its period (S > 1 on a loaded machine gives ORB-SLAM3's
+// threads the time an idle one would); --no-pacing hands frames over at once.
 //
 // Writes into OUT_DIR:
 //   states.txt                  timestamp and ORB-SLAM3's tracking state after each frame
 //                               (2 = OK, 3 = recently lost, 4 = lost, 1 = not initialized)
 //   CameraTrajectory.txt        TUM, camera to world: every frame ORB-SLAM3 keeps in its
 //                               largest map (its SaveTrajectoryEuRoC: each frame relative to
-//                               its reference keyframe's final pose) whose state was OK
+//                               its reference keyframe's final pose) whose state was OK, once
+//                               (a frame tracked without a pose repeats the previous frame's
+//                               timestamp and pose in ORB-SLAM3's lists; only the first row
+//                               of a timestamp is kept)
 //   CameraTrajectoryAll.txt     the same without the OK filter (recently lost frames too)
 //   KeyFrameTrajectory.txt      TUM, its keyframes
 // and prints one line: frames, first OK frame, OK frames, maps.
@@ -25,6 +30,7 @@
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -76,12 +82,23 @@ int NearestFrame(const std::vector<Frame>& frames, double t) {
 int main(int argc, char** argv) {
   if (argc < 5) {
     std::cerr << "usage: orbslam3_mono VOCABULARY.txt SETTINGS.yaml SEQUENCE_DIR OUT_DIR "
-                 "[--no-pacing]\n";
+                 "[--no-pacing | --pace S]\n";
     return 2;
   }
   const std::string vocabulary = argv[1], settings = argv[2], folder = argv[3], out = argv[4];
-  const bool pacing = !(argc > 5 && std::string(argv[5]) == "--no-pacing");
+  double pace = 1.0;
   try {
+    for (int a = 5; a < argc; ++a) {
+      const std::string option = argv[a];
+      if (option == "--no-pacing") {
+        pace = 0.0;
+      } else if (option == "--pace" && a + 1 < argc) {
+        pace = std::stod(argv[++a]);
+        if (!(pace > 0.0)) throw std::runtime_error("--pace wants a positive factor");
+      } else {
+        throw std::runtime_error("unknown option " + option + " (--no-pacing or --pace S)");
+      }
+    }
     const std::vector<Frame> frames = ReadTumList(folder);
     if (frames.empty()) throw std::runtime_error("no frames in " + folder + "/rgb.txt");
     ORB_SLAM3::System slam(vocabulary, settings, ORB_SLAM3::System::MONOCULAR,
@@ -101,8 +118,8 @@ int main(int argc, char** argv) {
         ++ok;
         if (first_ok < 0) first_ok = static_cast<int>(i);
       }
-      if (pacing && i + 1 < frames.size()) {
-        const double period = frames[i + 1].timestamp - frames[i].timestamp;
+      if (pace > 0.0 && i + 1 < frames.size()) {
+        const double period = pace * (frames[i + 1].timestamp - frames[i].timestamp);
         if (spent < period)
           std::this_thread::sleep_for(std::chrono::duration<double>(period - spent));
       }
@@ -122,12 +139,15 @@ int main(int argc, char** argv) {
     std::ofstream all(out + "/CameraTrajectoryAll.txt"), tracked(out + "/CameraTrajectory.txt");
     std::string line;
     int rows = 0, kept = 0;
+    std::vector<bool> written(frames.size(), false);
     while (std::getline(in, line)) {
       std::istringstream fields(line);
       double nanoseconds = 0.0;
       if (!(fields >> nanoseconds)) continue;
       const int index = NearestFrame(frames, nanoseconds * 1e-9);
       if (index < 0) throw std::runtime_error("no frame at " + line);
+      if (written[static_cast<std::size_t>(index)]) continue;
+      written[static_cast<std::size_t>(index)] = true;
       std::string rest;
       std::getline(fields, rest);
       const std::string row = frames[static_cast<std::size_t>(index)].timestamp_text + rest + "\n";

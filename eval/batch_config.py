@@ -62,14 +62,20 @@ def _fail(source, key, message):
     raise ConfigError("%s: %s: %s" % (source, key, message))
 
 
-def _path(source, key, base, value, kind):
+def _path(source, key, base, value, kind, sequence=None):
+    """A path relative to base (the configuration's folder). sequence: the sequence folder,
+    named in the error when the path is found there instead (groundtruth: alone is relative
+    to it, so `detections: detections` is an easy slip)."""
     if not isinstance(value, str) or not value:
         _fail(source, key, "expected a path")
     path = os.path.normpath(os.path.join(base, os.path.expanduser(value)))
-    if kind == "file" and not os.path.isfile(path):
-        _fail(source, key, "no such file: %s" % path)
-    if kind == "dir" and not os.path.isdir(path):
-        _fail(source, key, "no such folder: %s" % path)
+    exists = {"file": os.path.isfile, "dir": os.path.isdir}.get(kind)
+    if exists and not exists(path):
+        message = "no such %s: %s" % ("file" if kind == "file" else "folder", path)
+        if sequence and exists(os.path.join(sequence, value)):
+            message += (" (relative to the configuration file; the sequence's own is %s: "
+                        "give that path)" % os.path.normpath(os.path.join(sequence, value)))
+        _fail(source, key, message)
     return path
 
 
@@ -271,12 +277,12 @@ def load(config_path, script_dir, out_override=None):
                 "settings": _path(source, key + ".settings", base, entry["settings"], "file"),
                 "groundtruth": _path(source, key + ".groundtruth", path, groundtruth, "file")
                 if groundtruth else None,
-                "detections": _path(source, key + ".detections", base, entry["detections"], "dir")
-                if "detections" in entry else None,
+                "detections": _path(source, key + ".detections", base, entry["detections"],
+                                    "dir", path) if "detections" in entry else None,
                 "detect": _detect(source, key + ".detect", base, entry.get("detect", False)),
                 "snapshots": _snapshots(source, key + ".snapshots", entry.get("snapshots", False)),
-                "objects_gt": _path(source, key + ".objects_gt", base, entry["objects_gt"], "file")
-                if "objects_gt" in entry else None,
+                "objects_gt": _path(source, key + ".objects_gt", base, entry["objects_gt"],
+                                    "file", path) if "objects_gt" in entry else None,
                 "max_frames": _whole(source, key + ".max_frames", entry.get("max_frames", 0), 0)}
             if sequence["detect"] is not None and sequence["detections"] is not None:
                 _fail(source, key + ".detect", "give either detect: (ocg_detect makes the "

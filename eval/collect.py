@@ -154,6 +154,12 @@ def table_one(batch, systems, failures):
                                        for s in ("median", "min", "max")] + [
         "moves_right_median", "gt_moves", "gt_static", "gt_outdated"]
     write_csv(os.path.join(batch["out"], "table_I.csv"), header, rows)
+    if not rows:
+        # A header alone reads as a broken batch: say why there is no row.
+        lines.append("")
+        lines.append("No row: Table I scores object maps against an object ground truth, which "
+                     "only generated sequences and sequences with `objects_gt:` have. What the "
+                     "object maps hold is in objects.md.")
     write_table(batch["out"], "table_I.md", lines + failure_lines(failures))
 
 

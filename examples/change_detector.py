@@ -16,9 +16,9 @@ import argparse
 import json
 import os
 
-import numpy as np
+import ocg  # first: its ImportError names the interpreter it was built for
 
-import ocg
+import numpy as np
 
 STATE_NAMES = {1: "observed", 2: "recent", 3: "unknown", 4: "suspicious"}
 

@@ -15,9 +15,9 @@ Needs the module on the path: PYTHONPATH=build/python, or an installed OCG-SLAM.
 import argparse
 import os
 
-import numpy as np
+import ocg  # first: its ImportError names the interpreter it was built for
 
-import ocg
+import numpy as np
 
 
 def read_frames(sequence):

@@ -18,11 +18,17 @@ JOBS=$(nproc 2>/dev/null || echo 2)
 "$ROOT/tools/install_deps.sh"
 GENERATOR=()
 [ -f "$BUILD/CMakeCache.txt" ] || { command -v ninja >/dev/null 2>&1 && GENERATOR=(-G Ninja); }
-echo "== build (the first time about 10 minutes on 2 cores; full log in $BUILD/demo_build.log)"
-cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
+echo "== build of the tools and the Python module (the first time about 12 minutes on 2 cores; full log in $BUILD/demo_build.log)"
+# The flags of tools/test.sh (-DOCG_WERROR=ON), so that it reuses this build instead of
+# compiling everything again.
+cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DOCG_WERROR=ON >/dev/null
+# Every tool and the Python module: what the README's getting started uses after the demo.
+TARGETS=(ocg_synth ocg_slam ocg_eval ocg_render ocg_diff ocg_replay ocg_detect
+  ocg_convert_detections ocg_vocab)
+cmake --build "$BUILD" --target help 2>/dev/null | grep -qw ocg_python && TARGETS+=(ocg_python)
 # Progress every 20 steps (Ninja's "[done/total]", Make's "[ n%]"); the whole log on failure.
 set +e
-cmake --build "$BUILD" --parallel "$JOBS" --target ocg_synth ocg_slam ocg_eval 2>&1 |
+cmake --build "$BUILD" --parallel "$JOBS" --target "${TARGETS[@]}" 2>&1 |
   tee "$BUILD/demo_build.log" |
   awk 'match($0, /^\[ *[0-9]+(\/[0-9]+|%)\]/) {
          if (++steps % 20 == 0) { print "  built " substr($0, RSTART, RLENGTH); fflush() } }'

@@ -11,6 +11,8 @@
 #include "ocg/app/settings.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/ocg/judgement_terms.h"
+#include "ocg/ocg/replay_format.h"
 
 namespace ocg::tools {
 
@@ -53,7 +55,8 @@ inline void AddSettingsCommand(CLI::App& parent, SettingsCommand* command) {
   app.add_flag("--list-keys", command->list_keys, "print every key the modules read, and exit");
   app.add_flag("--markdown", command->markdown,
                "print every module's keys as the tables of docs/settings.md (key, default, "
-               "values taken, meaning), and exit");
+               "values taken, meaning), and the OCG's modes and observation fields as the "
+               "tables of docs/ocg.md, and exit");
 }
 
 inline void RunSettingsCommand(const SettingsCommand& command) {
@@ -65,6 +68,8 @@ inline void RunSettingsCommand(const SettingsCommand& command) {
     for (const SettingsSection& section : DescribeSettings()) {
       std::cout << SettingsTableMarkdown(section) << "\n";
     }
+    // The OCG's modes and observation fields (docs/ocg.md), made from their lists too.
+    std::cout << JudgementTermsMarkdown() << "\n" << ObservationFieldsMarkdown() << "\n";
     return;
   }
   SettingsFile file = command.file.empty() ? SettingsFile::Parse("", "(defaults)")

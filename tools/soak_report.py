@@ -13,8 +13,9 @@ import sys
 
 LINE = re.compile(r"progress: (?P<seconds>[0-9.]+) s, frame (?P<frame>\d+)/\d+, [0-9.]+ fps, "
                   r"(?P<keyframes>\d+) keyframes, (?P<map_points>\d+) map points, "
-                  r"(?P<objects>\d+) objects, RSS (?P<rss_mb>[0-9.]+) MB")
-COLUMNS = ["seconds", "frame", "pass", "keyframes", "map_points", "objects", "rss_mb"]
+                  r"(?P<objects>\d+) objects, RSS (?P<rss_mb>[0-9.]+) MB"
+                  r"(, heap (?P<heap_mb>[0-9.]+) MB)?")
+COLUMNS = ["seconds", "frame", "pass", "keyframes", "map_points", "objects", "rss_mb", "heap_mb"]
 
 
 def read_samples(log, pass_length):
@@ -23,7 +24,9 @@ def read_samples(log, pass_length):
         for line in lines:
             match = LINE.search(line)
             if match:
-                sample = {k: float(v) for k, v in match.groupdict().items()}
+                # heap_mb: the allocator's memory in use (logs of older builds have none)
+                sample = {k: float(v) for k, v in match.groupdict().items() if v is not None}
+                sample.setdefault("heap_mb", 0.0)
                 sample["pass"] = int(sample["frame"] // pass_length) + 1
                 samples.append(sample)
     return samples
@@ -59,8 +62,9 @@ def panel(samples, keys, top, title, width=1000, height=260, left=70):
 def write_svg(samples, path):
     parts = ['<svg xmlns="http://www.w3.org/2000/svg" width="1000" height="680" '
              'font-family="sans-serif"><rect width="100%" height="100%" fill="white"/>']
-    parts += panel(samples, [("rss_mb", "#c0392b", "resident memory, MB")], 40,
-                   "ocg_slam soak: resident memory")
+    parts += panel(samples, [("rss_mb", "#c0392b", "resident memory, MB"),
+                             ("heap_mb", "#e67e22", "of it, heap in use, MB")], 40,
+                   "ocg_slam soak: resident memory and heap in use (each on its own scale)")
     parts += panel(samples, [("keyframes", "#2471a3", "keyframes"),
                              ("map_points", "#229954", "map points"),
                              ("objects", "#7d3c98", "objects")], 380,
@@ -106,6 +110,10 @@ def main():
     print("  resident memory %.0f -> %.0f MB (%+.1f %%, %+.2f MB/min)"
           % (first["rss_mb"], last["rss_mb"], growth,
              (last["rss_mb"] - first["rss_mb"]) / minutes if minutes > 0 else 0.0))
+    if last["heap_mb"] > 0:
+        print("  heap in use %.0f -> %.0f MB (%+.2f MB/min)"
+              % (first["heap_mb"], last["heap_mb"],
+                 (last["heap_mb"] - first["heap_mb"]) / minutes if minutes > 0 else 0.0))
     for key in ("keyframes", "map_points", "objects"):
         print("  %s %d -> %d" % (key.replace("_", " "), first[key], last[key]))
     if max_growth is not None and growth > max_growth:

@@ -50,7 +50,7 @@ std::optional<std::size_t> LiveFeed::Next() {
     index = next_++;
   }
   if (Due(index) > now) sleep_until_(Due(index));
-  lag_seconds_.push_back(std::max(0.0, clock_() - Due(index)));
+  lag_seconds_.Add(std::max(0.0, clock_() - Due(index)));
   ++delivered_;
   return index;
 }
@@ -71,11 +71,9 @@ nlohmann::json LiveFeed::Report() const {
           {"frames_dropped", dropped_.size()},
           {"first_dropped_frames", first_dropped},
           {"lag_ms",
-           {{"median", 1e3 * Quantile(lag_seconds_, 0.5)},
-            {"p95", 1e3 * Quantile(lag_seconds_, 0.95)},
-            {"max", lag_seconds_.empty()
-                        ? 0.0
-                        : 1e3 * *std::max_element(lag_seconds_.begin(), lag_seconds_.end())}}}};
+           {{"median", 1e3 * lag_seconds_.Median()},
+            {"p95", 1e3 * lag_seconds_.Quantile(0.95)},
+            {"max", 1e3 * lag_seconds_.max()}}}};
 }
 
 }  // namespace ocg

@@ -114,7 +114,10 @@ class ObjectSlam::Impl {
     last_timestamp_ = timestamp;
     last_frame_ = {result.state, result.T_cw, result.new_keyframe, result.relocalized,
                    result.inliers};
-    if (progress_.Due(SecondsSince(start_))) progress_.Add(Status());
+    const double seconds = SecondsSince(start_);
+    // Between frames: what the run freed goes back to the system (app_detail::ReleaseFreeHeap).
+    heap_release_.MaybeRelease(seconds);
+    if (progress_.Due(seconds)) progress_.Add(Status());
     return result.T_cw;
   }
 
@@ -136,6 +139,7 @@ class ObjectSlam::Impl {
     status.map_points = system_.MapPointCount();
     status.objects = objects_.LiveObjectCount();
     status.resident_bytes = app_detail::ResidentMemoryBytes();
+    status.heap_bytes = app_detail::HeapInUseBytes();
     return status;
   }
 
@@ -181,13 +185,14 @@ class ObjectSlam::Impl {
   void ContinueMap(std::istream& in, const app_detail::SessionRecord& record,
                    const std::string& path, std::uint32_t file_version) {
     ReadMapPart(path, "SLAM map", [&] {
-      system_.LoadMap(in, record.frames);
+      system_.LoadMap(in, record.frames,
+                      file_version >= 5 ? MapFileFormat::kAtlas : MapFileFormat::kSingleMap);
       return 0;
     });
     session_ = record.sessions;
     frame_offset_ = record.frames;
     loaded_map_ = path;
-    loaded_keyframes_ = system_.KeyFrameCount();
+    loaded_keyframes_ = system_.AtlasKeyFrameCount();
     app_detail::CheckNotEmpty(loaded_keyframes_, path);  // files before version 4
     if (record.has_objects && objects_.Enabled()) {
       ReadMapPart(path, "object map", [&] {
@@ -207,7 +212,7 @@ class ObjectSlam::Impl {
 
   void SaveMap(const std::string& path, const std::string& vocabulary_file) {
     // A map without a keyframe holds no place a later session could relocalize in.
-    if (system_.KeyFrameCount() == 0) {
+    if (system_.AtlasKeyFrameCount() == 0) {
       throw MapFileError("not writing the map file '" + path +
                          "': the map is empty (no keyframe: the run never initialized, see "
                          "run.json's initialization)");
@@ -224,7 +229,7 @@ class ObjectSlam::Impl {
     record.vocabulary_file = vocabulary_file;
     record.orb = settings_.orb;
     record.vocabulary_fingerprint = app_detail::VocabularyFingerprint(vocabulary_);
-    record.keyframes = system_.KeyFrameCount();
+    record.keyframes = system_.AtlasKeyFrameCount();
     record.sessions = session_ + 1;
     record.frames = frame_offset_ + frames_;
     record.has_objects = objects_.Enabled();
@@ -265,6 +270,7 @@ class ObjectSlam::Impl {
   const RunStop* stop_;
   bool interrupted_ = false;  // the stop was requested before Shutdown()
   app_detail::ProgressSeries progress_;
+  app_detail::HeapRelease heap_release_;
 
  private:
   // run.json's "maps": every map of the run (docs/slam.md "Lost tracking and new maps").
@@ -380,11 +386,9 @@ class ObjectSlam::Impl {
         app_detail::Timing(mapping.map_lock_held_seconds);
     // CPU time of the local mapping thread: comparable between runs on a loaded machine.
     timing["local_mapping_cpu_per_keyframe"] = app_detail::Timing(mapping.keyframe_cpu_seconds);
-    timing["local_mapping_cpu_per_keyframe"]["total_s"] = std::accumulate(
-        mapping.keyframe_cpu_seconds.begin(), mapping.keyframe_cpu_seconds.end(), 0.0);
+    timing["local_mapping_cpu_per_keyframe"]["total_s"] = mapping.keyframe_cpu_seconds.sum();
     timing["local_ba_cpu_per_keyframe"] = app_detail::Timing(mapping.ba_cpu_seconds);
-    timing["local_ba_cpu_per_keyframe"]["total_s"] =
-        std::accumulate(mapping.ba_cpu_seconds.begin(), mapping.ba_cpu_seconds.end(), 0.0);
+    timing["local_ba_cpu_per_keyframe"]["total_s"] = mapping.ba_cpu_seconds.sum();
     // Threaded local mapping catching up (docs/slam.md "Threads and determinism").
     report["local_adjustments_skipped"] = mapping.local_adjustments_skipped;
     report["local_adjustments_interrupted"] = mapping.local_adjustments_interrupted;
@@ -514,10 +518,11 @@ std::optional<SE3> ObjectSlam::Track(const cv::Mat& image, double timestamp,
         std::to_string(timestamp));
   }
   if (impl_->frames_ > 0 && !(timestamp > impl_->last_timestamp_)) {
+    // Every digit (%.17g): TUM times (1.3e9 s) differ from the tenth digit on.
     char message[200];
     std::snprintf(message, sizeof(message),
-                  "ObjectSlam::Track: frame times must increase strictly: %.9g is not later than "
-                  "the last frame's %.9g",
+                  "ObjectSlam::Track: frame times must increase strictly: %.17g is not later "
+                  "than the last frame's %.17g",
                   timestamp, impl_->last_timestamp_);
     throw std::invalid_argument(message);
   }

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "object_layer.h"
+#include "ocg/core/statistics.h"
 #include "ocg/objects/object_mapper.h"
 #include "run_snapshots.h"
 
@@ -19,7 +20,7 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
   mapper.RecordObservations();
   const auto start = std::chrono::steady_clock::now();
   std::int64_t used = 0, without_pose = 0, keyframes = 0;
-  std::vector<double> frame_seconds;
+  DurationSummary frame_seconds;  // a summary: memory stays flat on a long run
   bool interrupted = false;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (stop != nullptr && stop->Requested()) {
@@ -39,7 +40,7 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
       outputs.BeforeKeyframe(mapper);
       mapper.AddKeyframe(keyframes++, frame.timestamp, *frame.T_cw);
     }
-    frame_seconds.push_back(
+    frame_seconds.Add(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count());
     outputs.AfterFrame(mapper, frame, association, keyframe);
     ++used;

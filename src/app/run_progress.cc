@@ -2,6 +2,10 @@
 
 #include <unistd.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <cmath>
 #include <cstdio>
 
@@ -25,6 +29,28 @@ std::size_t ResidentMemoryBytes() {
   const long page = ::sysconf(_SC_PAGESIZE);
   if (read != 2 || page <= 0) return 0;
   return static_cast<std::size_t>(resident) * static_cast<std::size_t>(page);
+}
+
+std::size_t HeapInUseBytes() {
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 info = ::mallinfo2();
+  return info.uordblks + info.hblkhd;
+#else
+  return 0;
+#endif
+}
+
+void ReleaseFreeHeap() {
+#if defined(__GLIBC__)
+  ::malloc_trim(0);
+#endif
+}
+
+bool HeapRelease::MaybeRelease(double seconds) {
+  if (seconds < next_) return false;
+  ReleaseFreeHeap();
+  next_ = (std::floor(seconds / interval_) + 1.0) * interval_;
+  return true;
 }
 
 ProgressSeries::ProgressSeries(double interval_seconds, std::size_t max_samples)
@@ -55,7 +81,8 @@ nlohmann::json ProgressSeries::Json() const {
          {"keyframes", sample.keyframes},
          {"map_points", sample.map_points},
          {"objects", sample.objects},
-         {"resident_mb", std::round(static_cast<double>(sample.resident_bytes) / 1e5) / 10.0}});
+         {"resident_mb", std::round(static_cast<double>(sample.resident_bytes) / 1e5) / 10.0},
+         {"heap_mb", std::round(static_cast<double>(sample.heap_bytes) / 1e5) / 10.0}});
   }
   return series;
 }

@@ -13,6 +13,31 @@ namespace ocg::app_detail {
 // The process's resident memory in bytes (Linux: /proc/self/statm); 0 where unknown.
 std::size_t ResidentMemoryBytes();
 
+// The bytes the allocator has handed out and not had back (glibc: mallinfo2, every arena
+// and mmapped block); 0 where unknown. Resident memory above it is the allocator's: free
+// pages it keeps, code, stacks.
+std::size_t HeapInUseBytes();
+
+// Gives the system back the free pages inside the allocator's heaps (glibc: malloc_trim),
+// not only those at their tops, which is all free() gives back. A long run frees and
+// allocates in a different order than it grew (culled keyframes, thinned sightings,
+// growing vectors), so the free memory ends up in holes between live blocks: without
+// this its resident memory keeps the heap's high-water mark and drifts up. Safe at any
+// time from any thread; a no-op where unsupported.
+void ReleaseFreeHeap();
+
+// ReleaseFreeHeap() at most once every `interval_seconds` of a run's wall time.
+class HeapRelease {
+ public:
+  explicit HeapRelease(double interval_seconds = 10.0) : interval_(interval_seconds) {}
+  // Releases when due; true when it did.
+  bool MaybeRelease(double seconds);
+
+ private:
+  double interval_;
+  double next_ = 0.0;
+};
+
 // At most max_samples samples spread over the whole run, however long: one every
 // interval; when the series is full every other sample is dropped and the interval
 // doubles. The last sample (the run's end) is always kept.

@@ -21,6 +21,7 @@
 #include "ocg/core/file_io.h"
 #include "ocg/core/logging.h"
 #include "ocg/core/settings_file.h"
+#include "ocg/core/statistics.h"
 #include "ocg/detect/detection_model.h"
 #include "ocg/io/image_read_ahead.h"
 #include "ocg/io/trajectory.h"
@@ -32,9 +33,11 @@ namespace {
 // soak) as a log line every `seconds`.
 std::string DescribeStatus(const RunStatus& status) {
   char text[160];
-  std::snprintf(text, sizeof text, "%zu keyframes, %zu map points, %zu objects, RSS %.0f MB",
+  std::snprintf(text, sizeof text,
+                "%zu keyframes, %zu map points, %zu objects, RSS %.0f MB, heap %.0f MB",
                 status.keyframes, status.map_points, status.objects,
-                static_cast<double>(status.resident_bytes) / 1e6);
+                static_cast<double>(status.resident_bytes) / 1e6,
+                static_cast<double>(status.heap_bytes) / 1e6);
   return text;
 }
 
@@ -223,21 +226,22 @@ FeedReport FeedSequence(ObjectSlam& slam, const ImageSequence& sequence, Detecti
 
   ProgressLine progress("frames", frames, ProgressOnTerminal(options.progress_line));
   StatusLines status_lines(options.status_seconds, progress.enabled());
-  std::vector<double> detect_seconds, detect_cpu_seconds, wait_seconds;
+  // Summaries, not one number a frame: a long run keeps its memory flat.
+  DurationSummary detect_seconds, detect_cpu_seconds, wait_seconds;
   std::size_t boxes = 0;
   const auto track = [&](std::size_t i) {
     const TimedImage& image = sequence.images[i];
     const auto wait_start = std::chrono::steady_clock::now();
     ImageReadAhead::Frame frame = images.NextFrame();
-    wait_seconds.push_back(SecondsSince(wait_start));
+    wait_seconds.Add(SecondsSince(wait_start));
     if (frame.image.empty())  // LiveFeed::Replaced said it would never be delivered
       throw std::logic_error("image " + std::to_string(i) + " was skipped but is due");
     PreparedFrame prepared = std::any_cast<PreparedFrame>(std::move(frame.prepared));
     FrameSource frame_source{TimestampInSeconds(image.timestamp_text, options.format), image.path,
                              prepared.features};
     if (source != nullptr) {
-      detect_seconds.push_back(prepared.detect_seconds);
-      detect_cpu_seconds.push_back(prepared.detect_cpu_seconds);
+      detect_seconds.Add(prepared.detect_seconds);
+      detect_cpu_seconds.Add(prepared.detect_cpu_seconds);
       boxes += prepared.detections.size();
     }
     slam.Track(frame.image, image.timestamp, prepared.detections, frame_source);

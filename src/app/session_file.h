@@ -19,12 +19,15 @@ inline constexpr const char* kMapFileKind = "ocg_slam session map";
 // 3: then the colour signature of each map object's sightings (ObjectSighting::colour).
 // 4: the session record ends with what the keyframes were made with besides the camera
 // (the ORB pyramid and feature count, the vocabulary's fingerprint) and the keyframe count.
+// 5: the SLAM map holds the whole atlas (every map, each keyframe's and point's map, the
+// current map and the merges; slam/map_file.h MapFileFormat::kAtlas), and the record's
+// keyframe count is the atlas's. Files before version 5 hold one map, loaded as map 0.
 // Version 1 files are still read: without that log, earlier sessions' changes are the
 // object map's own (their moves show as removals). Version 1 and 2 files have no colours:
 // a later session pairs their objects without them. Files before version 4 take their ORB
 // settings from the settings text they saved (OrbOfOlderFile) and check the vocabulary's
 // word count alone.
-inline constexpr std::uint32_t kMapFileVersion = 4;
+inline constexpr std::uint32_t kMapFileVersion = 5;
 inline constexpr std::uint32_t kOldestMapFileVersion = 1;
 
 struct SessionRecord {
@@ -43,7 +46,7 @@ struct SessionRecord {
   OrbExtractorOptions orb;
   // VocabularyFingerprint of the vocabulary; 0: not recorded (files before version 4).
   std::uint64_t vocabulary_fingerprint = 0;
-  std::uint64_t keyframes = 0;  // live keyframes in the SLAM map
+  std::uint64_t keyframes = 0;  // live keyframes in the SLAM map (version 5: its every map)
 };
 
 // file_version: this build's; an older one writes that version's fields alone (for tests

@@ -137,7 +137,19 @@ std::vector<TimedImage> ReadTumImageList(const std::string& path, const std::str
 ImageSequence ReadTumSequence(const std::string& root) {
   const std::string list = JoinPath(root, "rgb.txt");
   if (!fs::exists(list)) {
-    throw FileError("'" + root + "' is not a TUM RGB-D sequence folder: '" + list + "' is missing");
+    // The format is a choice (tum by default): name the one the folder looks like.
+    std::string other;
+    if (fs::exists(JoinPath(root, "times.txt")) && fs::exists(JoinPath(root, "image_0"))) {
+      other =
+          "; it holds times.txt and image_0/, a KITTI odometry folder: read it as format "
+          "kitti (ocg_slam run --format kitti)";
+    } else if (fs::exists(JoinPath(root, "mav0/cam0/data.csv"))) {
+      other =
+          "; it holds mav0/cam0/data.csv, a EuRoC folder: read it as format euroc "
+          "(ocg_slam run --format euroc)";
+    }
+    throw FileError("'" + root + "' is not a TUM RGB-D sequence folder: '" + list + "' is missing" +
+                    other);
   }
   ImageSequence sequence;
   sequence.root = root;

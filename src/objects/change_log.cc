@@ -23,9 +23,9 @@ std::string Rounded(double value) {
   return text.str();
 }
 
-// A removal of an object last seen in an earlier session and a same-class object first
-// seen in this one, as a pairing weighs it.
-struct BetweenSessionCandidate {
+// A removal and a same-class object that appeared since the removed one was last seen,
+// as the pairing weighs them.
+struct MoveCandidate {
   std::size_t removed = 0, appeared = 0;
   double relative = 0.0;                      // centre distance in larger extents
   std::optional<AppearanceMatch> appearance;  // when both have enough descriptors
@@ -37,19 +37,23 @@ struct BetweenSessionCandidate {
 // tens): distance only decides among pairs that look alike, or have no appearance.
 constexpr double kDistanceWeight = 1e-3;
 
-double PairingCost(const BetweenSessionCandidate& candidate, const AppearanceOptions& options) {
+double PairingCost(const MoveCandidate& candidate, const AppearanceOptions& options) {
   const double unlike = candidate.appearance ? 1.0 - candidate.appearance->Share() : 1.0;
   const double unlike_colour = candidate.colour ? 1.0 - *candidate.colour : 1.0;
   return unlike + options.colour_weight * unlike_colour + kDistanceWeight * candidate.relative;
 }
 
-// Between visits nothing bounds how far an object was carried, and two objects of one
-// class can be carried past each other: pairs by least total cost over all removals and
-// appearances (SolveAssignment), looking alike first, nearer second; not nearest first.
-std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& removed,
-                                          const std::vector<ObjectRecord>& appeared,
-                                          const ChangeLogContext& context,
-                                          std::vector<BetweenSessionCandidate>* candidates) {
+// Pairs removals with objects that appeared into moves, within a session and between
+// sessions alike. A pair: the same class, the new object first seen after the removed one
+// was last seen, not at the same place (context.moves.same_place_factor). Nothing bounds
+// how far an object is carried, and two objects of one class can be carried past each
+// other: the pairs are chosen together (SolveAssignment: as many pairs as the order
+// allows, then least total cost), looking alike first, nearer second; not nearest first,
+// which lets a near newcomer take the one removal whose times would also fit another.
+std::vector<MoveLink> PairMoves(const std::vector<ObjectRecord>& removed,
+                                const std::vector<ObjectRecord>& appeared,
+                                const ChangeLogContext& context,
+                                std::vector<MoveCandidate>* candidates) {
   const auto look_in = [&](const std::map<ObjectId, std::vector<Descriptor>>& looks,
                            ObjectId id) -> const std::vector<Descriptor>* {
     const auto found = looks.find(id);
@@ -66,13 +70,7 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
       const ObjectRecord& from = removed[r];
       const ObjectRecord& to = appeared[a];
       if (from.class_id != to.class_id || !(to.first_seen > from.last_seen)) continue;
-      BetweenSessionCandidate candidate{
-          r,
-          a,
-          (from.cuboid.centre - to.cuboid.centre).norm() / LargerExtent(from, to),
-          std::nullopt,
-          false,
-          std::nullopt};
+      MoveCandidate candidate{r, a, RelativeDistance(from, to), std::nullopt, false, std::nullopt};
       if (candidate.relative <= context.moves.same_place_factor) continue;
       // The box appearance holds far more of an object's texture than its map points.
       const std::vector<Descriptor>* from_look = look_in(context.box_appearance, from.id);
@@ -97,7 +95,7 @@ std::vector<MoveLink> PairBetweenSessions(const std::vector<ObjectRecord>& remov
         candidate.colour = ColourSimilarity(from_colour->second, to_colour->second);
       cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) =
           PairingCost(candidate, context.appearance_options);
-      candidates->push_back(candidate);
+      if (candidates != nullptr) candidates->push_back(candidate);
     }
   }
   std::vector<MoveLink> moves;
@@ -175,6 +173,13 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
     record.class_id = entry.class_id;
     record.cuboid = entry.cuboid;
     record.last_seen = entry.last_seen.value_or(entry.timestamp);
+    // Nor did one whose place holds a live object of its class (a duplicate removed beside
+    // the object it doubled, an object re-created where it stands): it is still there.
+    const bool still_there = std::any_of(live.begin(), live.end(), [&](const ObjectRecord& o) {
+      return o.class_id == record.class_id &&
+             RelativeDistance(o, record) <= context.moves.same_place_factor;
+    });
+    if (still_there) continue;
     const bool earlier = context.session > 0 && record.last_seen < context.session_start;
     (earlier ? seen_before : seen_now).push_back(record);
   }
@@ -182,12 +187,13 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
   std::set<ObjectId> moved_to;
   std::set<ObjectId> between_sessions;  // moves_from's keys linked by the between-session rule
   context.appearance_options.Check();
+  context.moves.Check();
   std::vector<ObjectRecord> appeared;
   for (const ObjectRecord& object : live) {
     if (object.first_session == context.session) appeared.push_back(object);
   }
-  std::vector<BetweenSessionCandidate> candidates;
-  for (const MoveLink& move : PairBetweenSessions(seen_before, appeared, context, &candidates)) {
+  std::vector<MoveCandidate> candidates;
+  for (const MoveLink& move : PairMoves(seen_before, appeared, context, &candidates)) {
     moves_from.emplace(move.from.id, move);
     moved_to.insert(move.to.id);
     between_sessions.insert(move.from.id);
@@ -197,7 +203,7 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
   std::map<ObjectId, std::vector<PairingCandidate>> alternatives;
   // (from, to): the appearance evidence of the pair.
   std::map<std::pair<ObjectId, ObjectId>, PairingLook> looks;
-  for (const BetweenSessionCandidate& candidate : candidates) {
+  for (const MoveCandidate& candidate : candidates) {
     const ObjectRecord& from = seen_before[candidate.removed];
     const ObjectRecord& to = appeared[candidate.appeared];
     PairingCandidate evidence{to.id, (from.cuboid.centre - to.cuboid.centre).norm(),
@@ -224,7 +230,7 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
     return *std::find_if(records.begin(), records.end(),
                          [id](const ObjectRecord& record) { return record.id == id; });
   };
-  for (const MoveLink& move : LinkMoves(removed_as_class, rest_as_class, context.moves, true)) {
+  for (const MoveLink& move : PairMoves(removed_as_class, rest_as_class, context, nullptr)) {
     moves_from.emplace(move.from.id, MoveLink{original(seen_now, move.from.id),
                                               original(rest_live, move.to.id), move.distance});
     moved_to.insert(move.to.id);
@@ -257,7 +263,8 @@ std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& change
                                "; same class first seen in session " +
                                std::to_string(context.session) + ", " +
                                Rounded(move->second.distance) + " away (map units)"
-                         : "removed here, same class appeared near after its last sighting";
+                         : "removed here; same class first seen after its last sighting, " +
+                               Rounded(move->second.distance) + " away (map units)";
       entry.to = MoveDestination{to.id, to.cuboid, to.first_seen};
       entry.distance = move->second.distance;
       const auto look = looks.find({move->first, to.id});

@@ -30,10 +30,6 @@ struct Candidate {
   }
 };
 
-double Relative(const ObjectRecord& a, const ObjectRecord& b) {
-  return (a.cuboid.centre - b.cuboid.centre).norm() / LargerExtent(a, b);
-}
-
 // Greedy one-to-one pairing of the candidates, nearest first.
 std::vector<Candidate> PairNearest(std::vector<Candidate> candidates) {
   std::sort(candidates.begin(), candidates.end());
@@ -127,6 +123,10 @@ double LargerExtent(const ObjectRecord& a, const ObjectRecord& b) {
   return std::max({a.cuboid.size.maxCoeff(), b.cuboid.size.maxCoeff(), 1e-6});
 }
 
+double RelativeDistance(const ObjectRecord& a, const ObjectRecord& b) {
+  return (a.cuboid.centre - b.cuboid.centre).norm() / LargerExtent(a, b);
+}
+
 std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
                                 const std::vector<ObjectRecord>& appeared,
                                 const MoveLinkOptions& options, bool require_order) {
@@ -138,7 +138,7 @@ std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
       const ObjectRecord& to = appeared[a];
       if (from.class_id != to.class_id) continue;
       if (require_order && !(to.first_seen > from.last_seen)) continue;
-      const double relative = Relative(from, to);
+      const double relative = RelativeDistance(from, to);
       if (relative <= options.same_place_factor || relative > options.search_factor) continue;
       candidates.push_back({relative, r, a, from.id, to.id});
     }
@@ -173,7 +173,7 @@ MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
   for (std::size_t b = 0; b < before.size(); ++b) {
     for (std::size_t a = 0; a < after.size(); ++a) {
       if (kept_before[b] || kept_after[a] || before[b].class_id != after[a].class_id) continue;
-      const double relative = Relative(before[b], after[a]);
+      const double relative = RelativeDistance(before[b], after[a]);
       if (relative > options.same_place_factor) continue;
       const double rank = before[b].id == after[a].id ? relative - 1.0 : relative;
       candidates.push_back({rank, b, a, before[b].id, after[a].id});

@@ -1,6 +1,8 @@
 #include "ocg/ocg/change_detector.h"
 
 #include <algorithm>
+#include <any>
+#include <functional>
 #include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -46,6 +48,38 @@ nlohmann::json OptionsJson(const OcgOptions& options) {
 }
 
 }  // namespace
+
+class ObjectChangeDetector::KeyframeView : public GraphView {
+ public:
+  // observed: this keyframe's detected objects, sorted.
+  KeyframeView(const ObjectChangeDetector& detector, const std::vector<ObjectId>& observed)
+      : detector_(detector), observed_(observed) {}
+  const std::vector<CovisibilityEdge>& Neighbours(ObjectId id) const override {
+    return detector_.graph_.Neighbours(id);
+  }
+  const ObjectGeometry& Geometry(ObjectId id) const override {
+    return detector_.records_.at(id).geometry;
+  }
+  bool Detected(ObjectId id) const override {
+    return std::binary_search(observed_.begin(), observed_.end(), id);
+  }
+  void ForEachObject(
+      const std::function<void(ObjectId, const ObjectGeometry&)>& visit) const override {
+    for (const auto& [id, record] : detector_.records_) visit(id, record.geometry);
+  }
+  const OcgModes& modes() const override { return detector_.modes_; }
+  std::any& KeyframeMemo(const char* key) const override {
+    for (auto& [name, value] : memo_) {
+      if (name == key) return value;
+    }
+    return memo_.emplace_back(key, std::any()).second;
+  }
+
+ private:
+  const ObjectChangeDetector& detector_;
+  const std::vector<ObjectId>& observed_;
+  mutable std::vector<std::pair<std::string, std::any>> memo_;
+};
 
 ObjectChangeDetector::ObjectChangeDetector(OcgOptions options)
     : options_(std::move(options)), modes_(options_.modes()) {
@@ -163,10 +197,7 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
   std::sort(candidates_.begin(), candidates_.end());
   candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
 
-  // "occlusion": every mapped object's image footprint, the occluders of this keyframe.
-  std::vector<ImageFootprint> footprints;
-  if (modes_.occlusion) footprints = ImageFootprints(observation);
-
+  const KeyframeView view(*this, observed);
   std::vector<ObjectId> outliers;
   auto weight = observed_weight_.begin();  // both lists ascend by id: walk them together
   for (ObjectId id : candidates_) {
@@ -180,19 +211,9 @@ KeyframeResult ObjectChangeDetector::Process(const KeyframeObservation& observat
     }
     evidence.total_weight = graph_.WeightSum(id);
     evidence.degree = graph_.Degree(id);
-    if (modes_.dropout_discount && !evidence.observed && evidence.observed_weight > 0 &&
-        (record.state.state == ObjectState::kUnknown ||
-         record.state.state == ObjectState::kSuspicious)) {
-      evidence.in_view_weight = InViewNeighbourWeight(id, observed, observation);
-    }
-    if (modes_.occlusion && !evidence.observed &&
-        (record.state.state == ObjectState::kUnknown ||
-         record.state.state == ObjectState::kSuspicious)) {
-      evidence.occluded_share = OccludedShareOf(record, footprints, observation);
-    }
     const Judgement judgement =
         JudgeObject(record.state, evidence, record.geometry, observation.T_cw, observation.camera,
-                    options_, modes_, &observation, id);
+                    options_, modes_, &observation, id, &view);
     record.rate = judgement.rate;
     record.rate_keyframe = keyframe;
     record.judged_by_geometry = judgement.judged_by_geometry;
@@ -221,43 +242,6 @@ void ObjectChangeDetector::KeepGeometryForReentry(ObjectId id) {
   kept.centroid = record.geometry.centroid;
   kept.size = record.geometry.size;
   if (record.class_id >= 0) kept.class_id = record.class_id;
-}
-
-std::uint64_t ObjectChangeDetector::InViewNeighbourWeight(
-    ObjectId id, const std::vector<ObjectId>& observed,
-    const KeyframeObservation& observation) const {
-  std::uint64_t weight = 0;
-  for (const CovisibilityEdge& edge : graph_.Neighbours(id)) {
-    // A detected neighbour is in view even when its centroid projects outside the image.
-    if (std::binary_search(observed.begin(), observed.end(), edge.neighbour) ||
-        ExpectedInView(records_.at(edge.neighbour).geometry, observation.T_cw, observation.camera,
-                       options_, modes_) > 0.0) {
-      weight += edge.weight;
-    }
-  }
-  return weight;
-}
-
-std::vector<ImageFootprint> ObjectChangeDetector::ImageFootprints(
-    const KeyframeObservation& observation) const {
-  std::vector<ImageFootprint> footprints;
-  for (const auto& [id, record] : records_) {
-    if (!record.geometry.centroid || !record.geometry.size) continue;
-    const std::optional<ImageFootprint> footprint = ProjectBox(
-        *record.geometry.centroid, *record.geometry.size, observation.T_cw, observation.camera);
-    if (footprint) footprints.push_back(*footprint);
-  }
-  return footprints;
-}
-
-double ObjectChangeDetector::OccludedShareOf(const Record& record,
-                                             const std::vector<ImageFootprint>& footprints,
-                                             const KeyframeObservation& observation) const {
-  if (!record.geometry.centroid || !record.geometry.size) return 0.0;
-  const std::optional<ImageFootprint> own = ProjectBox(
-      *record.geometry.centroid, *record.geometry.size, observation.T_cw, observation.camera);
-  // Its own footprint is among them but never in front of its own centre.
-  return own ? OccludedShare(*own, footprints, observation.camera) : 0.0;
 }
 
 RemovalEvent ObjectChangeDetector::MakeRemoval(ObjectId id, std::int64_t keyframe,

@@ -73,7 +73,7 @@ double ExpectedInView(const ObjectGeometry& geometry, const SE3& T_cw, const Pin
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
                       const OcgOptions& options, const OcgModes& modes,
-                      const KeyframeObservation* observation, ObjectId id) {
+                      const KeyframeObservation* observation, ObjectId id, const GraphView* graph) {
   Judgement judgement;
   judgement.rate = ActiveEdgeRate(evidence.observed_weight, evidence.total_weight);
   if (evidence.observed) {
@@ -104,7 +104,7 @@ Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& eviden
   // The improved modes, in the order of their list (judgement_terms.h): the baselines
   // above switch none on.
   const std::vector<JudgementTerm>& terms = JudgementTerms();
-  const TermInput input{id, observation, evidence, geometry, T_cw, camera, options};
+  const TermInput input{id, observation, evidence, geometry, T_cw, camera, options, graph};
   for (std::size_t i = 0; i < terms.size(); ++i) {
     if (terms[i].present && modes.has(i) && terms[i].present(input)) {
       judgement.next = NextState(current, true, judgement.rate, 0.0, options);

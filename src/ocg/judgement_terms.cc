@@ -1,6 +1,7 @@
 #include "ocg/ocg/judgement_terms.h"
 
 #include <algorithm>
+#include <sstream>
 #include <stdexcept>
 
 #include "ocg/ocg/judgement.h"
@@ -8,6 +9,43 @@
 
 namespace ocg {
 namespace {
+
+// "dropout": the summed weight of the object's edges to neighbours detected in this
+// keyframe or expected in view (ExpectedInView of the mode). O(degree).
+std::uint64_t InViewNeighbourWeight(const TermInput& in) {
+  std::uint64_t weight = 0;
+  for (const CovisibilityEdge& edge : in.graph->Neighbours(in.id)) {
+    // A detected neighbour is in view even when its centroid projects outside the image.
+    if (in.graph->Detected(edge.neighbour) ||
+        ExpectedInView(in.graph->Geometry(edge.neighbour), in.T_cw, in.camera, in.options,
+                       in.graph->modes()) > 0.0) {
+      weight += edge.weight;
+    }
+  }
+  return weight;
+}
+
+// "occlusion": the share of the object's image outline that the outlines of the graph's
+// objects (each with a centroid and a size), wholly in front of it, cover. The outlines
+// are projected once per keyframe (O(objects in the graph)). 0 without geometry.
+double OccludedShareOf(const TermInput& in) {
+  if (!in.geometry.centroid || !in.geometry.size) return 0.0;
+  const std::optional<ImageFootprint> own =
+      ProjectBox(*in.geometry.centroid, *in.geometry.size, in.T_cw, in.camera);
+  if (!own) return 0.0;
+  const auto& footprints =
+      KeyframeValue<std::vector<ImageFootprint>>(*in.graph, "occlusion.footprints", [&in] {
+        std::vector<ImageFootprint> made;
+        in.graph->ForEachObject([&](ObjectId, const ObjectGeometry& geometry) {
+          if (!geometry.centroid || !geometry.size) return;
+          if (auto footprint = ProjectBox(*geometry.centroid, *geometry.size, in.T_cw, in.camera))
+            made.push_back(std::move(*footprint));
+        });
+        return made;
+      });
+  // Its own footprint is among them but never in front of its own centre.
+  return OccludedShare(*own, footprints, in.camera);
+}
 
 std::vector<JudgementTerm> MakeTerms() {
   std::vector<JudgementTerm> terms;
@@ -66,12 +104,13 @@ std::vector<JudgementTerm> MakeTerms() {
                    "an object removed and detected again comes back with its history"});
 
   JudgementTerm dropout{"dropout", true, &OcgModes::dropout_discount,
-                        "observed_weight, in_view_weight",
+                        "observed_weight; gathers the weight of the neighbours in view",
                         "a miss weighs by the detected share of the neighbours in view"};
   // Missed together with most of what is in view: the detector failed across the view,
-  // which says little about this object.
+  // which says little about this object. No detected neighbour: nothing tells a dropout.
   dropout.miss_weight = [](const TermInput& in) {
-    return DropoutWeight(in.evidence.observed_weight, in.evidence.in_view_weight, in.options);
+    if (in.graph == nullptr || in.evidence.observed_weight == 0) return 1.0;
+    return DropoutWeight(in.evidence.observed_weight, InViewNeighbourWeight(in), in.options);
   };
   terms.push_back(dropout);
 
@@ -91,11 +130,13 @@ std::vector<JudgementTerm> MakeTerms() {
   };
   terms.push_back(points);
 
-  JudgementTerm occlusion{"occlusion", true, &OcgModes::occlusion, "occluded_share",
+  JudgementTerm occlusion{"occlusion", true, &OcgModes::occlusion,
+                          "centroid, size; gathers every object's image outline",
                           "P is 0 for an object hidden behind nearer objects"};
   // Hidden behind objects nearer the camera: a detector cannot find it there.
   occlusion.expected_now = [](double fraction, const TermInput& in) {
-    return in.evidence.occluded_share >= in.options.max_occluded_share ? 0.0 : fraction;
+    if (in.graph == nullptr) return fraction;
+    return OccludedShareOf(in) >= in.options.max_occluded_share ? 0.0 : fraction;
   };
   terms.push_back(occlusion);
   return terms;
@@ -119,6 +160,19 @@ std::string JudgementTermNames() {
     names += term.name;
   }
   return names;
+}
+
+std::string JudgementTermsMarkdown() {
+  std::ostringstream out;
+  out << "<!-- settings-table OCG.mode -->\n"
+      << "| mode | in `improved` | reads | effect on an object not detected |\n"
+      << "|---|---|---|---|\n";
+  for (const JudgementTerm& term : JudgementTerms()) {
+    out << "| `" << term.name << "` | " << (term.in_improved ? "yes" : "no") << " | " << term.reads
+        << " | " << term.effect << " |\n";
+  }
+  out << "<!-- end settings-table -->\n";
+  return out.str();
 }
 
 }  // namespace ocg

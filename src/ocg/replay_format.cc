@@ -197,6 +197,26 @@ std::string ObservationFieldsHelp() {
   return text;
 }
 
+std::string ObservationFieldsMarkdown() {
+  std::string text =
+      "<!-- settings-table observation -->\n"
+      "| field | form | unit | when absent | meaning |\n"
+      "|---|---|---|---|---|\n";
+  const auto add = [&text](const ObservationField& field, const auto& member) {
+    const char* absent = !field.optional()            ? "an error"
+                         : field.written_when_empty() ? "empty or 0; always written"
+                                                      : "empty; written when not";
+    text += std::string("| `") + field.name + "` | " + ObservationFieldType(member) + " | " +
+            (*field.unit != '\0' ? field.unit : "") + " | " + absent + " | " + field.meaning +
+            " |\n";
+  };
+  const KeyframeObservation observation;
+  VisitObservationFields(add, observation);
+  const ObjectGeometryUpdate update;
+  VisitObjectUpdateFields(add, update);
+  return text + "<!-- end settings-table -->\n";
+}
+
 KeyframeObservation ParseObservationJson(const std::string& line) {
   json root;
   try {

@@ -137,10 +137,10 @@ void LocalMapping::ProcessKeyFrame(const KeyFramePtr& keyframe) {
   }
   ++stats_.keyframes;
   const auto end = std::chrono::steady_clock::now();
-  stats_.keyframe_seconds.push_back(std::chrono::duration<double>(end - start).count());
-  stats_.keyframe_cpu_seconds.push_back(ThreadCpuSeconds() - cpu_start);
-  stats_.map_lock_held_seconds.push_back(std::chrono::duration<double>(end - locked).count() -
-                                         unlocked_seconds_);
+  stats_.keyframe_seconds.Add(std::chrono::duration<double>(end - start).count());
+  stats_.keyframe_cpu_seconds.Add(ThreadCpuSeconds() - cpu_start);
+  stats_.map_lock_held_seconds.Add(std::chrono::duration<double>(end - locked).count() -
+                                   unlocked_seconds_);
 }
 
 void LocalMapping::LinkKeyFrame(const KeyFramePtr& keyframe) {
@@ -420,9 +420,9 @@ void LocalMapping::LocalBundleAdjustment(const KeyFramePtr& keyframe,
   }
   ApplyAdjustment(*map_, pyramid_, adjustment);
   stats_.ba_iterations.push_back(adjustment.report.iterations);
-  stats_.ba_seconds.push_back(
+  stats_.ba_seconds.Add(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  stats_.ba_cpu_seconds.push_back(ThreadCpuSeconds() - cpu_start);
+  stats_.ba_cpu_seconds.Add(ThreadCpuSeconds() - cpu_start);
 }
 
 void LocalMapping::CullKeyFrames(const KeyFramePtr& keyframe,

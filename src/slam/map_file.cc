@@ -68,19 +68,23 @@ void LoadBlock(cereal::BinaryInputArchive& archive, std::vector<T>* values) {
   archive(cereal::binary_data(values->data(), sizeof(T) * values->size()));
 }
 
-void SavePoint(cereal::BinaryOutputArchive& archive, const MapPoint& point) {
+void SavePoint(cereal::BinaryOutputArchive& archive, const MapPoint& point, MapFileFormat format) {
   archive(point.id, point.position, point.descriptor, point.normal, point.min_distance,
           point.max_distance, point.observations, point.reference, point.first_keyframe,
           point.first_frame, point.visible, point.found, point.bad);
+  if (format == MapFileFormat::kAtlas) archive(point.map);
 }
 
-void LoadPoint(cereal::BinaryInputArchive& archive, MapPoint* point) {
+void LoadPoint(cereal::BinaryInputArchive& archive, MapPoint* point, MapFileFormat format) {
   archive(point->id, point->position, point->descriptor, point->normal, point->min_distance,
           point->max_distance, point->observations, point->reference, point->first_keyframe,
           point->first_frame, point->visible, point->found, point->bad);
+  point->map = 0;
+  if (format == MapFileFormat::kAtlas) archive(point->map);
 }
 
-void SaveKeyFrame(cereal::BinaryOutputArchive& archive, const KeyFrame& keyframe, const Map& map) {
+void SaveKeyFrame(cereal::BinaryOutputArchive& archive, const KeyFrame& keyframe, const Map& map,
+                  MapFileFormat format) {
   archive(keyframe.id, keyframe.frame_id, keyframe.timestamp, keyframe.timestamp_text,
           keyframe.T_cw);
   SaveBlock(archive, keyframe.features.keypoints);
@@ -100,10 +104,11 @@ void SaveKeyFrame(cereal::BinaryOutputArchive& archive, const KeyFrame& keyframe
   SaveBlock(archive, points);
   archive(keyframe.covisible, keyframe.ordered_covisible, keyframe.parent, keyframe.has_parent,
           keyframe.children, keyframe.loop_edges, keyframe.bad, keyframe.T_c_parent);
+  if (format == MapFileFormat::kAtlas) archive(keyframe.map);
 }
 
 void LoadKeyFrame(cereal::BinaryInputArchive& archive, KeyFrame* keyframe, const Map& map,
-                  int pyramid_levels) {
+                  int pyramid_levels, MapFileFormat format) {
   archive(keyframe->id, keyframe->frame_id, keyframe->timestamp, keyframe->timestamp_text,
           keyframe->T_cw);
   ExtractedFeatures& features = keyframe->features;
@@ -149,35 +154,48 @@ void LoadKeyFrame(cereal::BinaryInputArchive& archive, KeyFrame* keyframe, const
   }
   archive(keyframe->covisible, keyframe->ordered_covisible, keyframe->parent, keyframe->has_parent,
           keyframe->children, keyframe->loop_edges, keyframe->bad, keyframe->T_c_parent);
+  keyframe->map = 0;
+  if (format == MapFileFormat::kAtlas) archive(keyframe->map);
 }
 
 }  // namespace
 
-void SaveMap(const Map& map, std::ostream& out, std::optional<int> only_map) {
+void SaveMap(const Map& map, std::ostream& out, const std::vector<MapMerge>& merges,
+             MapFileFormat format) {
   std::lock_guard<std::mutex> lock(map.mutex());
   cereal::BinaryOutputArchive archive(out);
   archive(map.next_keyframe_id(), map.next_map_point_id());
-  // Maps share no point and no covisibility edge: one is whole without the others.
-  const auto saved = [&only_map](int tag) { return !only_map || tag == *only_map; };
+  // The single-map format holds the current map alone (maps share no point and no
+  // covisibility edge: one is whole without the others).
+  const auto saved = [&](int tag) {
+    return format == MapFileFormat::kAtlas || tag == map.current_map();
+  };
   std::size_t count = 0;
   for (const auto& [id, point] : map.points()) count += saved(point->map) ? 1 : 0;
   archive(cereal::make_size_tag(static_cast<cereal::size_type>(count)));
   for (const auto& [id, point] : map.points()) {
-    if (saved(point->map)) SavePoint(archive, *point);
+    if (saved(point->map)) SavePoint(archive, *point, format);
   }
   count = 0;
   for (const auto& [id, keyframe] : map.keyframes()) count += saved(keyframe->map) ? 1 : 0;
   archive(cereal::make_size_tag(static_cast<cereal::size_type>(count)));
   for (const auto& [id, keyframe] : map.keyframes()) {
-    if (saved(keyframe->map)) SaveKeyFrame(archive, *keyframe, map);
+    if (saved(keyframe->map)) SaveKeyFrame(archive, *keyframe, map, format);
   }
+  if (format != MapFileFormat::kAtlas) return;
+  archive(map.map_count(), map.current_map());
+  archive(cereal::make_size_tag(static_cast<cereal::size_type>(merges.size())));
+  for (const MapMerge& merge : merges)
+    archive(merge.merged_map, merge.into_map, merge.frame, merge.scale);
 }
 
-void LoadMap(std::istream& in, Map* map, int pyramid_levels) {
+std::vector<MapMerge> LoadMap(std::istream& in, Map* map, int pyramid_levels,
+                              MapFileFormat format) {
   std::lock_guard<std::mutex> lock(map->mutex());
   if (!map->keyframes().empty() || !map->points().empty()) {
     throw std::logic_error("LoadMap: the map must be empty");
   }
+  std::vector<MapMerge> merges;
   try {
     cereal::BinaryInputArchive archive(in);
     KeyFrameId next_keyframe = 0;
@@ -187,28 +205,62 @@ void LoadMap(std::istream& in, Map* map, int pyramid_levels) {
     archive(cereal::make_size_tag(count));
     for (cereal::size_type i = 0; i < count; ++i) {
       auto point = std::make_shared<MapPoint>();
-      LoadPoint(archive, point.get());
+      LoadPoint(archive, point.get(), format);
       map->Add(point);
     }
     archive(cereal::make_size_tag(count));
     for (cereal::size_type i = 0; i < count; ++i) {
       auto keyframe = std::make_shared<KeyFrame>();
-      LoadKeyFrame(archive, keyframe.get(), *map, pyramid_levels);
+      LoadKeyFrame(archive, keyframe.get(), *map, pyramid_levels, format);
       map->Add(keyframe);
     }
+    int map_count = 1, current_map = 0;
+    if (format == MapFileFormat::kAtlas) {
+      archive(map_count, current_map);
+      archive(cereal::make_size_tag(count));
+      merges.resize(static_cast<std::size_t>(count));
+      for (MapMerge& merge : merges)
+        archive(merge.merged_map, merge.into_map, merge.frame, merge.scale);
+    }
+    const auto check_map = [map_count](int tag, const std::string& what) {
+      if (tag < 0 || tag >= map_count) {
+        throw std::runtime_error(what + " is in map " + std::to_string(tag) +
+                                 ", but the atlas has " + std::to_string(map_count) + " maps");
+      }
+    };
+    if (map_count < 1) throw std::runtime_error("the atlas has no map");
+    check_map(current_map, "the current map");
+    for (const MapMerge& merge : merges) {
+      check_map(merge.merged_map, "a merged map");
+      check_map(merge.into_map, "a merged map's destination");
+    }
     for (const auto& [id, point] : map->points()) {
+      check_map(point->map, "point " + std::to_string(id));
       for (const auto& [keyframe, feature] : point->observations) {
-        if (!map->GetKeyFrame(keyframe)) {
+        const KeyFramePtr observer = map->GetKeyFrame(keyframe);
+        if (!observer) {
           throw std::runtime_error("point " + std::to_string(id) + " is observed by keyframe " +
                                    std::to_string(keyframe) + ", which the file does not hold");
         }
+        if (observer->map != point->map) {
+          throw std::runtime_error("point " + std::to_string(id) + " of map " +
+                                   std::to_string(point->map) + " is observed by keyframe " +
+                                   std::to_string(keyframe) + " of map " +
+                                   std::to_string(observer->map));
+        }
       }
     }
+    for (const auto& [id, keyframe] : map->keyframes())
+      check_map(keyframe->map, "keyframe " + std::to_string(id));
+    // The maps' indices as saved (merged and reset ones hold nothing but keep theirs).
+    while (map->map_count() < map_count) map->StartNewMap();
+    map->SetCurrentMap(current_map);
     map->RestoreIdCounters(next_keyframe, next_point);
   } catch (...) {
     map->Clear();
     throw;
   }
+  return merges;
 }
 
 }  // namespace ocg

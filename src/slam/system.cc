@@ -213,7 +213,7 @@ std::vector<MapSummary> System::Maps() const {
     if (point->map >= 0 && point->map < static_cast<int>(maps.size()))
       ++maps[static_cast<std::size_t>(point->map)].map_points;
   }
-  for (const LoopEvent& merge : loop_closing_->Stats().merges) {
+  for (const MapMerge& merge : AllMerges()) {
     MapSummary& summary = maps[static_cast<std::size_t>(merge.merged_map)];
     summary.merged_into = merge.into_map;
     summary.merged_at_frame = merge.frame;
@@ -365,13 +365,25 @@ std::size_t System::MapPointCount() const {
                     [this](const auto& entry) { return entry.second->map == map_.current_map(); }));
 }
 
-void System::SaveMap(std::ostream& out) const { ocg::SaveMap(map_, out, CurrentMap()); }
+std::vector<MapMerge> System::AllMerges() const {
+  std::vector<MapMerge> merges = loaded_merges_;
+  for (const LoopEvent& merge : loop_closing_->Stats().merges)
+    merges.push_back({merge.merged_map, merge.into_map, merge.frame, merge.scale});
+  return merges;
+}
 
-void System::LoadMap(std::istream& in, std::uint64_t frames_before) {
+void System::SaveMap(std::ostream& out) const { ocg::SaveMap(map_, out, AllMerges()); }
+
+std::size_t System::AtlasKeyFrameCount() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  return map_.LiveKeyFrameCount();
+}
+
+void System::LoadMap(std::istream& in, std::uint64_t frames_before, MapFileFormat format) {
   if (!frames_.empty()) {
     throw std::logic_error("System::LoadMap: a map can only be loaded before the first frame");
   }
-  ocg::LoadMap(in, &map_, tracking_->pyramid().levels());
+  loaded_merges_ = ocg::LoadMap(in, &map_, tracking_->pyramid().levels(), format);
   std::uint64_t first_frame_id = frames_before;
   {
     std::lock_guard<std::mutex> lock(map_.mutex());

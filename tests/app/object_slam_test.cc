@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -13,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "ocg/core/file_io.h"
 #include "ocg/core/map_file.h"
@@ -294,6 +296,73 @@ TEST(ObjectSlamMapFile, LoadingAndSavingAgainKeepsTheWholeState) {
   }
 }
 
+// A run whose tracking was lost too long made a second map (its objects start over in it):
+// the map file keeps both maps, the second one current with the object map built in it,
+// and a later session gets the whole atlas back (both maps with their keyframes and
+// points, the objects) and saves the same state again.
+TEST(ObjectSlamMapFile, AnAtlasOfTwoMapsAndItsObjectsContinue) {
+  const std::string folder = testing::MakeTempDir("object_slam_map");
+  Settings settings = SmokeSettings();
+  settings.tracking.new_map_after_lost_seconds = 0.5;
+  settings.loop_closing.merge_maps = false;
+  ObjectSlamOptions options;
+  options.snapshots = ParseSnapshotPolicy("none");
+  ObjectSlam first(settings, options);
+  const ImageSequence sequence = ReadTumSequence(SmokeSequence());
+  const EaoDetectionFolder detections(SmokeSequence() + "/detections", [&] {
+    std::vector<std::string> names;
+    for (const TimedImage& image : sequence.images) names.push_back(image.timestamp_text);
+    return names;
+  }());
+  // The first half, then grey frames (lost for 0.6 s), then the second half: a new map.
+  const std::size_t half = sequence.images.size() / 2;
+  double timestamp = 0.0;
+  const double step = sequence.images[1].timestamp - sequence.images[0].timestamp;
+  const auto give = [&](const cv::Mat& pixels, const TimedImage* image) {
+    timestamp = image ? image->timestamp : timestamp + step;
+    const std::string text = std::to_string(timestamp);
+    first.Track(pixels, timestamp,
+                image ? detections.ForFrame(image->timestamp_text) : std::vector<Detection>{},
+                {text, image ? image->path : std::string()});
+  };
+  for (std::size_t i = 0; i < half; ++i)
+    give(cv::imread(sequence.images[i].path, cv::IMREAD_GRAYSCALE), &sequence.images[i]);
+  const cv::Mat grey = cv::Mat(cv::imread(sequence.images[0].path, cv::IMREAD_GRAYSCALE).size(),
+                               CV_8UC1, cv::Scalar(128));
+  for (int blind = 0; blind < 20; ++blind) give(grey, nullptr);
+  for (std::size_t i = half; i < sequence.images.size(); ++i) {
+    TimedImage later = sequence.images[i];
+    later.timestamp = timestamp + step;
+    give(cv::imread(later.path, cv::IMREAD_GRAYSCALE), &later);
+  }
+  first.Shutdown();
+  const nlohmann::json report = first.Save(folder, {});
+  ASSERT_EQ(report["maps"].size(), 2u) << report["maps"].dump();
+  ASSERT_EQ(report["maps"][1]["current"], true);
+  ASSERT_GT(report["maps"][0]["keyframes"].get<int>(), 2);
+  ASSERT_GT(report["maps"][1]["keyframes"].get<int>(), 2);
+  EXPECT_GT(report["objects"]["objects_live"].get<int>(), 0);  // mapped in the second map
+  first.SaveMap(folder + "/a.ocgmap");
+
+  options.load_map = folder + "/a.ocgmap";
+  ObjectSlam second(settings, options);
+  second.Shutdown();
+  const nlohmann::json loaded = second.Save(testing::MakeTempDir("object_slam_map_loaded"), {});
+  ASSERT_EQ(loaded["maps"].size(), 2u);
+  for (std::size_t m = 0; m < 2; ++m) {
+    for (const char* key : {"current", "keyframes", "map_points", "merged_into"})
+      EXPECT_EQ(loaded["maps"][m][key], report["maps"][m][key]) << "map " << m << ": " << key;
+  }
+  EXPECT_EQ(loaded["session"]["keyframes_loaded"].get<int>(),
+            report["maps"][0]["keyframes"].get<int>() + report["maps"][1]["keyframes"].get<int>());
+  EXPECT_EQ(second.Objects(), first.Objects());
+  second.SaveMap(folder + "/b.ocgmap");
+  const auto [a_record, a_state] = ReadSessionMap(folder + "/a.ocgmap");
+  const auto [b_record, b_state] = ReadSessionMap(folder + "/b.ocgmap");
+  EXPECT_EQ(a_record.keyframes, b_record.keyframes);
+  EXPECT_TRUE(a_state == b_state) << "the state saved after loading differs from the loaded one";
+}
+
 // A later session's keyframes number their frames after every frame of the earlier
 // sessions, as the object layer numbers its sightings: a sighting's frame finds the
 // keyframe made at it in every session (the box appearance of docs/sessions.md reads the
@@ -373,13 +442,23 @@ const std::string& SmokeMap() {
 }
 
 // The smoke map written again as format version `version`: its session record without
-// the fields later versions added, the rest of the payload as it was.
+// the fields later versions added, its SLAM map as one map before version 5, the object
+// layer's part as it was.
 std::string SmokeMapAsVersion(std::uint32_t version, const std::string& name,
                               const std::function<void(app_detail::SessionRecord*)>& edit = {}) {
   auto [record, rest] = ReadSessionMap(SmokeMap());
   if (edit) edit(&record);
   std::ostringstream payload;
   app_detail::SaveSessionRecord(record, payload, version);
+  if (version < 5) {
+    std::istringstream slam_part(rest);
+    Map map;
+    LoadMap(slam_part, &map, SmokeSettings().orb.levels);
+    const std::string objects = rest.substr(static_cast<std::size_t>(slam_part.tellg()));
+    std::ostringstream single;
+    SaveMap(map, single, {}, MapFileFormat::kSingleMap);
+    rest = single.str() + objects;
+  }
   const std::string path = testing::MakeTempDir("object_slam_map") + "/" + name;
   WriteMapFile(path, app_detail::kMapFileKind, version, payload.str() + rest);
   return path;
@@ -509,7 +588,7 @@ TEST(ObjectSlamMapFile, AnEmptyMapIsNotSavedAndIsNamedEmptyOnLoad) {
     std::ostringstream payload;
     app_detail::SaveSessionRecord(record, payload, version);
     Map empty;
-    SaveMap(empty, payload);
+    SaveMap(empty, payload, {}, version < 5 ? MapFileFormat::kSingleMap : MapFileFormat::kAtlas);
     options.load_map = folder + "/empty_v" + std::to_string(version) + ".ocgmap";
     WriteMapFile(options.load_map, app_detail::kMapFileKind, version, payload.str());
     const std::string message = MapFileErrorOf(SmokeSettings(), options);
@@ -531,6 +610,8 @@ TEST(ObjectSlam, StatusCountsTheRunAndRunJsonKeepsItsSeries) {
   EXPECT_GT(status.map_points, 100u);
   EXPECT_GT(status.objects, 0u);
   EXPECT_GT(status.resident_bytes, 10'000'000u);
+  EXPECT_GT(status.heap_bytes, 1'000'000u);
+  EXPECT_LT(status.heap_bytes, status.resident_bytes);
   slam.Shutdown();
   const nlohmann::json report = slam.Save(testing::MakeTempDir("object_slam_status"), {});
   EXPECT_EQ(report["interrupted"], false);
@@ -540,6 +621,7 @@ TEST(ObjectSlam, StatusCountsTheRunAndRunJsonKeepsItsSeries) {
   EXPECT_EQ(last["keyframes"], report["keyframes"]);
   EXPECT_EQ(last["map_points"], report["map_points"]);
   EXPECT_GT(last["resident_mb"].get<double>(), 10.0);
+  EXPECT_GT(last["heap_mb"].get<double>(), 1.0);
 }
 
 // A stop requested between frames: the caller's loop sees it, and run.json says the run
@@ -581,6 +663,50 @@ TEST(ProgressSeries, StaysShortAndSpansTheWholeRun) {
   EXPECT_EQ(json.back()["seconds"], 36000.5);
   for (std::size_t i = 1; i < json.size(); ++i)
     EXPECT_GT(json[i]["seconds"].get<double>(), json[i - 1]["seconds"].get<double>());
+}
+
+// A heap whose free memory lies in holes between live blocks (what a long run that frees
+// in another order than it allocated leaves): free() gives none of it back, as only the
+// heap's top can be trimmed; ReleaseFreeHeap() gives back the free pages in the holes.
+TEST(ReleaseFreeHeap, GivesBackTheFreePagesBetweenLiveBlocks) {
+  constexpr std::size_t kBlock = 16 * 1024, kBlocks = 2048, kKeepEvery = 32;  // 32 MB
+  std::vector<char*> blocks;
+  for (std::size_t i = 0; i < kBlocks; ++i) {
+    blocks.push_back(static_cast<char*>(std::malloc(kBlock)));
+    ASSERT_NE(blocks.back(), nullptr);
+    std::memset(blocks.back(), static_cast<int>(i), kBlock);  // resident
+  }
+  for (std::size_t i = 0; i < kBlocks; ++i) {
+    if (i % kKeepEvery != kKeepEvery - 1) {
+      std::free(blocks[i]);
+      blocks[i] = nullptr;
+    }
+  }
+  const std::size_t holes = app_detail::ResidentMemoryBytes();
+  app_detail::ReleaseFreeHeap();
+  const std::size_t released = app_detail::ResidentMemoryBytes();
+  const std::size_t freed = kBlock * (kBlocks - kBlocks / kKeepEvery);  // 31 MB
+  EXPECT_GT(holes, released + freed / 2)
+      << "resident " << holes / 1e6 << " MB with 31 MB free in holes, " << released / 1e6
+      << " MB after ReleaseFreeHeap";
+  long sum = 0;
+  for (char* block : blocks) {
+    if (block != nullptr) sum += block[0];
+    std::free(block);
+  }
+  EXPECT_GT(sum, 0);
+}
+
+// Released at most once an interval of the run's wall time, the first at its start.
+TEST(HeapRelease, ReleasesOnceAnInterval) {
+  app_detail::HeapRelease release(10.0);
+  EXPECT_TRUE(release.MaybeRelease(0.0));
+  EXPECT_FALSE(release.MaybeRelease(5.0));
+  EXPECT_TRUE(release.MaybeRelease(10.0));
+  EXPECT_FALSE(release.MaybeRelease(19.9));
+  EXPECT_TRUE(release.MaybeRelease(47.0));
+  EXPECT_FALSE(release.MaybeRelease(49.0));
+  EXPECT_TRUE(release.MaybeRelease(50.0));
 }
 
 }  // namespace

@@ -136,6 +136,15 @@ TEST(KittiSequence, ReadsImagesTimesAndTheCameraOfP0) {
               std::string::npos)
         << error.what();
   }
+  // Read as TUM (ocg_slam run's default format): the error names the format to give.
+  try {
+    ReadSequence(root, "tum");
+    ADD_FAILURE() << "read a KITTI folder as TUM";
+  } catch (const FileError& error) {
+    EXPECT_NE(std::string(error.what()).find("a KITTI odometry folder: read it as format kitti"),
+              std::string::npos)
+        << error.what();
+  }
   fs::remove(root + "/calib.txt");
   EXPECT_THROW(ReadKittiSequence(root), FileError);
   EXPECT_THROW(ReadSequence(root, "kitty"), std::invalid_argument);

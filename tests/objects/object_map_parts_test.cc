@@ -91,10 +91,9 @@ TEST(EvidenceProvider, TheModesChooseTheSources) {
     for (const auto& provider : EvidenceProvidersFor(modes)) names.push_back(provider->Field());
     return names;
   };
-  OcgModes modes;
-  EXPECT_EQ(fields(modes), (std::vector<std::string>{"observed", "updates"}));
-  modes.point_presence = true;
-  EXPECT_EQ(fields(modes), (std::vector<std::string>{"observed", "present_by_points", "updates"}));
+  EXPECT_EQ(fields(ParseOcgMode("paper")), (std::vector<std::string>{"observed", "updates"}));
+  EXPECT_EQ(fields(ParseOcgMode("view+points")),
+            (std::vector<std::string>{"observed", "present_by_points", "updates"}));
 }
 
 TEST(EvidenceProvider, EachReadsWhatTheMapShowsIt) {

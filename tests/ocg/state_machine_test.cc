@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include "ocg/core/file_io.h"
 #include "ocg/ocg/judgement_terms.h"
+#include "ocg/ocg/replay_format.h"
 #include "ocg/ocg/state_machine.h"
+#include "test_support.h"
 
 namespace ocg {
 namespace {
@@ -144,6 +147,31 @@ TEST(Options, ModesAreTheListedJudgementTerms) {
     EXPECT_NE(std::string(error.what()).find(JudgementTermNames()), std::string::npos)
         << error.what();
   }
+}
+
+// The docs are made from the lists: docs/ocg.md holds the modes table and the observation
+// fields table as the code prints them, so a term or field added to its list and not to
+// the docs fails here (tools/settings_docs.py writes them).
+TEST(JudgementTerms, DocsTablesAreTheRegistries) {
+  const std::string docs = ReadTextFile(testing::SourceDir() + "/docs/ocg.md");
+  const std::string modes = JudgementTermsMarkdown();
+  for (const JudgementTerm& term : JudgementTerms()) {
+    EXPECT_NE(modes.find(std::string("| `") + term.name + "` |"), std::string::npos) << term.name;
+  }
+  EXPECT_NE(docs.find(modes), std::string::npos)
+      << "docs/ocg.md: the modes table is not the judgement terms' list; run "
+         "tools/settings_docs.py build/tools/ocg_slam";
+  const std::string fields = ObservationFieldsMarkdown();
+  const KeyframeObservation observation;
+  VisitObservationFields(
+      [&fields](const ObservationField& field, const auto&) {
+        EXPECT_NE(fields.find(std::string("| `") + field.name + "` |"), std::string::npos)
+            << field.name;
+      },
+      observation);
+  EXPECT_NE(docs.find(fields), std::string::npos)
+      << "docs/ocg.md: the observation fields table is not the field list; run "
+         "tools/settings_docs.py build/tools/ocg_slam";
 }
 
 }  // namespace

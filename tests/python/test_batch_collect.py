@@ -88,6 +88,25 @@ def test_tables_report_moves_loops_and_what_each_object_map_holds(tmp_path):
     assert "| paper |" not in objects and "| kitti |" not in objects
 
 
+def test_a_table_i_without_rows_says_why(tmp_path):
+    """Real sequences without objects_gt: Table I has no row, and says so under its header."""
+    out = make_batch(tmp_path)
+    for run in ("smoke/default/paper/sequential-1", "smoke/default/improved/sequential-1"):
+        path = os.path.join(out, "scores", run + ".json")
+        score = json.load(open(path))
+        del score["objects"]
+        write(path, score)
+    done = subprocess.run([sys.executable, COLLECT, os.path.join(out, "batch.json")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    table_one = open(os.path.join(out, "table_I.md")).read()
+    assert "| smoke |" not in table_one
+    assert "No row: Table I scores object maps against an object ground truth" in table_one
+    with_rows = make_batch(tmp_path / "with")
+    subprocess.run([sys.executable, COLLECT, os.path.join(with_rows, "batch.json")], check=True)
+    assert "No row" not in open(os.path.join(with_rows, "table_I.md")).read()
+
+
 def tum_folder(folder):
     sequence = folder / "seq"
     (sequence / "rgb").mkdir(parents=True)
@@ -95,6 +114,18 @@ def tum_folder(folder):
     (sequence / "rgb.txt").write_text("0.0 rgb/0.png\n")
     (folder / "s.yaml").write_text("Camera.fx: 500\n")
     return sequence
+
+
+def refusal(source_dir, tools, folder, sequence_entry):
+    """ocg_batch on a configuration of one sequence (its YAML flow mapping), expected to stop
+    before any job: the error text; asserts exit status 1 and no output folder."""
+    config = folder / "batch.yaml"
+    config.write_text("tools: %s\nout: out\nsequences:\n  - %s\n" % (tools, sequence_entry))
+    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
+                          capture_output=True, text=True)
+    assert done.returncode == 1
+    assert not (folder / "out").exists()
+    return done.stderr
 
 
 @pytest.mark.parametrize("entry, message", [
@@ -107,24 +138,26 @@ def tum_folder(folder):
 def test_detect_and_snapshots_keys_are_checked_before_any_job(source_dir, tools, tmp_path, entry,
                                                               message):
     tum_folder(tmp_path)
-    config = tmp_path / "batch.yaml"
-    config.write_text("tools: %s\nout: out\nsequences:\n  - {path: seq, settings: s.yaml, %s}\n" % (
-        tools, entry))
-    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
-                          capture_output=True, text=True)
-    assert done.returncode == 1
-    assert message in done.stderr, done.stderr
-    assert not (tmp_path / "out").exists()
+    stderr = refusal(source_dir, tools, tmp_path, "{path: seq, settings: s.yaml, %s}" % entry)
+    assert message in stderr, stderr
+
+
+def test_a_detections_folder_inside_the_sequence_given_as_groundtruth_is_named(source_dir, tools,
+                                                                              tmp_path):
+    """groundtruth: is relative to the sequence folder, detections: to the configuration: a
+    user writing `detections: detections` for SEQ/detections is told the path to give."""
+    sequence = tum_folder(tmp_path)
+    (sequence / "detections").mkdir()
+    stderr = refusal(source_dir, tools, tmp_path,
+                     "{path: seq, settings: s.yaml, detections: detections}")
+    assert "sequences[0].detections: no such folder: %s" % (tmp_path / "detections") \
+        in stderr, stderr
+    assert "the sequence's own is %s" % (sequence / "detections") in stderr, stderr
 
 
 def test_a_sequences_own_settings_keys_are_read_strictly_before_any_job(source_dir, tools,
                                                                         tmp_path):
-    config = tmp_path / "batch.yaml"
-    config.write_text("tools: %s\nout: out\nsequences:\n"
-                      "  - {preset: smoke, set: {Objects.min_confidenc: 0.3}}\n" % tools)
-    done = subprocess.run([os.path.join(source_dir, "tools", "ocg_batch"), str(config)],
-                          capture_output=True, text=True)
-    assert done.returncode == 1
-    assert "sequences[0].set:" in done.stderr, done.stderr
-    assert "did you mean 'Objects.min_confidence'?" in done.stderr, done.stderr
-    assert not (tmp_path / "out").exists()
+    stderr = refusal(source_dir, tools, tmp_path,
+                     "{preset: smoke, set: {Objects.min_confidenc: 0.3}}")
+    assert "sequences[0].set:" in stderr, stderr
+    assert "did you mean 'Objects.min_confidence'?" in stderr, stderr

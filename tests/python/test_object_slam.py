@@ -3,6 +3,7 @@ the errors a Python caller can make are named."""
 import filecmp
 import json
 import os
+import shutil
 import subprocess
 import sys
 import threading
@@ -205,6 +206,11 @@ def test_timestamps_must_be_finite_and_increase(smoke):
     with pytest.raises(ValueError, match="0.5 is not later"):
         slam.track(image, 0.5)
     assert slam.track(image, 1.5).state == "not_initialized"
+    # Times as TUM gives them: both named with the digits that tell them apart.
+    assert slam.track(image, 1305031229.528748).state == "not_initialized"
+    with pytest.raises(ValueError, match=r"1305031229\.5287\d+ is not later than the last "
+                                         r"frame's 1305031229\.528748"):
+        slam.track(image, 1305031229.52874)
     slam.shutdown()
     assert slam.camera_trajectory().shape[0] == 0
 
@@ -270,3 +276,33 @@ def test_the_module_names_the_interpreter_it_was_built_for():
     version = "(Python %d.%d)" % sys.version_info[:2]
     assert ocg.BUILT_FOR_PYTHON.endswith(version), ocg.BUILT_FOR_PYTHON
     assert os.path.isabs(ocg.BUILT_FOR_PYTHON.split(" ")[0])
+
+
+def test_an_interpreter_without_numpy_is_told_which_one_has_it(source_dir):
+    """pyenv's python3 before Debian's on PATH loads the native module (same version) but has
+    no NumPy: importing ocg, or running an example, names the interpreter ocg was built for
+    instead of failing at the first array or with a bare 'No module named numpy'."""
+    block_numpy = "import sys; sys.modules['numpy'] = None; "
+    script = os.path.join(source_dir, "examples", "change_detector.py")
+    for code in ("import ocg",
+                 "import runpy; sys.argv = [%r]; runpy.run_path(%r, run_name='__main__')"
+                 % (script, script)):
+        result = subprocess.run([sys.executable, "-c", block_numpy + code],
+                                capture_output=True, text=True)
+        assert result.returncode != 0, code
+        assert "ocg needs NumPy" in result.stderr, result.stderr
+        assert ocg.BUILT_FOR_PYTHON in result.stderr, result.stderr
+
+
+def test_a_package_folder_without_its_native_module_says_to_build_it(tmp_path):
+    """CMake writes build/python/ocg/__init__.py when configuring; the native module is a
+    target of its own. Imported before it is built, ocg says so, not that the interpreter
+    (the very one it was built for) is the wrong one."""
+    package = tmp_path / "ocg"
+    package.mkdir()
+    shutil.copy(os.path.join(os.path.dirname(ocg.__file__), "__init__.py"), package)
+    result = subprocess.run([sys.executable, "-c", "import ocg"], capture_output=True,
+                            text=True, env=dict(os.environ, PYTHONPATH=str(tmp_path)))
+    assert result.returncode != 0
+    assert "native module is not built in %s" % package in result.stderr, result.stderr
+    assert "--target ocg_python" in result.stderr, result.stderr

@@ -4,9 +4,11 @@
 // And the initializer's window matching on a blurred view.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <sstream>
 
 #include "ocg/eval/trajectory_error.h"
@@ -59,11 +61,13 @@ class SmokeFeed {
     return system.TrackImage(renderer_.Colour(t, sim::CameraPoseAt(scene_, t), shown), seconds,
                              std::to_string(seconds));
   }
-  cv::Mat Gray(int frame) {
+  cv::Mat Colour(int frame) {
     const double t = frame / scene_.fps;
+    return renderer_.Colour(t, sim::CameraPoseAt(scene_, t), frame);
+  }
+  cv::Mat Gray(int frame) {
     cv::Mat gray;
-    cv::cvtColor(renderer_.Colour(t, sim::CameraPoseAt(scene_, t), frame), gray,
-                 cv::COLOR_BGR2GRAY);
+    cv::cvtColor(Colour(frame), gray, cv::COLOR_BGR2GRAY);
     return gray;
   }
   const sim::Scene& scene() const { return scene_; }
@@ -158,9 +162,12 @@ int MapThreeSecondsThenLoseTrack(SmokeFeed& feed, System& system) {
 // path), then goes back along the path to where the first map was made. The new map
 // recognizes the first map's place, is moved into its frame by the Sim(3) between them
 // and merged: one trajectory, in one frame, for both, that fits the ground truth.
-TEST(MultiMap, ANewMapMergesIntoTheOldOneWhenTheCameraComesBack) {
+// sequential: System.sequential (threaded: local mapping and loop closing on their own
+// threads, the merge when the loop closing thread gets to it).
+void LeaveTheMapAndComeBack(bool sequential) {
   const Vocabulary vocabulary = DefaultVocabulary();
   SystemConfig config;
+  config.sequential = sequential;
   config.tracking.new_map_after_lost_seconds = 0.5;
   SmokeFeed feed(config);
   System system(feed.config(), vocabulary);
@@ -204,26 +211,46 @@ TEST(MultiMap, ANewMapMergesIntoTheOldOneWhenTheCameraComesBack) {
   EXPECT_EQ(ate.pairs.size(), trajectory.size());
   const double path_length = 0.4 * 8.0;  // metres: the preset's speed times the time
   EXPECT_LT(ate.translation.rmse, 0.01 * path_length) << "metres, Sim(3)-aligned";
-  std::cout << "merged at frame " << merged_at << " (scale " << merge.scale << ", "
-            << merge.points_fused << " points fused), " << tracked << " of " << frame
-            << " frames tracked, ATE RMSE " << ate.translation.rmse << " m\n";
+  std::cout << (sequential ? "sequential" : "threaded") << ": merged at frame " << merged_at
+            << " (scale " << merge.scale << ", " << merge.points_fused << " points fused), "
+            << tracked << " of " << frame << " frames tracked, ATE RMSE " << ate.translation.rmse
+            << " m\n";
+}
+
+TEST(MultiMap, ANewMapMergesIntoTheOldOneWhenTheCameraComesBack) { LeaveTheMapAndComeBack(true); }
+
+// Threaded mode (LeaveTheMapAndComeBack(false)) has no test yet: on an idle machine it
+// merged at frame 82 with an ATE of 0.26 m (docs/slam.md, "known fault"), so it fails and
+// stays out of the suite until the merge on the loop closing thread is fixed.
+
+// Maps that never merge: a new map after Tracking.newMapAfterLostSeconds of 0.5 s, no
+// merging.
+SystemConfig TwoMapsConfig() {
+  SystemConfig config;
+  config.tracking.new_map_after_lost_seconds = 0.5;
+  config.loop_closing.merge_maps = false;
+  return config;
+}
+
+// The smoke preset's first 3 s, lost, then a second map from 9 s to 12 s on the path,
+// mature enough not to be reset when lost. Returns the next frame.
+int MakeTwoMaps(SmokeFeed& feed, System& system) {
+  int frame = MapThreeSecondsThenLoseTrack(feed, system);
+  EXPECT_EQ(system.NewMaps(), 1);
+  for (double scene_t = 9.0; scene_t < 12.0; scene_t += 1.0 / feed.scene().fps)
+    feed.FeedAt(system, frame++, scene_t, false);
+  return frame;
 }
 
 // Relocalization tries the keyframes of every map: lost in a second map, the camera is
 // found again at the place of the first, and tracking goes on in that map.
 TEST(MultiMap, RelocalizationFindsThePlaceOfAnEarlierMap) {
   const Vocabulary vocabulary = DefaultVocabulary();
-  SystemConfig config;
-  config.tracking.new_map_after_lost_seconds = 0.5;
-  config.loop_closing.merge_maps = false;  // relocalization alone brings it back
+  const SystemConfig config = TwoMapsConfig();  // relocalization alone brings it back
   SmokeFeed feed(config);
   System system(feed.config(), vocabulary);
   const double fps = feed.scene().fps;
-  int frame = MapThreeSecondsThenLoseTrack(feed, system);
-  ASSERT_EQ(system.NewMaps(), 1);
-  // The second map, from 9 s on, mature enough not to be reset when lost.
-  for (double scene_t = 9.0; scene_t < 12.0; scene_t += 1.0 / fps)
-    feed.FeedAt(system, frame++, scene_t, false);
+  int frame = MakeTwoMaps(feed, system);
   ASSERT_GT(system.KeyFrameCount(),
             static_cast<std::size_t>(config.tracking.min_keyframes_to_keep_map));
   // Lost briefly (shorter than Tracking.newMapAfterLostSeconds), then back at 1.5 s.
@@ -247,16 +274,81 @@ TEST(MultiMap, RelocalizationFindsThePlaceOfAnEarlierMap) {
   EXPECT_FALSE(maps[1].current);
   EXPECT_GT(maps[1].keyframes, 0u);  // kept
   EXPECT_EQ(system.Frames()[static_cast<std::size_t>(relocalized_at)].map, 0);
-  // A map file holds the current map alone.
-  std::stringstream file;
-  system.SaveMap(file);
-  System loaded(feed.config(), vocabulary);
-  loaded.LoadMap(file);
-  EXPECT_EQ(loaded.KeyFrameCount(), maps[0].keyframes);
-  EXPECT_EQ(loaded.MapPointCount(), maps[0].map_points);
   // The relocalized frames are in the first map's frame: they fit its ground truth.
   const AteResult ate = ComputeAte(feed.groundtruth(), system.CameraTrajectory(0), AteOptions());
   EXPECT_LT(ate.translation.rmse, 0.02) << "metres, Sim(3)-aligned";
+}
+
+// A map file holds the whole atlas: two maps that never merged (the camera left the first
+// for good, as far as the run knows) come back as saved, each with its keyframes, points
+// and poses, the second one current; a later session relocalizes in the first one, which
+// was not current, at the place it shows.
+TEST(MultiMap, AMapFileKeepsEveryMapAndALaterSessionRelocalizesInAny) {
+  const Vocabulary vocabulary = DefaultVocabulary();
+  SmokeFeed feed(TwoMapsConfig());
+  System system(feed.config(), vocabulary);
+  const double fps = feed.scene().fps;
+  int frame = MakeTwoMaps(feed, system);
+  system.Shutdown();
+  const std::vector<MapSummary> maps = system.Maps();
+  ASSERT_EQ(maps.size(), 2u);
+  ASSERT_TRUE(maps[1].current);
+  ASSERT_GT(maps[0].keyframes, 2u);
+  ASSERT_GT(maps[1].keyframes, 2u);
+  std::stringstream file;
+  system.SaveMap(file);
+  const std::string bytes = file.str();
+
+  System loaded(feed.config(), vocabulary);
+  loaded.LoadMap(file, static_cast<std::uint64_t>(frame));
+  const std::vector<MapSummary> loaded_maps = loaded.Maps();
+  ASSERT_EQ(loaded_maps.size(), 2u);
+  EXPECT_EQ(loaded.AtlasKeyFrameCount(), maps[0].keyframes + maps[1].keyframes);
+  for (std::size_t m = 0; m < 2; ++m) {
+    EXPECT_EQ(loaded_maps[m].current, maps[m].current) << m;
+    EXPECT_EQ(loaded_maps[m].keyframes, maps[m].keyframes) << m;
+    EXPECT_EQ(loaded_maps[m].map_points, maps[m].map_points) << m;
+    EXPECT_EQ(loaded_maps[m].merged_into, -1) << m;
+    const std::vector<StampedPose> saved = system.KeyFrameTrajectory(static_cast<int>(m));
+    const std::vector<StampedPose> back = loaded.KeyFrameTrajectory(static_cast<int>(m));
+    ASSERT_EQ(back.size(), saved.size()) << m;
+    for (std::size_t k = 0; k < saved.size(); ++k) {
+      EXPECT_EQ(back[k].timestamp_text, saved[k].timestamp_text);
+      EXPECT_EQ(back[k].T_wc.Matrix(), saved[k].T_wc.Matrix()) << "map " << m << ", keyframe " << k;
+    }
+  }
+  std::stringstream again;
+  loaded.SaveMap(again);
+  EXPECT_EQ(again.str(), bytes);
+
+  // The later session: at the first map's place (1.5 s along the path).
+  int relocalized_at = -1;
+  bool switched = false;
+  const int first = frame;
+  for (int more = 0; more < 10; ++more) {
+    const TrackingResult result = feed.FeedAt(loaded, frame, 1.5 + more / fps, false);
+    if (result.relocalized && relocalized_at < 0) relocalized_at = frame - first;
+    switched = switched || result.switched_map;
+    ++frame;
+  }
+  loaded.Shutdown();
+  ASSERT_GE(relocalized_at, 0) << "never relocalized";
+  EXPECT_TRUE(switched);
+  EXPECT_TRUE(loaded.Maps()[0].current);
+  const std::size_t at = static_cast<std::size_t>(relocalized_at);
+  EXPECT_EQ(loaded.Frames()[at].map, 0);
+  // Placed where the first session saw that view, in the first map's frame.
+  const std::optional<SE3> pose = loaded.FramePoses()[at];
+  ASSERT_TRUE(pose);
+  const std::vector<StampedPose> before = system.CameraTrajectory(0);
+  const double seen_at = 1.5 + relocalized_at / fps;
+  const auto same_view =
+      std::min_element(before.begin(), before.end(), [seen_at](const auto& a, const auto& b) {
+        return std::abs(a.timestamp - seen_at) < std::abs(b.timestamp - seen_at);
+      });
+  ASSERT_LT(std::abs(same_view->timestamp - seen_at), 0.5 / fps);
+  const double path = (before.back().T_wc.translation() - before.front().T_wc.translation()).norm();
+  EXPECT_LT((pose->Inverse().translation() - same_view->T_wc.translation()).norm(), 0.05 * path);
 }
 
 // A hand-held camera turning fast blurs the second view: level 0 loses most of its

@@ -105,6 +105,109 @@ TEST(SlamMapFile, RoundTripKeepsEveryField) {
   EXPECT_EQ(Saved(loaded), bytes);
 }
 
+// Keyframes and points with id >= the given ones are retagged as map `tag`.
+void Retag(Map* map, KeyFrameId first_keyframe, MapPointId first_point, int tag) {
+  for (const auto& [id, keyframe] : map->keyframes()) {
+    if (id >= first_keyframe) keyframe->map = tag;
+  }
+  for (const auto& [id, point] : map->points()) {
+    if (id >= first_point) point->map = tag;
+  }
+}
+
+// An atlas of three maps: 0, then 1 (current), then 2, merged into 0.
+void FillAtlas(Map* map) {
+  testing::FillRandomMap(30, 90, 11, map);
+  for (int tag = 1; tag <= 2; ++tag) {
+    map->StartNewMap();
+    const KeyFrameId first_keyframe = map->next_keyframe_id();
+    const MapPointId first_point = map->next_map_point_id();
+    testing::FillRandomMap(20 + 5 * tag, 90, 11 + static_cast<std::uint64_t>(tag), map);
+    Retag(map, first_keyframe, first_point, tag);
+  }
+  map->MoveMap(2, 0, Sim3(1.5, Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero()));
+  map->SetCurrentMap(1);
+}
+
+// Every map of the atlas is saved with its keyframes, points and index, the current map
+// and the merges; the loaded atlas equals the saved one and saves to the same bytes.
+TEST(SlamMapFile, EveryMapOfTheAtlasRoundTrips) {
+  Map map;
+  FillAtlas(&map);
+  const std::vector<MapMerge> merges = {{2, 0, 77, 1.5}};
+  std::ostringstream out;
+  SaveMap(map, out, merges);
+  const std::string bytes = out.str();
+  Map loaded;
+  std::istringstream in(bytes);
+  const std::vector<MapMerge> loaded_merges = LoadMap(in, &loaded, kLevels);
+  EXPECT_EQ(loaded.map_count(), 3);
+  EXPECT_EQ(loaded.current_map(), 1);
+  for (int m = 0; m < 3; ++m) {
+    EXPECT_EQ(loaded.KeyFrameCount(m), map.KeyFrameCount(m)) << "map " << m;
+    EXPECT_EQ(loaded.LiveKeyFrameCount(m), map.LiveKeyFrameCount(m)) << "map " << m;
+  }
+  EXPECT_GT(map.KeyFrameCount(0), 40u);  // map 2 went into it
+  EXPECT_EQ(map.KeyFrameCount(2), 0u);
+  EXPECT_EQ(loaded.FirstKeyFrame(1), KeyFrameId{30});  // map 0 has ids 0 to 29
+  ASSERT_EQ(loaded.keyframes().size(), map.keyframes().size());
+  for (const auto& [id, keyframe] : map.keyframes()) {
+    ExpectSameKeyFrame(*keyframe, *loaded.GetKeyFrame(id));
+    EXPECT_EQ(loaded.GetKeyFrame(id)->map, keyframe->map) << id;
+  }
+  ASSERT_EQ(loaded.points().size(), map.points().size());
+  for (const auto& [id, point] : map.points()) {
+    ExpectSamePoint(*point, *loaded.points().at(id));
+    EXPECT_EQ(loaded.points().at(id)->map, point->map) << id;
+  }
+  ASSERT_EQ(loaded_merges.size(), 1u);
+  EXPECT_EQ(loaded_merges[0].merged_map, 2);
+  EXPECT_EQ(loaded_merges[0].into_map, 0);
+  EXPECT_EQ(loaded_merges[0].frame, 77u);
+  EXPECT_EQ(loaded_merges[0].scale, 1.5);
+  std::ostringstream again;
+  SaveMap(loaded, again, loaded_merges);
+  EXPECT_EQ(again.str(), bytes);
+}
+
+// The layout of files before the atlas: the current map alone, loaded as map 0.
+TEST(SlamMapFile, TheSingleMapFormatHoldsTheCurrentMapAsMapZero) {
+  Map map;
+  FillAtlas(&map);
+  std::ostringstream out;
+  SaveMap(map, out, {}, MapFileFormat::kSingleMap);
+  Map loaded;
+  std::istringstream in(out.str());
+  EXPECT_TRUE(LoadMap(in, &loaded, kLevels, MapFileFormat::kSingleMap).empty());
+  EXPECT_EQ(loaded.map_count(), 1);
+  EXPECT_EQ(loaded.current_map(), 0);
+  EXPECT_EQ(loaded.KeyFrameCount(0), map.KeyFrameCount(1));
+  for (const auto& [id, keyframe] : loaded.keyframes())
+    ExpectSameKeyFrame(*map.GetKeyFrame(id), *keyframe);
+}
+
+// A point seen from a keyframe of another map would join two maps that share nothing:
+// the file contradicts itself, and is refused.
+TEST(SlamMapFile, APointSeenFromAnotherMapIsRefused) {
+  Map map;
+  FillAtlas(&map);
+  const MapPointPtr point = map.points().begin()->second;
+  ASSERT_EQ(point->map, 0);
+  point->map = 1;
+  std::ostringstream out;
+  SaveMap(map, out);
+  Map loaded;
+  std::istringstream in(out.str());
+  try {
+    LoadMap(in, &loaded, kLevels);
+    ADD_FAILURE() << "loaded";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("of map 1 is observed by keyframe"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_TRUE(loaded.keyframes().empty() && loaded.points().empty());
+}
+
 // Keyframes culled in the run (EraseKeyFrame releases their features) save and load.
 TEST(SlamMapFile, KeyFramesCulledInTheRunRoundTrip) {
   Map map;

@@ -1,19 +1,59 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <any>
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <set>
 
 #include <unistd.h>
 
+#include "ocg/ocg/judgement_terms.h"
 #include "ocg/ocg/observability.h"
 
 namespace ocg::testing {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// The graph as the judgement terms read it, from scratch: every object's edges listed anew.
+class NaiveGraphView : public GraphView {
+ public:
+  NaiveGraphView(const std::map<ObjectId, NaiveOcg::Object>& objects,
+                 const std::map<std::pair<ObjectId, ObjectId>, std::uint32_t>& edges,
+                 const std::set<ObjectId>& observed, const OcgModes& modes)
+      : objects_(objects), observed_(observed), modes_(modes) {
+    for (const auto& entry : objects) neighbours_[entry.first];
+    for (const auto& [pair, weight] : edges) {
+      neighbours_[pair.first].push_back({pair.second, weight});
+      neighbours_[pair.second].push_back({pair.first, weight});
+    }
+  }
+  const std::vector<CovisibilityEdge>& Neighbours(ObjectId id) const override {
+    return neighbours_.at(id);
+  }
+  const ObjectGeometry& Geometry(ObjectId id) const override { return objects_.at(id).geometry; }
+  bool Detected(ObjectId id) const override { return observed_.count(id) > 0; }
+  void ForEachObject(
+      const std::function<void(ObjectId, const ObjectGeometry&)>& visit) const override {
+    for (const auto& [id, object] : objects_) visit(id, object.geometry);
+  }
+  const OcgModes& modes() const override { return modes_; }
+  std::any& KeyframeMemo(const char* key) const override { return memo_[key]; }
+
+ private:
+  const std::map<ObjectId, NaiveOcg::Object>& objects_;
+  const std::set<ObjectId>& observed_;
+  const OcgModes& modes_;
+  std::map<ObjectId, std::vector<CovisibilityEdge>> neighbours_;
+  mutable std::map<std::string, std::any> memo_;
+};
+
+}  // namespace
 
 std::string SourceDir() {
   const char* from_environment = std::getenv("OCG_SOURCE_DIR");
@@ -103,27 +143,8 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
   // Everything from scratch: one pass over all edges gives every object's evidence.
   const OcgModes modes = options_.modes();
   std::map<ObjectId, ObjectEvidence> evidence;
-  std::set<ObjectId> in_view = observed;
-  for (const auto& [id, object] : objects_) {
-    evidence[id].observed = observed.count(id) > 0;
-    if (ExpectedInView(object.geometry, observation.T_cw, observation.camera, options_, modes) > 0)
-      in_view.insert(id);
-  }
-  if (modes.occlusion) {
-    std::vector<ImageFootprint> footprints;
-    for (const auto& [id, object] : objects_) {
-      if (!object.geometry.centroid || !object.geometry.size) continue;
-      if (const auto footprint = ProjectBox(*object.geometry.centroid, *object.geometry.size,
-                                            observation.T_cw, observation.camera))
-        footprints.push_back(*footprint);
-    }
-    for (const auto& [id, object] : objects_) {
-      if (!object.geometry.centroid || !object.geometry.size) continue;
-      if (const auto own = ProjectBox(*object.geometry.centroid, *object.geometry.size,
-                                      observation.T_cw, observation.camera))
-        evidence[id].occluded_share = OccludedShare(*own, footprints, observation.camera);
-    }
-  }
+  for (const auto& entry : objects_)
+    evidence[entry.first].observed = observed.count(entry.first) > 0;
   for (const auto& [pair, weight] : edges_) {
     for (const auto& [self, other] :
          {std::pair{pair.first, pair.second}, std::pair{pair.second, pair.first}}) {
@@ -134,13 +155,14 @@ std::vector<ObjectId> NaiveOcg::Process(const KeyframeObservation& observation) 
         entry.observed_weight += weight;
         entry.observed_neighbours += 1;
       }
-      if (in_view.count(other) > 0) entry.in_view_weight += weight;
     }
   }
+  const NaiveGraphView view(objects_, edges_, observed, modes);
   std::vector<ObjectId> removed;
   for (auto& [id, object] : objects_) {
-    const Judgement judgement = JudgeObject(object.state, evidence.at(id), object.geometry,
-                                            observation.T_cw, observation.camera, options_, modes);
+    const Judgement judgement =
+        JudgeObject(object.state, evidence.at(id), object.geometry, observation.T_cw,
+                    observation.camera, options_, modes, &observation, id, &view);
     object.rate = judgement.rate;
     object.state = judgement.next;
     if (judgement.missed) ++object.geometry.missed_keyframes;

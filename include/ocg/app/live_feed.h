@@ -17,6 +17,8 @@
 #include <optional>
 #include <vector>
 
+#include "ocg/core/statistics.h"
+
 namespace ocg {
 
 class LiveFeed {
@@ -59,7 +61,7 @@ class LiveFeed {
   std::size_t next_ = 0;
   std::size_t delivered_ = 0;
   std::vector<std::size_t> dropped_;
-  std::vector<double> lag_seconds_;
+  DurationSummary lag_seconds_;  // a summary: a long live run keeps its memory flat
 };
 
 }  // namespace ocg

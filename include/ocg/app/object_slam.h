@@ -75,6 +75,7 @@ struct RunStatus {
   std::size_t map_points = 0;      // in the SLAM map
   std::size_t objects = 0;         // live in the object map
   std::size_t resident_bytes = 0;  // the process's resident memory (0 where unknown)
+  std::size_t heap_bytes = 0;      // of it, allocated and in use (0 where unknown)
 };
 
 // What Track() is told about a frame besides its pixels (all optional).

@@ -44,6 +44,8 @@ struct ChangeLogContext {
   int session = 0;
   // Timestamp of the session's first frame, seconds: entries' "time" counts from it.
   double session_start = 0.0;
+  // Its same_place_factor: a removal and a same-class object nearer than this are the
+  // same object re-created, no move (search_factor is not used: a move has no reach).
   MoveLinkOptions moves;
   // SLAM runs: ObjectMap::Appearances() (descriptors of each object's map points), by id;
   // empty in pose-given runs, where pairing goes by distance alone.
@@ -68,19 +70,21 @@ struct ChangeLogContext {
 // The object map's change log (changes, in order) revised against its live objects (live:
 // LiveObjectRecords, object_map.h): the entries of changes.json (ChangeLogJson writes them).
 // This session's removals become "moved" entries holding both ids and cuboids (the entry's
-// cuboid stays the old place's) when:
-//  - the object was last seen in an earlier session (last_seen before session_start, a
-//    later session only) and a live object of its class was first seen in this session
-//    (first_session), at any distance, all such pairs chosen together: one assignment
-//    of least total cost, objects that look alike (context.box_appearance, MatchFrom, or
-//    else context.appearance, MatchAppearance) before nearer ones (between-session
-//    entries list their candidates as evidence), and, where both have one, whose colours
-//    (context.colour) are alike;
-//  - or it was seen in this session and a live object of its class appeared near it after
-//    its last sighting (LinkMoves with context.moves), whether before or after the removal;
-//    both times as context.seen_as_class gives them, where it does: a box of another
-//    class absorbed into the removed object after its move does not make it seen later
-//    than its new place was first seen.
+// cuboid stays the old place's) when a live object of the removed one's class was first
+// seen after the removed one was last seen, at any distance but not at its place
+// (context.moves.same_place_factor), all such pairs chosen together: one assignment of as
+// many pairs as the times allow at least total cost, objects that look alike
+// (context.box_appearance, MatchFrom, or else context.appearance, MatchAppearance) before
+// nearer ones, and, where both have one, whose colours (context.colour) are alike.
+// A removal whose place holds a live object of its class (same reach) moved nowhere: a
+// duplicate removed beside the object it doubled, an object re-created where it stands.
+//  - A removed object last seen in an earlier session (last_seen before session_start, a
+//    later session only) pairs first, with the objects first seen in this session
+//    (first_session); its entry lists every candidate as evidence.
+//  - One seen in this session pairs with the live objects left, whether they appeared
+//    before or after the removal; both times as context.seen_as_class gives them, where
+//    it does: a box of another class absorbed into the removed object after its move does
+//    not make it seen later than its new place was first seen.
 // Earlier sessions' removals are not paired again: their session paired them (with
 // context.earlier_changes, their entries are that session's, moves included; without, they
 // stay "removed"). In a later session, live objects first seen in it and not part of a move

@@ -1,11 +1,14 @@
 #pragma once
 // Evidence sources: each fills one field of the OCG's keyframe observation
 // (KeyframeObservation, ocg/ocg/observation.h) from the object map, and the OCG weighs that
-// field by one judgement term (ocg/ocg/judgement.h, ObjectEvidence). The object map holds
-// its providers in one list and asks each at every keyframe (ObjectMap::
-// MakeKeyframeObservation); a new source is a provider, its field and its judgement term.
-// In the manner of OpenVINS's one class per updater. EvidenceProvidersFor is the one list
-// of the sources and the OCG modes that turn them on.
+// field by one judgement term (ocg/ocg/judgement_terms.h). The object map asks its
+// providers at every keyframe (ObjectMap::MakeKeyframeObservation). In the manner of
+// OpenVINS's one class per updater.
+//
+// A source is one file, src/objects/evidence/NAME.cc: its provider class and one
+// OCG_EVIDENCE_SOURCE(NAME, Class, "mode") line. The build lists that folder's files
+// (src/objects/CMakeLists.txt), so the registry (EvidenceSources) holds every source without
+// a line elsewhere; EvidenceProvidersFor gives those the OCG's modes turn on.
 
 #include <cstdint>
 #include <map>
@@ -62,8 +65,32 @@ class GeometryEvidence : public EvidenceProvider {
   void Fill(const KeyframeEvidence& keyframe, KeyframeObservation* observation) override;
 };
 
-// The providers of the sources modes asks for, in the order the object map asks them:
-// "observed" and "updates" always, "present_by_points" with "points".
+// One source of the registry.
+struct EvidenceSource {
+  // The judgement term (OCG.mode part, judgement_terms.h) that turns it on and reads its
+  // field, or nullptr: always on.
+  const char* mode;
+  std::unique_ptr<EvidenceProvider> (*make)();
+};
+
+// Every source, in the order of their fields in VisitObservationFields (observation.h),
+// "updates" last: the order the object map asks them in. Throws std::logic_error when a
+// provider's field is no field of the observation, two fill one field, or a mode is no term.
+const std::vector<EvidenceSource>& EvidenceSources();
+
+// The providers of the sources modes turns on, in EvidenceSources()'s order: "observed" and
+// "updates" always, "present_by_points" with "points".
 std::vector<std::unique_ptr<EvidenceProvider>> EvidenceProvidersFor(const OcgModes& modes);
+
+// Registers the provider class PROVIDER of src/objects/evidence/NAME.cc (NAME: the file's
+// name without ".cc") under MODE (a judgement term's name, or nullptr: always on). Write it
+// once in that file, inside namespace ocg.
+#define OCG_EVIDENCE_SOURCE(NAME, PROVIDER, MODE)                        \
+  void OcgEvidenceSource_##NAME(std::vector<EvidenceSource>& sources);   \
+  void OcgEvidenceSource_##NAME(std::vector<EvidenceSource>& sources) {  \
+    sources.push_back({MODE, []() -> std::unique_ptr<EvidenceProvider> { \
+                         return std::make_unique<PROVIDER>();            \
+                       }});                                              \
+  }
 
 }  // namespace ocg

@@ -38,9 +38,9 @@ struct SeenAsClass {
 };
 
 struct MoveLinkOptions {
-  // An object of the same class is the removed one moved when their centres are at most
-  // search_factor x the larger largest extent of the two apart (a cup, 0.09 m: 0.9 m; a
-  // laptop, 0.33 m: 3.3 m)...
+  // ocg_diff (the change log's pairing has no reach): an object of the same class is the
+  // removed one moved when their centres are at most search_factor x the larger extent (a
+  // cup, 0.09 m: 0.9 m; a laptop, 0.33 m: 3.3 m)...
   double search_factor = 10.0;
   // ...and farther than same_place_factor x that extent: closer, it overlaps where the
   // removed one stood: the same object re-created (cuboid estimates err by about half an
@@ -67,6 +67,10 @@ struct RecordedMove {
 
 // The larger of the two objects' largest extents (map units), at least 1e-6.
 double LargerExtent(const ObjectRecord& a, const ObjectRecord& b);
+
+// The distance of the two objects' centres in units of LargerExtent(a, b): what the move
+// and same-place factors compare with.
+double RelativeDistance(const ObjectRecord& a, const ObjectRecord& b);
 
 // Pairs removed objects with appeared ones into moves: same class, centres within the
 // distances of options. require_order: the appeared one must have been first seen after

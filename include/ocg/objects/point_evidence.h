@@ -1,7 +1,7 @@
 #pragma once
 // The "points" evidence (OCG.mode "points", SLAM runs): an object the detector missed that
-// the keyframe still shows by its own map points (present_by_points; judgement:
-// ObjectEvidence::present_by_points).
+// the keyframe still shows by its own map points (present_by_points; judgement term
+// "points"). Its provider is registered in src/objects/evidence/point_evidence.cc.
 
 #include <cstdint>
 #include <vector>

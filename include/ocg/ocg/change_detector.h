@@ -118,16 +118,8 @@ class ObjectChangeDetector {
   void KeepGeometryForReentry(ObjectId id);
   // archive: keep the record and edges for Restore() ("restore" mode removals).
   void RemoveObject(ObjectId id, bool archive = false);
-  // "dropout": sum of E(id, j) over the neighbours j detected in this keyframe or
-  // expected in view (ExpectedInView). O(degree of id).
-  std::uint64_t InViewNeighbourWeight(ObjectId id, const std::vector<ObjectId>& observed,
-                                      const KeyframeObservation& observation) const;
-  // "occlusion": the image footprints of the graph's objects with a centroid and a size,
-  // in front of the camera. O(objects in the graph), once per keyframe.
-  std::vector<ImageFootprint> ImageFootprints(const KeyframeObservation& observation) const;
-  // "occlusion": OccludedShare of the record's footprint among those; 0 without geometry.
-  double OccludedShareOf(const Record& record, const std::vector<ImageFootprint>& footprints,
-                         const KeyframeObservation& observation) const;
+  // The graph as the judgement terms read it at one keyframe (GraphView, judgement_terms.h).
+  class KeyframeView;
   RemovalEvent MakeRemoval(ObjectId id, std::int64_t keyframe, double timestamp) const;
   ObjectStatus MakeStatus(ObjectId id, const Record& record) const;
 

@@ -15,18 +15,15 @@
 
 namespace ocg {
 
+class GraphView;  // judgement_terms.h
+
 struct ObjectEvidence {
   bool observed = false;                // in V_k
   std::uint64_t observed_weight = 0;    // sum of E(i, j) over neighbours j in V_k
   std::uint64_t total_weight = 0;       // sum of E(i, j) over all neighbours
   std::size_t degree = 0;               // |N(i)|
   std::size_t observed_neighbours = 0;  // |N(i) ∩ V_k|
-  // "dropout" only: sum of E(i, j) over neighbours j detected in the keyframe or expected
-  // in view (ExpectedInView); 0 when not gathered.
-  std::uint64_t in_view_weight = 0;
-  // "occlusion" only: the share of its image rectangle that nearer objects cover
-  // (OccludedShare); 0 when not gathered.
-  double occluded_share = 0.0;
+  // What a term needs beyond these it gathers itself (judgement_terms.h, GraphView).
 };
 
 struct ObjectGeometry {
@@ -74,11 +71,13 @@ double ExpectedInView(const ObjectGeometry& geometry, const SE3& T_cw, const Pin
 // modes must be ParseOcgMode(options.mode), parsed once by the caller. The improved modes
 // are the terms of JudgementTerms() (judgement_terms.h), applied in their order; those that
 // read the keyframe's observation (as "points" does) see object id in *observation, and
-// nothing when it is null.
+// nothing when it is null; those that gather from the graph ("dropout", "occlusion") read
+// *graph, and gather nothing when it is null.
 Judgement JudgeObject(const StateAndDoubt& current, const ObjectEvidence& evidence,
                       const ObjectGeometry& geometry, const SE3& T_cw, const PinholeCamera& camera,
                       const OcgOptions& options, const OcgModes& modes,
-                      const KeyframeObservation* observation = nullptr, ObjectId id = 0);
+                      const KeyframeObservation* observation = nullptr, ObjectId id = 0,
+                      const GraphView* graph = nullptr);
 
 // A detection of the object from a camera at camera_centre (world): one more detected
 // keyframe, the farthest distance and, with record_direction, the direction it was seen

@@ -29,6 +29,11 @@ std::string ObservationToJson(const KeyframeObservation& observation);
 // (optional); meaning." (ocg_replay --fields, Python's help).
 std::string ObservationFieldsHelp();
 
+// The same as the fields table of docs/ocg.md (field, form, unit, absent, meaning), between
+// the lines `<!-- settings-table observation -->` and `<!-- end settings-table -->`
+// (tools/settings_docs.py writes it there).
+std::string ObservationFieldsMarkdown();
+
 // T_cw from a 4x4 matrix (world to camera), refusing what is not a rigid motion rather
 // than re-orthonormalising a wrong matrix: throws std::invalid_argument saying what is
 // wrong, the caller names the field.

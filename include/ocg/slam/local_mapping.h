@@ -20,6 +20,7 @@
 #include <list>
 
 #include "ocg/core/option_fields.h"
+#include "ocg/core/statistics.h"
 #include "ocg/features/bow_database.h"
 #include "ocg/features/matcher.h"
 #include "ocg/optim/bundle_adjustment.h"
@@ -104,13 +105,14 @@ struct LocalMappingStats {
   int points_culled = 0;
   int points_fused = 0;
   int keyframes_culled = 0;
-  std::vector<double> ba_seconds;      // per local bundle adjustment
-  std::vector<double> ba_cpu_seconds;  // the same, CPU time of this thread (load-proof)
+  // Summaries, not one number an event: a long run keeps making (and culling) keyframes.
+  DurationSummary ba_seconds;      // per local bundle adjustment
+  DurationSummary ba_cpu_seconds;  // the same, CPU time of this thread (load-proof)
   // Per keyframe [s]: the whole of its local mapping, and the part of it that held the
   // map lock (what tracking may have waited for; the local BA's solve runs without it).
-  std::vector<double> keyframe_seconds;
-  std::vector<double> keyframe_cpu_seconds;  // CPU time of this thread per keyframe
-  std::vector<double> map_lock_held_seconds;
+  DurationSummary keyframe_seconds;
+  DurationSummary keyframe_cpu_seconds;  // CPU time of this thread per keyframe
+  DurationSummary map_lock_held_seconds;
   // Solved while a loop correction or a global adjustment moved the map, and dropped.
   int local_adjustments_dropped = 0;
   // Threaded mode: not run because more keyframes waited (keyframe culling skipped too),

@@ -23,6 +23,7 @@
 #include "ocg/slam/local_mapping.h"
 #include "ocg/slam/loop_closing.h"
 #include "ocg/slam/map.h"
+#include "ocg/slam/map_file.h"
 #include "ocg/slam/tracking.h"
 
 namespace ocg {
@@ -174,16 +175,21 @@ class System {
   const std::vector<LoopEvent>& Merges() const { return loop_closing_->Stats().merges; }
 
   // Map files (slam/map_file.h, docs/sessions.md). SaveMap: same conditions as
-  // KeyFrames(); saves the current map only (the one the object layer's objects are in;
-  // other maps of the atlas are not saved). LoadMap: before the first TrackImage, into the empty
-  // map; the keyframe database is rebuilt from the keyframes' BoW vectors, and tracking starts
-  // lost: it relocalizes in the loaded map and never initializes one of its own. Throws what
-  // ocg::LoadMap throws (the map stays empty then) and std::logic_error after a frame.
-  // frames_before: the frames the earlier sessions were given; this session's frame ids
-  // (KeyFrame::frame_id) continue after them, so a keyframe's frame id is its frame's
-  // number over all sessions, as the object layer numbers its sightings.
+  // KeyFrames(); saves the whole atlas: every map, the current one and the merges so far
+  // (those of earlier sessions too). LoadMap: before the first TrackImage, into the empty
+  // map; the atlas comes back as saved (Maps() lists its maps, merged ones with where they
+  // went), the keyframe database is rebuilt from the keyframes' BoW vectors, and tracking
+  // starts lost: it relocalizes in any map of the loaded atlas and never initializes one
+  // of its own. Throws what ocg::LoadMap throws (the map stays empty then) and
+  // std::logic_error after a frame. frames_before: the frames the earlier sessions were
+  // given; this session's frame ids (KeyFrame::frame_id) continue after them, so a
+  // keyframe's frame id is its frame's number over all sessions, as the object layer
+  // numbers its sightings. format: the file's layout (older files: kSingleMap).
   void SaveMap(std::ostream& out) const;
-  void LoadMap(std::istream& in, std::uint64_t frames_before = 0);
+  void LoadMap(std::istream& in, std::uint64_t frames_before = 0,
+               MapFileFormat format = MapFileFormat::kAtlas);
+  // The live keyframes of every map of the atlas.
+  std::size_t AtlasKeyFrameCount() const;
   bool MapLoaded() const { return map_loaded_; }
   // The frames given before a map existed and why they did not initialize one.
   const InitializationAttempts& Initialization() const;
@@ -203,8 +209,11 @@ class System {
   double pending_mapping_cpu_seconds_ = 0.0;
   int resets_ = 0;
   int new_maps_ = 0;
-  int merges_seen_ = 0;  // Map::merges() at the last TrackImage
+  int merges_seen_ = 0;                  // Map::merges() at the last TrackImage
+  std::vector<MapMerge> loaded_merges_;  // the merges of the sessions before (LoadMap)
   int CurrentMap() const;
+  // The merges of the sessions before and of this run, in order.
+  std::vector<MapMerge> AllMerges() const;
   // FrameMaps() with map_.mutex() held.
   std::vector<int> FrameMapsLocked() const;
   bool shut_down_ = false;

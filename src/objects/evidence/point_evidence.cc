@@ -6,6 +6,8 @@
 
 namespace ocg {
 
+OCG_EVIDENCE_SOURCE(point_evidence, PointPresenceEvidence, "points")
+
 bool PresentByPoints(const MapObject& object, const std::vector<std::uint64_t>& tracked,
                      const SE3& T_cw, const PinholeCamera& camera, const ObjectsOptions& options,
                      const FrameFeatureSearch* frame) {
