@@ -137,6 +137,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     points.push_back({point.id, point.pixel, point.position});
   last_association_ =
       mapper_->AddFrame(frame_offset_ + frame, timestamp, *result.T_cw, detections, &points);
+  if (!detections.empty()) new_frames_.push_back(static_cast<std::size_t>(frame));
   if (result.new_keyframe) Follow(system);
   if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
     // The map as it was just before the OCG's first removal, for the before/after
@@ -306,6 +307,9 @@ void ObjectLayer::Start() {
   tracked_frames_ = 0;
   last_association_ = {};
   map_version_.reset();  // the new mapper's copy of the SLAM map is empty
+  follow_every_frame_ = true;
+  frames_by_anchor_.clear();
+  new_frames_.clear();
 }
 
 ChangeLogContext ObjectLayer::ChangeLog() const {
@@ -343,26 +347,46 @@ void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_of
 void ObjectLayer::StartSession(int session, std::int64_t frame_offset) {
   session_ = session;
   frame_offset_ = frame_offset;
+  follow_every_frame_ = true;
   if (enabled_) mapper_->StartSession(session, frame_offset);
 }
 
 void ObjectLayer::Follow(const System& system) {
-  SlamMapChanges changes;
-  // The earlier sessions' frames have no pose in this run: their sightings keep theirs.
-  std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
-  for (const std::int64_t frame : mapper_->SightingFrames()) {
-    if (frame >= frame_offset_) calls.push_back(static_cast<std::size_t>(frame - frame_offset_));
-  }
-  const std::vector<std::optional<SE3>> poses = system.FramePoses(calls);
-  for (std::size_t i = 0; i < calls.size(); ++i) {
-    if (poses[i])
-      changes.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
-  }
-  // What changed in the SLAM map since the last time (all of it the first time).
+  // What changed in the SLAM map since the last time (all of it the first time). Read
+  // before the poses: a change after it is in the next call's answer.
   const MapChanges map = system.MapChangesSince(map_version_);
   map_version_ = map.version;
+  SlamMapChanges changes;
   changes.everything = map.everything;
   full_map_reads_ += map.everything ? 1 : 0;
+  // The frames whose pose may have changed: every sighting frame after everything moved,
+  // else the new ones and those placed from a keyframe that moved or was culled (a frame's
+  // pose is its anchor's times a fixed relative pose). The earlier sessions' frames have
+  // no pose in this run: their sightings keep theirs.
+  std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
+  if (map.everything || follow_every_frame_) {
+    frames_by_anchor_.clear();
+    for (const std::int64_t frame : mapper_->SightingFrames()) {
+      if (frame >= frame_offset_) calls.push_back(static_cast<std::size_t>(frame - frame_offset_));
+    }
+  } else {
+    calls = std::move(new_frames_);
+    for (const KeyFrameState& keyframe : map.keyframes) {
+      const auto anchored = frames_by_anchor_.find(keyframe.id);
+      if (anchored == frames_by_anchor_.end()) continue;
+      calls.insert(calls.end(), anchored->second.begin(), anchored->second.end());
+      frames_by_anchor_.erase(anchored);
+    }
+  }
+  new_frames_.clear();
+  follow_every_frame_ = false;
+  std::vector<std::uint64_t> anchors;
+  const std::vector<std::optional<SE3>> poses = system.FramePoses(calls, &anchors);
+  for (std::size_t i = 0; i < calls.size(); ++i) {
+    if (!poses[i]) continue;
+    changes.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
+    frames_by_anchor_[anchors[i]].push_back(calls[i]);
+  }
   changes.points.reserve(map.points.size());
   for (const MapPointState& point : map.points) {
     changes.points.push_back(

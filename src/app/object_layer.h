@@ -128,6 +128,15 @@ class ObjectLayer {
   // the copy read the whole map (the first time, loop corrections, merges ...).
   std::optional<std::uint64_t> map_version_;
   int full_map_reads_ = 0;
+  // Follow()'s frame poses, so a keyframe reads the poses that changed, not every sighting
+  // frame's: this session's frames (call indices) given a pose, by the keyframe it was
+  // taken from (System::FramePoses' anchors; a frame no sighting keeps any more may
+  // stay until the next reading of every frame), the frames with detections given to the
+  // mapper since, and whether the next Follow() reads every sighting frame's pose (the
+  // first, after a new mapper or session; the SLAM map's "everything" too).
+  std::map<std::uint64_t, std::vector<std::size_t>> frames_by_anchor_;
+  std::vector<std::size_t> new_frames_;
+  bool follow_every_frame_ = true;
   std::optional<double> session_start_;                      // timestamp of the first frame given
   std::optional<std::vector<ChangeEntry>> earlier_changes_;  // the loaded map file's log
   // Finish(): ObjectMap::BoxAppearances() over every keyframe of the SLAM map.

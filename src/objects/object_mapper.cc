@@ -83,6 +83,9 @@ void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t se
   stats_.plane_inliers = plane.valid ? plane.inliers : 0;
   stats_.up = up;
   map_.SetUp(up);
+  std::vector<std::int64_t> frames;
+  frames.reserve(changes.frame_poses.size());
+  for (const auto& [frame, pose] : changes.frame_poses) frames.push_back(frame);
   map_.FollowMap(
       [&changes](std::int64_t frame) -> std::optional<SE3> {
         const auto found = changes.frame_poses.find(frame);
@@ -97,7 +100,8 @@ void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t se
       [&points](std::uint64_t point) -> const Descriptor* {
         const auto found = points.find(point);
         return found == points.end() ? nullptr : &found->second.descriptor;
-      });
+      },
+      &frames);
 }
 
 std::vector<std::int64_t> ObjectMapper::SightingFrames() const {

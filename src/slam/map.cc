@@ -350,8 +350,8 @@ void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
   journal_.KeyFrame(keyframe->id);
 }
 
-std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
-                                     const SE3& T_c_reference) {
+std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference, const SE3& T_c_reference,
+                                     KeyFrameId* anchor) {
   KeyFramePtr keyframe = map.GetKeyFrame(reference);
   SE3 relative = T_c_reference;
   while (keyframe && keyframe->bad && keyframe->has_parent) {
@@ -359,6 +359,7 @@ std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
     keyframe = map.GetKeyFrame(keyframe->parent);
   }
   if (!keyframe) return std::nullopt;
+  if (anchor != nullptr) *anchor = keyframe->id;
   return relative * keyframe->T_cw;
 }
 

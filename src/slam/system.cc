@@ -271,9 +271,11 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   return poses;
 }
 
-std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t>& frames) const {
+std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t>& frames,
+                                                   std::vector<std::uint64_t>* anchors) const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<std::optional<SE3>> poses(frames.size());
+  if (anchors != nullptr) anchors->assign(frames.size(), 0);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (frames[i] >= frames_.size()) continue;
     const FrameRecord& record = frames_[frames[i]];
@@ -281,7 +283,9 @@ std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t
     // As FrameMapsLocked: the frame is placed in its reference keyframe's map now.
     const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
     if (!reference || reference->map != map_.current_map()) continue;
-    poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference);
+    KeyFrameId anchor = 0;
+    poses[i] = PoseFromReference(map_, record.reference, record.T_c_reference, &anchor);
+    if (anchors != nullptr) (*anchors)[i] = anchor;
   }
   return poses;
 }

@@ -17,8 +17,9 @@ namespace ocg {
 
 // What a SLAM run tells the object layer at a keyframe, after its bundle adjustment.
 struct SlamMapChanges {
-  // Camera poses by the frame numbers given to AddFrame: those of SightingFrames() that
-  // have one (a pose for every frame of a long run would grow with it).
+  // Camera poses by the frame numbers given to AddFrame: those of SightingFrames() whose
+  // pose changed (or may have) since the last call; the sightings of other frames keep
+  // theirs (a pose for every frame of a long run at every keyframe would grow with it).
   std::map<std::int64_t, SE3> frame_poses;
   // The lists below hold the whole map: the copy starts over from them (the first call, a
   // loop correction, a global adjustment, a merge, a switch of map). Otherwise they hold

@@ -109,8 +109,10 @@ class Map;
 // The pose now of a frame placed relative to a keyframe (T_c_reference), following a
 // culled keyframe to its parent with the relative pose kept at culling (ORB-SLAM2's way),
 // so the frame takes every correction that came later. None when the keyframe is gone.
-std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
-                                     const SE3& T_c_reference);
+// anchor (optional): the live keyframe the pose was taken from, the end of that chain; the
+// pose changes only when the anchor's pose or life changes (both in the map's journal).
+std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference, const SE3& T_c_reference,
+                                     KeyFrameId* anchor = nullptr);
 
 // The atlas (ORB-SLAM3's idea): the keyframes and points of every map the run made, each
 // tagged with its map's index (KeyFrame::map, MapPoint::map). Maps share nothing but the

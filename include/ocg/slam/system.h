@@ -137,7 +137,11 @@ class System {
   // reset or that are placed in another map (FrameMaps() says which).
   std::vector<std::optional<SE3>> FramePoses() const;
   // The same for some frames (call indices; those beyond the last call have none).
-  std::vector<std::optional<SE3>> FramePoses(const std::vector<std::size_t>& frames) const;
+  // anchors (optional): per frame with a pose, the keyframe it was taken from
+  // (PoseFromReference); the pose stays as it is until MapChangesSince() names that
+  // keyframe (moved or culled) or says everything changed.
+  std::vector<std::optional<SE3>> FramePoses(const std::vector<std::size_t>& frames,
+                                             std::vector<std::uint64_t>* anchors = nullptr) const;
   // The positions of the current map's points (for the object layer's supporting plane
   // and point sets), with their ids and descriptors in the same order when those are
   // given.
