@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "object_map_file.h"
+#include "ocg/core/cpu_time.h"
 #include "ocg/core/file_io.h"
 #include "ocg/core/statistics.h"
 
@@ -52,6 +53,22 @@ nlohmann::json Timing(const DurationSummary& seconds) {
           {"max_ms", 1000.0 * seconds.max()}};
 }
 
+nlohmann::json PerKeyframeTiming(const std::vector<double>& cpu_seconds) {
+  const std::size_t quarter = cpu_seconds.size() / 4;
+  const auto median_ms = [&](std::size_t begin, std::size_t end) {
+    return quarter == 0 ? 0.0
+                        : 1000.0 * Median(std::vector<double>(
+                                       cpu_seconds.begin() + static_cast<std::ptrdiff_t>(begin),
+                                       cpu_seconds.begin() + static_cast<std::ptrdiff_t>(end)));
+  };
+  const double first = median_ms(0, quarter);
+  const double last = median_ms(cpu_seconds.size() - quarter, cpu_seconds.size());
+  return {{"count", cpu_seconds.size()},
+          {"first_quarter_median_ms", first},
+          {"last_quarter_median_ms", last},
+          {"last_to_first", first > 0.0 ? last / first : 0.0}};
+}
+
 std::vector<ChangeEntry> RevisedChangeLog(const ObjectMapper& mapper,
                                           const ChangeLogContext& context) {
   return ReviseChangeLog(mapper.Changes(), mapper.LiveObjects(), context);
@@ -85,6 +102,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
                            const std::string& image_path, const cv::Mat& image) {
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ThreadCpuSeconds();
   if (!session_start_) session_start_ = timestamp;
   if (result.reset || result.new_map || result.switched_map) {
     // The SLAM map the objects were built in is gone (reset) or left behind for a new map
@@ -119,6 +137,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     points.push_back({point.id, point.pixel, point.position});
   last_association_ =
       mapper_->AddFrame(frame_offset_ + frame, timestamp, *result.T_cw, detections, &points);
+  if (!detections.empty()) new_frames_.push_back(static_cast<std::size_t>(frame));
   if (result.new_keyframe) Follow(system);
   if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
     // The map as it was just before the OCG's first removal, for the before/after
@@ -135,6 +154,7 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     }
   }
   seconds_.Add(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (result.new_keyframe) keyframe_cpu_seconds_.push_back(ThreadCpuSeconds() - cpu_start);
 }
 
 std::vector<ObjectView> ObjectLayer::Views() const {
@@ -261,7 +281,10 @@ nlohmann::json ObjectLayer::Write(const std::string& output) const {
                   {"colour_signatures",
                    {{"keyframe_images", colour_images_}, {"sightings", colour_signatures_}}},
                   {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
-                  {"timing", {{"objects_per_frame", Timing(seconds_)}}}});
+                  {"timing",
+                   {{"objects_per_frame", Timing(seconds_)},
+                    {"object_layer_per_keyframe", PerKeyframeTiming(keyframe_cpu_seconds_)}}},
+                  {"slam_map_full_reads", full_map_reads_}});
   if (settings_.ocg.modes().point_presence) {
     const ObjectMap::PointPresenceStats points = mapper_->PointPresenceStats();
     section["point_presence"] = {
@@ -283,6 +306,10 @@ void ObjectLayer::Start() {
   keyframes_ = 0;
   tracked_frames_ = 0;
   last_association_ = {};
+  map_version_.reset();  // the new mapper's copy of the SLAM map is empty
+  follow_every_frame_ = true;
+  frames_by_anchor_.clear();
+  new_frames_.clear();
 }
 
 ChangeLogContext ObjectLayer::ChangeLog() const {
@@ -320,24 +347,56 @@ void ObjectLayer::LoadState(std::istream& in, int session, std::int64_t frame_of
 void ObjectLayer::StartSession(int session, std::int64_t frame_offset) {
   session_ = session;
   frame_offset_ = frame_offset;
+  follow_every_frame_ = true;
   if (enabled_) mapper_->StartSession(session, frame_offset);
 }
 
 void ObjectLayer::Follow(const System& system) {
-  SlamMapView view;
-  // The earlier sessions' frames have no pose in this run: their sightings keep theirs.
+  // What changed in the SLAM map since the last time (all of it the first time). Read
+  // before the poses: a change after it is in the next call's answer.
+  const MapChanges map = system.MapChangesSince(map_version_);
+  map_version_ = map.version;
+  SlamMapChanges changes;
+  changes.everything = map.everything;
+  full_map_reads_ += map.everything ? 1 : 0;
+  // The frames whose pose may have changed: every sighting frame after everything moved,
+  // else the new ones and those placed from a keyframe that moved or was culled (a frame's
+  // pose is its anchor's times a fixed relative pose). The earlier sessions' frames have
+  // no pose in this run: their sightings keep theirs.
   std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
-  for (const std::int64_t frame : mapper_->SightingFrames()) {
-    if (frame >= frame_offset_) calls.push_back(static_cast<std::size_t>(frame - frame_offset_));
+  if (map.everything || follow_every_frame_) {
+    frames_by_anchor_.clear();
+    for (const std::int64_t frame : mapper_->SightingFrames()) {
+      if (frame >= frame_offset_) calls.push_back(static_cast<std::size_t>(frame - frame_offset_));
+    }
+  } else {
+    calls = std::move(new_frames_);
+    for (const KeyFrameState& keyframe : map.keyframes) {
+      const auto anchored = frames_by_anchor_.find(keyframe.id);
+      if (anchored == frames_by_anchor_.end()) continue;
+      calls.insert(calls.end(), anchored->second.begin(), anchored->second.end());
+      frames_by_anchor_.erase(anchored);
+    }
   }
-  const std::vector<std::optional<SE3>> poses = system.FramePoses(calls);
+  new_frames_.clear();
+  follow_every_frame_ = false;
+  std::vector<std::uint64_t> anchors;
+  const std::vector<std::optional<SE3>> poses = system.FramePoses(calls, &anchors);
   for (std::size_t i = 0; i < calls.size(); ++i) {
-    if (poses[i])
-      view.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
+    if (!poses[i]) continue;
+    changes.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
+    frames_by_anchor_[anchors[i]].push_back(calls[i]);
   }
-  view.map_points = system.MapPointPositions(&view.map_point_ids, &view.map_point_descriptors);
-  view.camera_rotations = system.KeyFrameRotations();
-  mapper_->FollowSlamMap(view, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
+  changes.points.reserve(map.points.size());
+  for (const MapPointState& point : map.points) {
+    changes.points.push_back(
+        {point.id, point.live ? std::optional(point.position) : std::nullopt, point.descriptor});
+  }
+  for (const KeyFrameState& keyframe : map.keyframes) {
+    changes.camera_rotations.emplace_back(
+        keyframe.id, keyframe.live ? std::optional(keyframe.R_wc) : std::nullopt);
+  }
+  mapper_->FollowSlamMap(changes, settings_.system.seed + static_cast<std::uint64_t>(keyframes_));
 }
 
 }  // namespace ocg::app_detail

@@ -41,6 +41,9 @@ nlohmann::json WriteObjectMap(const ObjectMapper& mapper, const std::string& fol
 // run.json's timing entry of a list of durations in seconds, or of their summary.
 nlohmann::json Timing(const std::vector<double>& seconds);
 nlohmann::json Timing(const DurationSummary& seconds);
+// run.json's timing.object_layer_per_keyframe: the median CPU time of the first and of the
+// last quarter of the keyframes' (in order), their ratio and the count.
+nlohmann::json PerKeyframeTiming(const std::vector<double>& cpu_seconds);
 
 class ObjectLayer {
  public:
@@ -118,6 +121,22 @@ class ObjectLayer {
   std::optional<std::vector<ObjectView>> first_removal_;
   bool removal_seen_ = false;
   DurationSummary seconds_;
+  // The object layer's CPU time (its thread's) at each SLAM keyframe, in order (8 bytes a
+  // keyframe); run.json gives the medians of the first and last quarters.
+  std::vector<double> keyframe_cpu_seconds_;
+  // The SLAM map's version the mapper's copy is up to (none: empty), and how many times
+  // the copy read the whole map (the first time, loop corrections, merges ...).
+  std::optional<std::uint64_t> map_version_;
+  int full_map_reads_ = 0;
+  // Follow()'s frame poses, so a keyframe reads the poses that changed, not every sighting
+  // frame's: this session's frames (call indices) given a pose, by the keyframe it was
+  // taken from (System::FramePoses' anchors; a frame no sighting keeps any more may
+  // stay until the next reading of every frame), the frames with detections given to the
+  // mapper since, and whether the next Follow() reads every sighting frame's pose (the
+  // first, after a new mapper or session; the SLAM map's "everything" too).
+  std::map<std::uint64_t, std::vector<std::size_t>> frames_by_anchor_;
+  std::vector<std::size_t> new_frames_;
+  bool follow_every_frame_ = true;
   std::optional<double> session_start_;                      // timestamp of the first frame given
   std::optional<std::vector<ChangeEntry>> earlier_changes_;  // the loaded map file's log
   // Finish(): ObjectMap::BoxAppearances() over every keyframe of the SLAM map.

@@ -142,11 +142,29 @@ void ObjectMap::SetUp(const Eigen::Vector3d& up) { R_wg_ = GravityFrame(up); }
 void ObjectMap::FollowMap(
     const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
     const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
-    const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point) {
+    const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point,
+    const std::vector<std::int64_t>* frames) {
+  const auto by_frame = [](const ObjectSighting& sighting, std::int64_t frame) {
+    return sighting.frame < frame;
+  };
   for (auto* entities : {&objects_, &candidates_}) {
     for (auto& [id, entity] : *entities) {
-      for (ObjectSighting& sighting : entity.sightings) {
-        if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
+      if (frames == nullptr) {
+        for (ObjectSighting& sighting : entity.sightings) {
+          if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
+        }
+      } else {
+        // The kept sightings are in frame order (SightingHistory), as the frames are.
+        auto sighting = entity.sightings.begin();
+        for (const std::int64_t frame : *frames) {
+          sighting = std::lower_bound(sighting, entity.sightings.end(), frame, by_frame);
+          if (sighting == entity.sightings.end()) break;
+          if (sighting->frame != frame) continue;
+          const std::optional<SE3> pose = pose_of_frame(frame);
+          if (!pose) continue;
+          for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting)
+            sighting->T_cw = *pose;
+        }
       }
       for (auto point = entity.points.begin(); point != entity.points.end();) {
         const std::optional<Eigen::Vector3d> position = position_of_point(point->first);

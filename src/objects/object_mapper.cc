@@ -44,19 +44,26 @@ FrameAssociation ObjectMapper::AddFrame(std::int64_t frame, double timestamp, co
   return association;
 }
 
-void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
+void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t seed) {
   const ObjectsOptions& options = map_.options();
-  const Eigen::Vector3d prior = CameraUpPrior(view.camera_rotations);
-  const SupportingPlane plane =
-      FindSupportingPlane(view.map_points, prior, options.plane_max_tilt_deg,
-                          options.plane_inlier_share, options.plane_iterations, seed);
-  std::map<std::uint64_t, Eigen::Vector3d> positions;
-  std::map<std::uint64_t, const Descriptor*> descriptors;
-  for (std::size_t i = 0; i < view.map_point_ids.size() && i < view.map_points.size(); ++i) {
-    positions.emplace(view.map_point_ids[i], view.map_points[i]);
-    if (i < view.map_point_descriptors.size())
-      descriptors.emplace(view.map_point_ids[i], &view.map_point_descriptors[i]);
+  follow_work_ = SlamFollowWork{};
+  follow_work_.points_changed = changes.points.size();
+  changed_since_fit_ += slam_map_.Apply(changes);
+  const Eigen::Vector3d prior = CameraUpPrior(slam_map_.Rotations());
+  if (changes.everything || !plane_fitted_ ||
+      static_cast<double>(changed_since_fit_) >=
+          options.plane_refit_share * static_cast<double>(points_at_fit_)) {
+    const std::vector<Eigen::Vector3d> positions = slam_map_.Positions();
+    plane_ = FindSupportingPlane(positions, prior, options.plane_max_tilt_deg,
+                                 options.plane_inlier_share, options.plane_iterations, seed);
+    plane_fitted_ = true;
+    points_at_fit_ = positions.size();
+    changed_since_fit_ = 0;
+    follow_work_.plane_points = positions.size();
+    follow_work_.plane_refit = true;
   }
+  const SupportingPlane& plane = plane_;
+  const std::map<std::uint64_t, SlamMapCopy::Point>& points = slam_map_.points();
   std::lock_guard<std::mutex> lock(map_mutex_);
   Eigen::Vector3d up = prior;
   if (plane.valid) {
@@ -76,21 +83,25 @@ void ObjectMapper::FollowSlamMap(const SlamMapView& view, std::uint64_t seed) {
   stats_.plane_inliers = plane.valid ? plane.inliers : 0;
   stats_.up = up;
   map_.SetUp(up);
+  std::vector<std::int64_t> frames;
+  frames.reserve(changes.frame_poses.size());
+  for (const auto& [frame, pose] : changes.frame_poses) frames.push_back(frame);
   map_.FollowMap(
-      [&view](std::int64_t frame) -> std::optional<SE3> {
-        const auto found = view.frame_poses.find(frame);
-        if (found == view.frame_poses.end()) return {};
+      [&changes](std::int64_t frame) -> std::optional<SE3> {
+        const auto found = changes.frame_poses.find(frame);
+        if (found == changes.frame_poses.end()) return {};
         return found->second;
       },
-      [&positions](std::uint64_t point) -> std::optional<Eigen::Vector3d> {
-        const auto found = positions.find(point);
-        if (found == positions.end()) return {};
-        return found->second;
+      [&points](std::uint64_t point) -> std::optional<Eigen::Vector3d> {
+        const auto found = points.find(point);
+        if (found == points.end()) return {};
+        return found->second.position;
       },
-      [&descriptors](std::uint64_t point) -> const Descriptor* {
-        const auto found = descriptors.find(point);
-        return found == descriptors.end() ? nullptr : found->second;
-      });
+      [&points](std::uint64_t point) -> const Descriptor* {
+        const auto found = points.find(point);
+        return found == points.end() ? nullptr : &found->second.descriptor;
+      },
+      &frames);
 }
 
 std::vector<std::int64_t> ObjectMapper::SightingFrames() const {

@@ -85,6 +85,7 @@ void Map::Add(const KeyFramePtr& keyframe) {
   keyframes_[keyframe->id] = keyframe;
   const auto [first, inserted] = first_keyframes_.emplace(keyframe->map, keyframe->id);
   if (!inserted && keyframe->id < first->second) first->second = keyframe->id;
+  journal_.KeyFrame(keyframe->id);
 }
 
 std::optional<KeyFrameId> Map::FirstKeyFrame(int map) const {
@@ -112,6 +113,7 @@ std::vector<KeyFrameId> Map::EraseMap(int map) {
       ++it;
     }
   }
+  journal_.Everything();
   return erased;
 }
 
@@ -144,6 +146,7 @@ void Map::MoveMap(int from, int into, const Sim3& S_into_from) {
   merged_into_[from] = {into, S_into_from.scale()};
   ++merges_;
   last_merge_scale_ = S_into_from.scale();
+  journal_.Everything();
 }
 
 double Map::ScaleInto(int from, int to) const {
@@ -166,6 +169,7 @@ void Map::Clear() {
   current_map_ = 0;
   map_count_ = 1;
   first_keyframes_.clear();
+  journal_.Everything();
 }
 
 void Map::AddObservation(const KeyFramePtr& keyframe, int feature, const MapPointPtr& point) {
@@ -197,6 +201,7 @@ void Map::ErasePoint(const MapPointPtr& point) {
   }
   point->observations.clear();
   points_.erase(point->id);
+  journal_.Point(point->id);
 }
 
 void Map::ReplacePoint(const MapPointPtr& old_point, const MapPointPtr& new_point) {
@@ -216,6 +221,7 @@ void Map::ReplacePoint(const MapPointPtr& old_point, const MapPointPtr& new_poin
   new_point->found += old_point->found;
   new_point->visible += old_point->visible;
   points_.erase(old_point->id);
+  journal_.Point(old_point->id);
 }
 
 void Map::UpdatePointGeometry(const MapPointPtr& point, const ScalePyramid& pyramid) const {
@@ -260,6 +266,7 @@ void Map::UpdatePointDescriptor(const MapPointPtr& point) const {
     }
   }
   point->descriptor = descriptors[best];
+  journal_.Point(point->id);
 }
 
 void Map::UpdateConnections(const KeyFramePtr& keyframe) {
@@ -353,9 +360,11 @@ void Map::EraseKeyFrame(const KeyFramePtr& keyframe) {
   keyframe->bow = BowVector();
   keyframe->feature_vector = FeatureVector();
   keyframe->points = std::vector<MapPointPtr>();
+  journal_.KeyFrame(keyframe->id);
 }
 
-std::optional<AnchoredPose> PoseFromAnchor(const Map& map, const Anchor& anchor) {
+std::optional<AnchoredPose> PoseFromAnchor(const Map& map, const Anchor& anchor,
+                                           KeyFrameId* live_keyframe) {
   SE3 relative = anchor.T_c_keyframe;
   KeyFramePtr keyframe = anchor.keyframe;
   while (keyframe && map.GetKeyFrame(keyframe->id) != keyframe) {
@@ -368,13 +377,13 @@ std::optional<AnchoredPose> PoseFromAnchor(const Map& map, const Anchor& anchor)
   if (!keyframe) return std::nullopt;
   const double scale = map.ScaleInto(anchor.map, keyframe->map);
   if (scale != 1.0) relative = SE3(relative.rotation(), relative.translation() * scale);
-  const std::optional<SE3> T_cw = PoseFromReference(map, keyframe->id, relative);
+  const std::optional<SE3> T_cw = PoseFromReference(map, keyframe->id, relative, live_keyframe);
   if (!T_cw) return std::nullopt;
   return AnchoredPose{*T_cw, keyframe->map};
 }
 
-std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
-                                     const SE3& T_c_reference) {
+std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference, const SE3& T_c_reference,
+                                     KeyFrameId* anchor) {
   KeyFramePtr keyframe = map.GetKeyFrame(reference);
   SE3 relative = T_c_reference;
   while (keyframe && keyframe->bad && keyframe->has_parent) {
@@ -382,6 +391,7 @@ std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
     keyframe = map.GetKeyFrame(keyframe->parent);
   }
   if (!keyframe) return std::nullopt;
+  if (anchor != nullptr) *anchor = keyframe->id;
   return relative * keyframe->T_cw;
 }
 

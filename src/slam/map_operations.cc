@@ -137,9 +137,12 @@ int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustm
     if (problem.keyframes[i].fixed || k->bad) continue;
     moved.emplace(k->id, std::make_pair(k->T_cw, problem.keyframes[i].T_cw));
     k->T_cw = problem.keyframes[i].T_cw;
+    map.journal().KeyFrame(k->id);
   }
   for (std::size_t p = 0; p < adjustment.points.size(); ++p) {
-    if (!adjustment.points[p]->bad) adjustment.points[p]->position = problem.points[p].position;
+    if (adjustment.points[p]->bad) continue;
+    adjustment.points[p]->position = problem.points[p].position;
+    map.journal().Point(adjustment.points[p]->id);
   }
   for (std::size_t i = 0; i < adjustment.report.outlier.size(); ++i) {
     if (!adjustment.report.outlier[i]) continue;
@@ -160,6 +163,7 @@ int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustm
     if (parent == moved.end()) continue;
     const SE3 before = k->T_cw;
     k->T_cw = k->T_cw * parent->second.first.Inverse() * parent->second.second;
+    map.journal().KeyFrame(k->id);
     moved.emplace(k->id, std::make_pair(before, k->T_cw));
     ++followed;
   }
@@ -170,6 +174,7 @@ int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustm
     if (point->bad || reference == moved.end()) continue;
     point->position =
         reference->second.second.Inverse() * (reference->second.first * point->position);
+    map.journal().Point(point->id);
     map.UpdatePointGeometry(point, pyramid);
     ++followed;
   }

@@ -258,11 +258,13 @@ std::vector<StampedPose> System::KeyFrameTrajectory(int map) const {
   return poses;
 }
 
-std::optional<SE3> System::FramePoseLocked(const FrameRecord& record) const {
+std::optional<SE3> System::FramePoseLocked(const FrameRecord& record,
+                                           KeyFrameId* live_keyframe) const {
   // The relative pose was measured in the units of the map the frame was tracked in: a
   // merge of that map since scales it (PoseFromAnchor), as it scaled the keyframe's map.
   const std::optional<AnchoredPose> pose = PoseFromAnchor(
-      map_, Anchor{map_.GetKeyFrame(record.reference), record.T_c_reference, record.map, 0});
+      map_, Anchor{map_.GetKeyFrame(record.reference), record.T_c_reference, record.map, 0},
+      live_keyframe);
   if (!pose) return std::nullopt;
   return pose->T_cw;
 }
@@ -292,9 +294,11 @@ std::vector<std::optional<SE3>> System::FramePoses() const {
   return poses;
 }
 
-std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t>& frames) const {
+std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t>& frames,
+                                                   std::vector<std::uint64_t>* anchors) const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<std::optional<SE3>> poses(frames.size());
+  if (anchors != nullptr) anchors->assign(frames.size(), 0);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (frames[i] >= frames_.size()) continue;
     const FrameRecord& record = frames_[frames[i]];
@@ -302,7 +306,9 @@ std::vector<std::optional<SE3>> System::FramePoses(const std::vector<std::size_t
     // As FrameMapsLocked: the frame is placed in its reference keyframe's map now.
     const KeyFramePtr reference = map_.GetKeyFrame(record.reference);
     if (!reference || reference->map != map_.current_map()) continue;
-    poses[i] = FramePoseLocked(record);
+    KeyFrameId anchor = 0;
+    poses[i] = FramePoseLocked(record, &anchor);
+    if (anchors != nullptr) (*anchors)[i] = anchor;
   }
   return poses;
 }
@@ -334,6 +340,11 @@ std::vector<Eigen::Vector3d> System::MapPointPositions(std::vector<MapPointId>* 
     if (descriptors != nullptr) descriptors->push_back(point->descriptor);
   }
   return positions;
+}
+
+MapChanges System::MapChangesSince(std::optional<std::uint64_t> version) const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  return ChangesSince(map_, version);
 }
 
 std::vector<KeyFramePtr> System::KeyFrames() const {
@@ -407,6 +418,7 @@ void System::LoadMap(std::istream& in, std::uint64_t frames_before, MapFileForma
       first_frame_id = std::max(first_frame_id, keyframe->frame_id + 1);
       if (!keyframe->bad) database_.Add(static_cast<int>(id), keyframe->bow);
     }
+    map_.journal().Everything();
   }
   tracking_->StartInLoadedMap(first_frame_id);
   map_loaded_ = true;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "growing_slam_map.h"
 #include "synthetic_scene.h"
 #include "test_support.h"
 
@@ -151,18 +152,19 @@ void ExpectObjectsFollowASimilarity(double scale) {
   const double yaw = 0.4;
   const Eigen::Quaterniond turn(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
   const Sim3 moved(scale, turn, Eigen::Vector3d(0.5, -0.3, 0.1));
-  SlamMapView view;
+  SlamMapChanges view;
+  view.everything = true;
   for (int frame = 0; frame < 60; ++frame) {
     const Sim3 S_cw = Sim3(scene.T_cw[static_cast<std::size_t>(frame)]) * moved.Inverse();
     view.frame_poses[frame] = SE3(S_cw.rotation(), S_cw.translation() / S_cw.scale());
   }
   // The map points of the table (points far off it would sway the supporting plane).
   for (int i = 0; i < scene.options.points_on_table; ++i) {
-    view.map_points.push_back(moved * scene.points[static_cast<std::size_t>(i)]);
-    view.map_point_ids.push_back(static_cast<std::uint64_t>(i));
+    view.points.push_back(
+        {static_cast<std::uint64_t>(i), moved * scene.points[static_cast<std::size_t>(i)], {}});
   }
   for (const auto& [frame, T_cw] : view.frame_poses)
-    view.camera_rotations.push_back(T_cw.Inverse().rotation());
+    view.camera_rotations.emplace_back(frame, T_cw.Inverse().rotation());
   mapper.FollowSlamMap(view, 1);
   EXPECT_LT((mapper.Up() - Eigen::Vector3d::UnitZ()).norm(), 0.02);
   const auto after = LiveByClass(mapper);
@@ -182,6 +184,74 @@ TEST(ObjectMapper, FollowsTheSlamMapWhenItsFrameMoves) { ExpectObjectsFollowASim
 // A merge of SLAM maps moves the current map into another's frame and units (docs/slam.md
 // "the atlas"): the object layer follows it as it follows any correction.
 TEST(ObjectMapper, FollowsAMergeOfTheSlamMap) { ExpectObjectsFollowASimilarity(0.6); }
+
+// Frames whose poses did not change need not be given: following a map in which the last
+// 20 of 60 frames moved (a local adjustment's window) with those 20 poses alone gives the
+// objects every byte of what following it with all 60 gives, and they did move.
+TEST(ObjectMapper, FollowingTheFramesThatMovedEqualsFollowingEveryFrame) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects());
+  SlamMapChanges every;
+  every.everything = true;
+  for (int i = 0; i < scene.options.points_on_table; ++i)
+    every.points.push_back(
+        {static_cast<std::uint64_t>(i), scene.points[static_cast<std::size_t>(i)], {}});
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitX()));
+  SlamMapChanges moved_only = every;
+  for (int frame = 0; frame < 60; ++frame) {
+    SE3 T_cw = scene.T_cw[static_cast<std::size_t>(frame)];
+    if (frame >= 40) {
+      T_cw = SE3(turn, Eigen::Vector3d(0.02, 0.0, 0.01)) * T_cw;
+      moved_only.frame_poses[frame] = T_cw;
+    }
+    every.frame_poses[frame] = T_cw;
+    every.camera_rotations.emplace_back(frame, T_cw.Inverse().rotation());
+  }
+  moved_only.camera_rotations = every.camera_rotations;
+  std::vector<std::string> objects;
+  for (const SlamMapChanges* changes : {&every, &moved_only}) {
+    ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, true);
+    Feed(scene, &mapper, 0, 60);
+    const std::string before = mapper.ObjectsJson();
+    mapper.FollowSlamMap(*changes, 1);
+    objects.push_back(mapper.ObjectsJson());
+    EXPECT_NE(objects.back(), before);
+  }
+  EXPECT_EQ(objects[0], objects[1]);
+}
+
+// Following the SLAM map costs what changed, not what the map holds: with the same changes
+// per keyframe (points added, the adjustment's window moved, points culled), a map of
+// 50,000 points costs a keyframe about as many points touched as one of 5,000 (a full
+// read would touch ten times more), the supporting plane (Objects.plane_refit_share 0.1)
+// fitted again only once a share of the map has changed and still the floor's; and the
+// copy holds every live point.
+TEST(ObjectMapper, FollowingTheSlamMapTouchesWhatChangedNotTheWholeMap) {
+  const testing::SyntheticScene scene = testing::SynthesizeScene(testing::TableWithObjects());
+  std::vector<double> touched;
+  ObjectsOptions options;
+  options.plane_refit_share = 0.1;
+  for (const std::size_t size : {5000u, 50000u}) {
+    ObjectMapper mapper(options, Paper(), scene.options.camera, true);
+    testing::GrowingSlamMap growing;
+    std::uint64_t seed = 0;
+    while (growing.points() < size) mapper.FollowSlamMap(growing.NextKeyframe(), ++seed);
+    constexpr int kKeyframes = 40;
+    std::size_t points = 0;
+    int refits = 0;
+    for (int k = 0; k < kKeyframes; ++k) {
+      mapper.FollowSlamMap(growing.NextKeyframe(), ++seed);
+      const SlamFollowWork work = mapper.LastFollowWork();
+      points += work.points_changed + work.plane_points;
+      refits += work.plane_refit ? 1 : 0;
+      EXPECT_LT((mapper.Up() - Eigen::Vector3d::UnitZ()).norm(), 0.02) << size << ", " << k;
+    }
+    EXPECT_EQ(mapper.SlamMap().points().size(), growing.points());
+    EXPECT_LT(refits, kKeyframes / 2) << size;
+    touched.push_back(static_cast<double>(points) / kKeyframes);
+    EXPECT_LT(touched.back(), 0.5 * static_cast<double>(size)) << size;
+  }
+  EXPECT_LT(touched[1], 1.5 * touched[0]);
+}
 
 }  // namespace
 }  // namespace ocg

@@ -82,11 +82,14 @@ class ObjectMap {
   // into another, leave the object), and the objects are re-estimated.
   // descriptor_of_point (optional; null result: none known) refreshes the points'
   // descriptors.
-  // pose_of_frame is asked for SightingFrames() alone.
+  // pose_of_frame is asked for SightingFrames() alone; with frames (sorted, each once: the
+  // only frames pose_of_frame knows) only for those, found in each object's sightings by
+  // bisection, so a keyframe that moved a few frames visits a few sightings.
   void FollowMap(
       const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
       const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
-      const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point = {});
+      const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point = {},
+      const std::vector<std::int64_t>* frames = nullptr);
 
   // The frames of the sightings the objects and candidates keep, sorted, each once.
   std::vector<std::int64_t> SightingFrames() const;

@@ -15,7 +15,9 @@
 #include <vector>
 
 #include "ocg/core/text_spool.h"
+#include "ocg/objects/map_cues.h"
 #include "ocg/objects/object_map.h"
+#include "ocg/objects/slam_map_copy.h"
 #include "ocg/ocg/manager.h"
 #include "ocg/ocg/options.h"
 
@@ -23,15 +25,12 @@ namespace ocg {
 
 struct MapFileAccess;
 
-// What a SLAM run shows the object layer at a keyframe, after its bundle adjustment.
-struct SlamMapView {
-  // Camera poses by the frame numbers given to AddFrame: those of SightingFrames() that
-  // have one (a pose for every frame of a long run would grow with it).
-  std::map<std::int64_t, SE3> frame_poses;
-  std::vector<Eigen::Vector3d> map_points;        // world
-  std::vector<std::uint64_t> map_point_ids;       // of map_points, one each
-  std::vector<Descriptor> map_point_descriptors;  // of map_points, one each, or none
-  std::vector<Eigen::Matrix3d> camera_rotations;  // keyframes', camera to world
+// The work of the last FollowSlamMap(), in map points touched: what changed, and the
+// points the supporting plane was fitted to when it was fitted again (0 when kept).
+struct SlamFollowWork {
+  std::size_t points_changed = 0;
+  std::size_t plane_points = 0;
+  bool plane_refit = false;
 };
 
 struct ObjectLayerStats {
@@ -58,10 +57,16 @@ class ObjectMapper {
   FrameAssociation AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
                             const std::vector<Detection>& detections,
                             const std::vector<PointObservation>* points = nullptr);
-  // SLAM runs, before each AddKeyframe(): up from the supporting plane of the map points
-  // (RANSAC seeded with seed) refined by the objects' bottoms, the sightings moved to their
-  // frames' optimized poses and the objects' points to their optimized positions.
-  void FollowSlamMap(const SlamMapView& view, std::uint64_t seed);
+  // SLAM runs, before each AddKeyframe(): the copy of the SLAM map takes the changes; up
+  // from the supporting plane of the map points refined by the objects' bottoms; the
+  // sightings moved to their frames' optimized poses and the objects' points to their
+  // optimized positions. The plane (RANSAC seeded with seed) is fitted again only when
+  // the whole map changed or Objects.plane_refit_share of its points were added or removed
+  // since the last fit, so a keyframe costs what changed, not what the map holds.
+  void FollowSlamMap(const SlamMapChanges& changes, std::uint64_t seed);
+  // The copy FollowSlamMap() keeps, and the work of its last call.
+  const SlamMapCopy& SlamMap() const { return slam_map_; }
+  SlamFollowWork LastFollowWork() const { return follow_work_; }
   // The frames whose poses FollowSlamMap() reads: ObjectMap::SightingFrames().
   std::vector<std::int64_t> SightingFrames() const;
   // Hands the OCG this keyframe (at the last added frame's pose). frame: that frame's
@@ -115,6 +120,13 @@ class ObjectMapper {
   bool record_observations_ = false;
   TextSpool observations_jsonl_;  // grows with the run: in a temporary file
   OcgManager manager_;
+  // FollowSlamMap()'s, on the producer thread.
+  SlamMapCopy slam_map_;
+  SupportingPlane plane_;
+  bool plane_fitted_ = false;
+  std::size_t points_at_fit_ = 0;
+  std::size_t changed_since_fit_ = 0;
+  SlamFollowWork follow_work_;
 };
 
 }  // namespace ocg

@@ -23,6 +23,7 @@
 #include "ocg/core/lie.h"
 #include "ocg/features/orb_extractor.h"
 #include "ocg/features/vocabulary.h"
+#include "ocg/slam/map_journal.h"
 
 namespace ocg {
 
@@ -128,13 +129,17 @@ struct AnchoredPose {
   SE3 T_cw;
   int map = 0;  // the map the pose is in now
 };
-std::optional<AnchoredPose> PoseFromAnchor(const Map& map, const Anchor& anchor);
+// live_keyframe (optional): as PoseFromReference's anchor.
+std::optional<AnchoredPose> PoseFromAnchor(const Map& map, const Anchor& anchor,
+                                           KeyFrameId* live_keyframe = nullptr);
 
 // The pose now of a frame placed relative to a keyframe (T_c_reference), following a
 // culled keyframe to its parent with the relative pose kept at culling (ORB-SLAM2's way),
 // so the frame takes every correction that came later. None when the keyframe is gone.
-std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference,
-                                     const SE3& T_c_reference);
+// anchor (optional): the live keyframe the pose was taken from, the end of that chain; the
+// pose changes only when the anchor's pose or life changes (both in the map's journal).
+std::optional<SE3> PoseFromReference(const Map& map, KeyFrameId reference, const SE3& T_c_reference,
+                                     KeyFrameId* anchor = nullptr);
 
 // The atlas (ORB-SLAM3's idea): the keyframes and points of every map the run made, each
 // tagged with its map's index (KeyFrame::map, MapPoint::map). Maps share nothing but the
@@ -149,11 +154,15 @@ class Map {
   // The map new keyframes and points go to (tracking's), and how many maps were started
   // (indices 0 .. map_count() - 1; merged ones keep their index but hold nothing).
   int current_map() const { return current_map_; }
-  void SetCurrentMap(int map) { current_map_ = map; }
+  void SetCurrentMap(int map) {
+    if (map != current_map_) journal_.Everything();
+    current_map_ = map;
+  }
   int map_count() const { return map_count_; }
   // Starts an empty map, which becomes current; returns its index.
   int StartNewMap() {
     current_map_ = map_count_++;
+    journal_.Everything();
     return current_map_;
   }
   // The keyframes of one map, culled ones included / not.
@@ -209,7 +218,10 @@ class Map {
   }
   // keyframe->map must be set: the map's first keyframe is kept up to date here.
   void Add(const KeyFramePtr& keyframe);
-  void Add(const MapPointPtr& point) { points_[point->id] = point; }
+  void Add(const MapPointPtr& point) {
+    points_[point->id] = point;
+    journal_.Point(point->id);
+  }
   KeyFramePtr GetKeyFrame(KeyFrameId id) const;
   // Every keyframe ever added, the culled ones (bad) included: frames placed relative to
   // a culled keyframe still follow it to its parent.
@@ -240,7 +252,13 @@ class Map {
   // Loop corrections and global bundle adjustments move the whole map; a tracker whose
   // last frame was placed before the count changed re-anchors it on its keyframe.
   std::uint64_t corrections() const { return corrections_; }
-  void CountCorrection() { ++corrections_; }
+  void CountCorrection() {
+    ++corrections_;
+    journal_.Everything();
+  }
+  // What changed (map_journal.h). Whoever changes a point's position or descriptor or a
+  // keyframe's pose outside Map's methods notes it here (the adjustments' write-back).
+  MapJournal& journal() const { return journal_; }
 
  private:
   mutable std::mutex mutex_;
@@ -257,6 +275,7 @@ class Map {
   std::map<int, KeyFrameId> first_keyframes_;          // per map
   std::map<KeyFrameId, KeyFramePtr> keyframes_;
   std::map<MapPointId, MapPointPtr> points_;
+  mutable MapJournal journal_;
 };
 
 }  // namespace ocg

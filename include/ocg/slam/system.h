@@ -144,12 +144,21 @@ class System {
   // reset or that are placed in another map (FrameMaps() says which).
   std::vector<std::optional<SE3>> FramePoses() const;
   // The same for some frames (call indices; those beyond the last call have none).
-  std::vector<std::optional<SE3>> FramePoses(const std::vector<std::size_t>& frames) const;
+  // anchors (optional): per frame with a pose, the keyframe it was taken from
+  // (PoseFromReference); the pose stays as it is until MapChangesSince() names that
+  // keyframe (moved or culled) or says everything changed.
+  std::vector<std::optional<SE3>> FramePoses(const std::vector<std::size_t>& frames,
+                                             std::vector<std::uint64_t>* anchors = nullptr) const;
   // The positions of the current map's points (for the object layer's supporting plane
   // and point sets), with their ids and descriptors in the same order when those are
   // given.
   std::vector<Eigen::Vector3d> MapPointPositions(
       std::vector<MapPointId>* ids = nullptr, std::vector<Descriptor>* descriptors = nullptr) const;
+  // What changed in the current map since version (MapChanges::version of the last call;
+  // none: everything), for a reader that keeps a copy of the map (map_journal.h): the
+  // points and keyframes changed, or the whole map after a loop correction, a global
+  // adjustment, a merge, a reset or a switch of map.
+  MapChanges MapChangesSince(std::optional<std::uint64_t> version) const;
   // The keyframes in the current map (for tests and diagnostics; read them while the
   // system is idle: after Shutdown(), or between TrackImage calls in sequential mode).
   std::vector<KeyFramePtr> KeyFrames() const;
@@ -220,7 +229,8 @@ class System {
   std::vector<int> FrameMapsLocked() const;
   // A tracked frame's pose as the map now stands (map_.mutex() held); none when its
   // reference keyframe is gone.
-  std::optional<SE3> FramePoseLocked(const FrameRecord& record) const;
+  std::optional<SE3> FramePoseLocked(const FrameRecord& record,
+                                     KeyFrameId* live_keyframe = nullptr) const;
   bool shut_down_ = false;
   bool map_loaded_ = false;
   std::function<void()> after_tracking_;
