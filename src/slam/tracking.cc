@@ -671,12 +671,19 @@ void Tracking::FollowCorrections(Frame& frame) {
   if (corrections == anchor_.corrections) return;
   // Placed again on the same keyframe: the relative pose, its map and units stay.
   anchor_.corrections = corrections;
-  if (!frame.T_cw || !anchor_.keyframe) return;
-  if (const std::optional<AnchoredPose> pose = PoseFromAnchor(*dependencies_.map, anchor_)) {
-    frame.T_cw = pose->T_cw;
+  if (!frame.T_cw) return;
+  if (const std::optional<SE3> T_cw = AnchoredPoseNow()) {
+    frame.T_cw = *T_cw;
     spdlog::debug("frame {}: the map was corrected; re-anchored on keyframe {}", frame.id,
                   anchor_.keyframe->id);
   }
+}
+
+std::optional<SE3> Tracking::AnchoredPoseNow() const {
+  if (!anchor_.keyframe) return std::nullopt;
+  const std::optional<AnchoredPose> pose = PoseFromAnchor(*dependencies_.map, anchor_);
+  if (!pose) return std::nullopt;
+  return pose->T_cw;
 }
 
 bool Tracking::MapMovedSinceLastFrame() const {
@@ -685,11 +692,8 @@ bool Tracking::MapMovedSinceLastFrame() const {
 
 std::optional<SE3> Tracking::LastFramePoseNow() const {
   if (!last_frame_ || !last_frame_->T_cw) return std::nullopt;
-  if (dependencies_.map->corrections() == anchor_.corrections || !anchor_.keyframe)
-    return last_frame_->T_cw;
-  const std::optional<AnchoredPose> pose = PoseFromAnchor(*dependencies_.map, anchor_);
-  if (!pose) return std::nullopt;
-  return pose->T_cw;
+  if (!MapMovedSinceLastFrame() || !anchor_.keyframe) return last_frame_->T_cw;
+  return AnchoredPoseNow();
 }
 
 void Tracking::ReanchorLastFrame() {

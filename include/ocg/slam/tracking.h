@@ -225,6 +225,9 @@ class Tracking {
   // the map under a lock taken since it was placed (a new keyframe, the points it reports):
   // in threaded mode the loop closing thread may have moved the map in between.
   void FollowCorrections(Frame& frame);
+  // The anchored frame's pose as the map stands now (PoseFromAnchor); none without an
+  // anchor or when its keyframe is gone. Under the map lock.
+  std::optional<SE3> AnchoredPoseNow() const;
 
   PinholeCamera camera_;
   double fps_;
