@@ -129,7 +129,7 @@ double RelativeDistance(const ObjectRecord& a, const ObjectRecord& b) {
 
 std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
                                 const std::vector<ObjectRecord>& appeared,
-                                const MoveLinkOptions& options, bool require_order) {
+                                const MoveLinkOptions& options) {
   options.Check();
   std::vector<Candidate> candidates;
   for (std::size_t r = 0; r < removed.size(); ++r) {
@@ -137,7 +137,6 @@ std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
       const ObjectRecord& from = removed[r];
       const ObjectRecord& to = appeared[a];
       if (from.class_id != to.class_id) continue;
-      if (require_order && !(to.first_seen > from.last_seen)) continue;
       const double relative = RelativeDistance(from, to);
       if (relative <= options.same_place_factor || relative > options.search_factor) continue;
       candidates.push_back({relative, r, a, from.id, to.id});
@@ -191,7 +190,7 @@ MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
   MoveLinkOptions moves = options.moves;
   moves.same_place_factor = std::min(moves.same_place_factor, options.same_place_factor);
   std::set<ObjectId> moved_from, moved_to;
-  for (const MoveLink& link : LinkMoves(gone, appeared, moves, false)) {
+  for (const MoveLink& link : LinkMoves(gone, appeared, moves)) {
     moved_from.insert(link.from.id);
     moved_to.insert(link.to.id);
     diff.moved.push_back(link);

@@ -34,28 +34,27 @@ std::vector<std::pair<ObjectId, ObjectId>> Pairs(const std::vector<MoveLink>& li
   return pairs;
 }
 
-TEST(LinkMoves, SameClassNearAndAfterTheLastSightingIsAMove) {
+TEST(LinkMoves, SameClassWithinReachAndBeyondTheSamePlaceIsAMove) {
   const MoveLinkOptions options;  // within 10 extents, beyond one
   const std::vector<ObjectRecord> removed = {Record(1, kCup, 0, 0, 0.1, 0, 10)};
   // Appeared 0.5 m away after the cup was last seen: a move, with both cuboids.
-  std::vector<MoveLink> links =
-      LinkMoves(removed, {Record(7, kCup, 0.5, 0, 0.1, 20, 30)}, options, true);
+  std::vector<MoveLink> links = LinkMoves(removed, {Record(7, kCup, 0.5, 0, 0.1, 20, 30)}, options);
   ASSERT_EQ(links.size(), 1u);
   EXPECT_EQ(links[0].from.id, 1);
   EXPECT_EQ(links[0].to.id, 7);
   EXPECT_NEAR(links[0].distance, 0.5, 1e-12);
   EXPECT_NEAR(links[0].to.cuboid.centre.x(), 0.5, 1e-12);
-  // Seen while the cup was still seen at its place: a neighbour, not the cup moved.
-  EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 0.5, 0, 0.1, 5, 30)}, options, true).empty());
-  EXPECT_EQ(LinkMoves(removed, {Record(7, kCup, 0.5, 0, 0.1, 5, 30)}, options, false).size(), 1u);
+  // Two maps hold no times: one first seen while the cup was still seen links all the
+  // same (within a session the change log orders by time, ChangeLog.SeenTogetherIsNoMove).
+  EXPECT_EQ(LinkMoves(removed, {Record(7, kCup, 0.5, 0, 0.1, 5, 30)}, options).size(), 1u);
   // Another class, too far for its size (1.5 m > 10 x 0.1 m), or overlapping its old
   // place (0.08 m < one extent: the same cup re-created): none.
-  EXPECT_TRUE(LinkMoves(removed, {Record(7, kBowl, 0.5, 0, 0.1, 20)}, options, true).empty());
-  EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 1.5, 0, 0.1, 20)}, options, true).empty());
-  EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 0.08, 0, 0.1, 20)}, options, true).empty());
+  EXPECT_TRUE(LinkMoves(removed, {Record(7, kBowl, 0.5, 0, 0.1, 20)}, options).empty());
+  EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 1.5, 0, 0.1, 20)}, options).empty());
+  EXPECT_TRUE(LinkMoves(removed, {Record(7, kCup, 0.08, 0, 0.1, 20)}, options).empty());
   // The same 1.5 m is within reach of a laptop (0.33 m: 3.3 m).
   EXPECT_EQ(LinkMoves({Record(2, kLaptop, 0, 0, 0.33, 0, 10)},
-                      {Record(8, kLaptop, 1.5, 0, 0.33, 20)}, options, true)
+                      {Record(8, kLaptop, 1.5, 0, 0.33, 20)}, options)
                 .size(),
             1u);
 }
@@ -66,7 +65,7 @@ TEST(LinkMoves, NearestPairsFirstEachObjectOnceAndScaleFree) {
   const std::vector<ObjectRecord> appeared = {Record(11, kCup, 0.85, 0, 0.1, 20),
                                               Record(12, kCup, -0.3, 0, 0.1, 20),
                                               Record(13, kCup, 0.85, 0.35, 0.1, 20)};
-  const auto pairs = Pairs(LinkMoves(removed, appeared, {}, true));
+  const auto pairs = Pairs(LinkMoves(removed, appeared, {}));
   // 2 -> 11 (0.25 m) first; then 1 -> 12 (0.3 m) and 13 is left over (2 is taken).
   ASSERT_EQ(pairs.size(), 2u);
   EXPECT_EQ(pairs[0], std::make_pair(ObjectId{2}, ObjectId{11}));
@@ -79,10 +78,10 @@ TEST(LinkMoves, NearestPairsFirstEachObjectOnceAndScaleFree) {
     }
     return records;
   };
-  EXPECT_EQ(Pairs(LinkMoves(scaled(removed), scaled(appeared), {}, true)), pairs);
+  EXPECT_EQ(Pairs(LinkMoves(scaled(removed), scaled(appeared), {})), pairs);
   MoveLinkOptions bad;
   bad.same_place_factor = 20;
-  EXPECT_THROW(LinkMoves(removed, appeared, bad, true), std::invalid_argument);
+  EXPECT_THROW(LinkMoves(removed, appeared, bad), std::invalid_argument);
 }
 
 TEST(MapDiff, ListsUnchangedMovedRemovedAndAdded) {

@@ -76,14 +76,15 @@ double LargerExtent(const ObjectRecord& a, const ObjectRecord& b);
 // and same-place factors compare with.
 double RelativeDistance(const ObjectRecord& a, const ObjectRecord& b);
 
-// Pairs removed objects with appeared ones into moves: same class, centres within the
-// distances of options. require_order: the appeared one must have been first seen after
-// the removed one was last seen (within one session: it appeared after its old place was
-// last seen with it; a same-class neighbour seen at the same time is no move). Nearest
-// pairs (in units of LargerExtent) first, ties by ids; each object in at most one move.
+// Pairs removed objects with appeared ones of two object maps into moves: same class,
+// centres within the distances of options. Two maps hold no times to order, so a
+// same-class neighbour counts as well (within a session the change log pairs by sighting
+// times and appearance instead: ReviseChangeLog, change_log.h). Nearest pairs (in units
+// of LargerExtent) first, ties by ids; each object in at most one move.
+// Throws std::invalid_argument when options fail Check().
 std::vector<MoveLink> LinkMoves(const std::vector<ObjectRecord>& removed,
                                 const std::vector<ObjectRecord>& appeared,
-                                const MoveLinkOptions& options, bool require_order);
+                                const MoveLinkOptions& options);
 
 struct MapDiffOptions {
   // The same object at the same place: same class, centres within this many larger
@@ -106,8 +107,8 @@ struct MapDiff {
 // the later run recorded (MovesSince) come first, each whose objects are in before and
 // after by id (recorded = true). Of the rest, objects at the same place are unchanged
 // (pairs with equal ids first, then nearest first); of what is left, removals and
-// additions of one class near each other are moves (LinkMoves without order: two maps
-// hold no times to compare); the others are removed or added.
+// additions of one class near each other are moves (LinkMoves); the others are removed
+// or added.
 MapDiff DiffObjectMaps(const std::vector<ObjectRecord>& before,
                        const std::vector<ObjectRecord>& after, const MapDiffOptions& options,
                        const std::vector<RecordedMove>& recorded = {});
