@@ -310,6 +310,10 @@ TEST(ChangeLog, InASessionColoursThatShareNothingAreNoMove) {
                         {9, colour(8, 9, 0.1f)},
                         {10, colour(0, 1, 0.2f)}};
   EXPECT_EQ(moves(log.context), (std::map<ObjectId, ObjectId>{{3, 10}}));
+  // Colour weighed without the refusal does not do it: the count of pairs comes first.
+  ChangeLogContext weighed_only = log.context;
+  weighed_only.appearance_options.min_colour_similarity = 0.0;
+  EXPECT_EQ(moves(weighed_only), (std::map<ObjectId, ObjectId>{{3, 9}, {4, 10}}));
   // Descriptors that vouch for a pair keep it whatever the colours say.
   log.context.appearance = {
       {3, {Descriptor{}, Descriptor{}, Descriptor{}, Descriptor{}, Descriptor{}}},
