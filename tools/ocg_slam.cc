@@ -144,8 +144,10 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   objects
-      ->add_option("--frames", objects_request.frames,
-                   "image list (rgb.txt) giving the frames; default: the detection files")
+      ->add_option(
+          "--frames", objects_request.frames,
+          "image list (rgb.txt) giving the frames (their keyframes' images, read in colour, "
+          "pair moved objects by colour); default: the detection files")
       ->check(CLI::ExistingFile);
   objects->add_option("--out", objects_request.output, "output folder")->required();
   objects->add_option("--mode", objects_request.mode,

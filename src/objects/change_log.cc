@@ -43,6 +43,14 @@ double PairingCost(const MoveCandidate& candidate, const AppearanceOptions& opti
   return unlike + options.colour_weight * unlike_colour + kDistanceWeight * candidate.relative;
 }
 
+// Colours that share next to nothing are two objects, not one carried, unless descriptors
+// vouch for the pair: a share of them matched that colour could not outweigh (colour_weight;
+// a texture ORB finds again is the stronger evidence). The pair stays among the evidence.
+bool ColourRefuses(const MoveCandidate& candidate, const AppearanceOptions& options) {
+  if (!candidate.colour || *candidate.colour >= options.min_colour_similarity) return false;
+  return !candidate.appearance || candidate.appearance->Share() < options.colour_weight;
+}
+
 // Pairs removals with objects that appeared into moves, within a session and between
 // sessions alike. A pair: the same class, the new object first seen after the removed one
 // was last seen, not at the same place (context.moves.same_place_factor). Nothing bounds
@@ -93,9 +101,10 @@ std::vector<MoveLink> PairMoves(const std::vector<ObjectRecord>& removed,
       const auto to_colour = context.colour.find(to.id);
       if (from_colour != context.colour.end() && to_colour != context.colour.end())
         candidate.colour = ColourSimilarity(from_colour->second, to_colour->second);
+      if (candidates != nullptr) candidates->push_back(candidate);
+      if (ColourRefuses(candidate, context.appearance_options)) continue;
       cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) =
           PairingCost(candidate, context.appearance_options);
-      if (candidates != nullptr) candidates->push_back(candidate);
     }
   }
   std::vector<MoveLink> moves;
@@ -161,6 +170,8 @@ void AppearanceOptions::Check() const {
     throw std::invalid_argument("appearance.colour_weight must be at least 0");
   if (min_colour_signatures < 1)
     throw std::invalid_argument("appearance.min_colour_signatures must be at least 1");
+  if (!(min_colour_similarity >= 0.0 && min_colour_similarity <= 1.0))
+    throw std::invalid_argument("appearance.min_colour_similarity must be in [0, 1]");
 }
 
 std::vector<ChangeEntry> ReviseChangeLog(const std::vector<ObjectChange>& changes,

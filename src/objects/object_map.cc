@@ -326,11 +326,12 @@ void ObjectMap::Remove(const RemovalEvent& event) {
   kept.cuboid = it->second.cuboid;
   kept.has_cuboid = it->second.has_cuboid;
   kept.sightings = it->second.sightings;
-  // Only objects last seen in an earlier session are paired by their boxes and colours
-  // (ForEachBetweenSessionCandidate): the others keep their counts alone, so a long run
-  // that keeps seeing objects moved does not keep every removed one's boxes.
+  // Only objects last seen in an earlier session are paired by their boxes
+  // (ForEachBetweenSessionCandidate): the others keep their counts and their coloured
+  // sightings alone, so a long run that keeps seeing objects moved does not keep every
+  // removed one's boxes.
   if (!kept.sightings.empty() && kept.sightings.back().session == session_)
-    kept.sightings.ForgetSightings();
+    kept.sightings.ForgetSightings(session_);
   observed_since_keyframe_.erase(event.object_id);
   geometry_changed_.erase(event.object_id);
   if (restore_) removed_[event.object_id] = {std::move(it->second), event.timestamp};

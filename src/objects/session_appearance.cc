@@ -78,14 +78,16 @@ std::map<ObjectId, std::vector<Descriptor>> BoxAppearancesOf(const SessionObject
 std::map<ObjectId, ColourHistogram> ColourAppearancesOf(const SessionObjects& objects,
                                                         int min_signatures) {
   std::map<ObjectId, ColourHistogram> colours;
-  ForEachBetweenSessionCandidate(objects, [&](const MapObject& object, bool /*removed*/) {
+  const auto add = [&](const MapObject& object) {
     std::vector<ColourHistogram> signatures;
     for (const ObjectSighting& sighting : object.sightings) {
       if (sighting.colour) signatures.push_back(*sighting.colour);
     }
     if (static_cast<int>(signatures.size()) < min_signatures) return;
     if (std::optional<ColourHistogram> mean = MeanColour(signatures)) colours[object.id] = *mean;
-  });
+  };
+  for (const auto& [id, object] : objects.live) add(object);
+  for (const auto& [id, object] : objects.removed_in_run) add(object);
   return colours;
 }
 

@@ -143,4 +143,12 @@ std::pair<int, int> SightingHistory::SessionRange() const {
   return {spans_.begin()->first.first, spans_.rbegin()->first.first};
 }
 
+void SightingHistory::ForgetSightings(int session) {
+  std::vector<ObjectSighting> coloured;
+  for (const ObjectSighting& sighting : kept_) {
+    if (sighting.colour && sighting.session == session) coloured.push_back(sighting);
+  }
+  kept_ = std::move(coloured);
+}
+
 }  // namespace ocg

@@ -280,6 +280,47 @@ TEST(ChangeLog, InASessionObjectsCarriedPastEachOtherPairByTheirTimes) {
   EXPECT_EQ(changes[1]["to"]["object_id"], 10);
 }
 
+// A cup carried (3, red) and a cup taken away (4, green), in one session; cup 9 (blue,
+// first seen while 4 was still seen) and cup 10 (red, seen after both) appeared. As many
+// pairs as the times allow would give 3 to 9 and 4 to 10 (round_2, seed 1: a cell phone
+// taken away took the new place of one carried); colours that share nothing refuse both
+// pairs, and 3 goes to 10.
+TEST(ChangeLog, InASessionColoursThatShareNothingAreNoMove) {
+  InSessionMove log;
+  log.changes.push_back(Removed(4, kCup, 2.0, 1052, 1045));
+  log.context.seen_as_class.last[4] = 1045;
+  const Objects live = {Live(9, kCup, 3.0, 1030), Live(10, kCup, 1.0, 1060)};
+  const auto moves = [&](const ChangeLogContext& context) {
+    std::map<ObjectId, ObjectId> to;
+    const nlohmann::json revised = Revise(log.changes, live, context);
+    for (const nlohmann::json& entry : revised.at("changes"))
+      if (entry["type"] == "moved")
+        to[entry["object_id"].get<ObjectId>()] = entry["to"]["object_id"].get<ObjectId>();
+    return to;
+  };
+  EXPECT_EQ(moves(log.context), (std::map<ObjectId, ObjectId>{{3, 9}, {4, 10}}));
+  const auto colour = [](std::size_t bin, std::size_t other_bin, float other_share) {
+    ColourHistogram histogram{};
+    histogram[bin] = 1.0f - other_share;
+    histogram[other_bin] += other_share;
+    return histogram;
+  };
+  log.context.colour = {{3, colour(0, 1, 0.0f)},
+                        {4, colour(4, 5, 0.0f)},
+                        {9, colour(8, 9, 0.1f)},
+                        {10, colour(0, 1, 0.2f)}};
+  EXPECT_EQ(moves(log.context), (std::map<ObjectId, ObjectId>{{3, 10}}));
+  // Colour weighed without the refusal does not do it: the count of pairs comes first.
+  ChangeLogContext weighed_only = log.context;
+  weighed_only.appearance_options.min_colour_similarity = 0.0;
+  EXPECT_EQ(moves(weighed_only), (std::map<ObjectId, ObjectId>{{3, 9}, {4, 10}}));
+  // Descriptors that vouch for a pair keep it whatever the colours say.
+  log.context.appearance = {
+      {3, {Descriptor{}, Descriptor{}, Descriptor{}, Descriptor{}, Descriptor{}}},
+      {9, {Descriptor{}, Descriptor{}, Descriptor{}, Descriptor{}, Descriptor{}}}};
+  EXPECT_EQ(moves(log.context), (std::map<ObjectId, ObjectId>{{3, 9}}));
+}
+
 // A removal whose place still holds a live object of its class moved nowhere: a duplicate
 // of a mouse removed beside it (straight_1, seed 12) took the new place of a mouse carried
 // from elsewhere, whose removal then stayed a removal.

@@ -35,6 +35,13 @@ struct AppearanceOptions {
   double colour_weight = 0.1;
   // Sightings with a colour each object needs for its colour to count in a pairing.
   int min_colour_signatures = 3;
+  // Two objects whose colours are less alike than this (ColourSimilarity, 0-1) are not
+  // one object carried: the pair is refused, unless descriptors vouch for it (a share of
+  // at least colour_weight matched). An object's
+  // signatures in its old and new places share 0.6-0.95 on the generated scenes, two
+  // objects of one class of different colours 0-0.4; a removal left without a pair stays
+  // one (a true removal does not take the new place of an object carried elsewhere).
+  double min_colour_similarity = 0.1;
   // Throws std::invalid_argument naming the field.
   void Check() const;
 };
@@ -75,7 +82,9 @@ struct ChangeLogContext {
 // (context.moves.same_place_factor), all such pairs chosen together: one assignment of as
 // many pairs as the times allow at least total cost, objects that look alike
 // (context.box_appearance, MatchFrom, or else context.appearance, MatchAppearance) before
-// nearer ones, and, where both have one, whose colours (context.colour) are alike.
+// nearer ones, and, where both have one, whose colours (context.colour) are alike; a pair
+// whose colours are less alike than appearance_options.min_colour_similarity is none,
+// unless descriptors vouch for it.
 // A removal whose place holds a live object of its class (their cuboids can overlap:
 // centres nearer than the mean of their largest extents) moved nowhere: a duplicate
 // removed beside the object it doubled, an object re-created where it stands; a neighbour

@@ -143,9 +143,10 @@ class ObjectMap {
   // Returns how many were given one.
   int SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
                          const ColourSignatureOptions& options);
-  // The mean colour (MeanColour) of the objects BoxAppearances() weighs, by id, each from
-  // its sightings that have a colour; objects with fewer than min_signatures of them are
-  // left out.
+  // The mean colour (MeanColour) of the live objects and of those removed in this run, by
+  // id, each from its sightings that have a colour (an object removed in this run keeps
+  // this session's: SightingHistory::ForgetSightings); objects with fewer than
+  // min_signatures of them are left out.
   std::map<ObjectId, ColourHistogram> ColourAppearances(int min_signatures) const;
   const ObjectsOptions& options() const { return options_; }
   const PinholeCamera& camera() const { return camera_; }

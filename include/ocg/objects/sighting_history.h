@@ -106,9 +106,10 @@ class SightingHistory {
   // A new sighting, at a frame after every kept one's. capacity (at least 8): the
   // sightings kept at most; 0 keeps all.
   void Add(const ObjectSighting& sighting, std::size_t capacity);
-  // The counts alone stay (what SeenAsClass and the change log ask of a removed object
-  // whose boxes nothing reads again).
-  void ForgetSightings() { kept_ = std::vector<ObjectSighting>(); }
+  // The counts stay (what SeenAsClass and the change log ask of a removed object whose
+  // boxes nothing reads again), and session's sightings that carry a colour (the
+  // pairing's colour of the object; a pose-given run with images gives them as it goes).
+  void ForgetSightings(int session);
   // Another history of the same object joins this one: the kept sightings in frame order
   // (merged, then bounded by capacity as Add bounds them), the counts added.
   void Merge(const SightingHistory& other, std::size_t capacity);
