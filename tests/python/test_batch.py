@@ -1,7 +1,9 @@
 """tools/ocg_batch: the configuration check, the Slurm profile's dry run, a local
 two-sequence batch (generated smoke sequences, 20 frames) that resumes after losing a run,
-ORB-SLAM2's own settings files, and a batch where one run fails in the middle."""
+ORB-SLAM2's own settings files, a batch where one run fails in the middle, and
+ground-truth-pose runs that read the images when there are some."""
 import csv
+import json
 import os
 import subprocess
 
@@ -294,3 +296,27 @@ executions: [sequential]
         assert row["stage"] == "run" and states.get(row["slurm_job"]) == "FAILED", row
         assert "cannot read image" in row["last_log_line"], row
     assert result.stderr.count("Trying to restart job") >= 2, result.stderr[-3000:]
+
+
+def test_ground_truth_pose_runs_read_the_images_of_a_sequence_that_has_them(
+        source_dir, tools, tmp_path):
+    """A ground-truth-pose run gets the sequence's frame list when the sequence has images,
+    so its objects get their colours (which pair the moves within the session); a
+    sequence generated without images runs on the detection files alone."""
+    config = write_config(tmp_path, tools, """out: out
+sequences:
+  - {preset: smoke, seed: 1, frames: 40}
+  - {preset: smoke, seed: 2, frames: 40, images: false}
+modes: [improved]
+variants: {gt: {poses: groundtruth}}
+""")
+    result = ocg_batch(source_dir, config, "--cores", "2")
+    assert result.returncode == 0, result.stderr[-3000:]
+    colours = {}
+    for name in ("smoke_s1", "smoke_s2"):
+        run = tmp_path / "out" / "runs" / name / "gt" / "improved" / "sequential-1"
+        with open(run / "run.json") as handle:
+            colours[name] = json.load(handle)["colour_signatures"]
+    assert colours["smoke_s1"]["keyframe_images"] > 0, colours
+    assert colours["smoke_s1"]["sightings"] > 0, colours
+    assert colours["smoke_s2"] == {"keyframe_images": 0, "sightings": 0}, colours
