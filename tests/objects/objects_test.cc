@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <tuple>
 
 #include "ocg/io/trajectory.h"
@@ -1376,6 +1377,69 @@ TEST_F(TwoObjectScene, AnEarlierRunOfBoxesJoinsTheObjectMappedLater) {
   };
   EXPECT_EQ(cup_sightings(0.0), 40u);
   EXPECT_EQ(cup_sightings(ObjectsOptions().candidate_gap_seconds), 43u);
+}
+
+// A laptop 4.5 m away, found by the detector in runs of 6 frames with gaps of 9 (longer
+// than Objects.predicted_box_frames) while the camera slides 0.7 m sideways: each run
+// spreads its rays by 0.3 degrees, all together by 9. Its boxes are some 40 x 9 pixels and
+// their edges jitter by up to 3 pixels, so the IoU of two boxes of it is well below
+// Objects.min_reacquire_iou as often as not: without Objects.box_noise_px no run continues
+// the one before, each starts a candidate of its own and the laptop is never mapped; with
+// it, the runs are one track and the laptop is mapped once, at its place. A second laptop
+// 0.3 m beside it, found in the runs between, is another track: two laptops.
+TEST(FarObject, RunsOfJitteredBoxesSeparatedByDetectorGapsAreOneTrack) {
+  Cuboid laptop;
+  laptop.centre = Eigen::Vector3d(0.0, 4.5, 0.77);
+  laptop.size = Eigen::Vector3d(0.33, 0.23, 0.03);
+  laptop.yaw = 0.3;
+  Cuboid second = laptop;
+  second.centre.x() += 0.3;
+  second.yaw = -0.2;
+  const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
+  const auto laptops = [&](double box_noise_px, bool with_second) {
+    ObjectsOptions options;
+    options.box_noise_px = box_noise_px;
+    ObjectMap map(options, Camera());
+    std::mt19937 jitter(7);
+    const auto detection = [&](const Cuboid& cuboid, const SE3& T_cw) {
+      const Box2 box = *ProjectCuboid(cuboid, R_wg, T_cw, Camera());
+      double edges[4];
+      for (double& edge : edges) edge = static_cast<double>(jitter() % 7) - 3.0;
+      return Detection{63,
+                       box.x0 + edges[0],
+                       box.y0 + edges[1],
+                       box.Width() + edges[2] - edges[0],
+                       box.Height() + edges[3] - edges[1],
+                       0.9};
+    };
+    for (int frame = 0; frame < 150; ++frame) {
+      const Eigen::Vector3d eye(-0.35 + 0.7 * frame / 149.0, 0.0, 1.3);
+      const SE3 T_cw = LookFrom(eye, eye + Eigen::Vector3d(0.0, 4.5, -0.5));
+      std::vector<Detection> detections;
+      const int run = frame / 15;
+      if (frame % 15 < 6 && (!with_second || run % 2 == 0))
+        detections.push_back(detection(laptop, T_cw));
+      if (frame % 15 < 6 && with_second && run % 2 == 1)
+        detections.push_back(detection(second, T_cw));
+      map.AddFrame(frame, frame / 30.0, T_cw, FilterDetections(detections, options, Camera()));
+    }
+    std::vector<Eigen::Vector3d> centres;
+    for (const auto& [id, object] : map.objects()) centres.push_back(object.cuboid.centre);
+    return centres;
+  };
+  const double noise = ObjectsOptions().box_noise_px;
+  ASSERT_GT(noise, 0.0);
+  EXPECT_TRUE(laptops(0.0, false).empty()) << "the case needs a laptop never mapped without it";
+  const std::vector<Eigen::Vector3d> one = laptops(noise, false);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_LT((one[0] - laptop.centre).norm(), 0.3) << one[0].transpose();
+  const std::vector<Eigen::Vector3d> two = laptops(noise, true);
+  ASSERT_EQ(two.size(), 2u);
+  for (const Cuboid& cuboid : {laptop, second}) {
+    int near = 0;
+    for (const Eigen::Vector3d& centre : two) near += (centre - cuboid.centre).norm() < 0.15;
+    EXPECT_EQ(near, 1) << cuboid.centre.transpose();
+  }
 }
 
 // A television and, 0.26 m from its centre, a cup (on the table in front of it), never
