@@ -99,9 +99,6 @@ TrackFit FitOfBoxToTrack(const std::vector<BoxView>& track, const BoxView& view,
                          const PinholeCamera& camera, double min_iou, double min_share,
                          double margin_px) {
   TrackFit best;
-  const auto grown = [margin_px](const Box2& box) {
-    return Box2{box.x0 - margin_px, box.y0 - margin_px, box.x1 + margin_px, box.y1 + margin_px};
-  };
   if (track.empty()) return best;
   const BoxView& last = track.back();
   const Ray ray = PixelRay(last.box.Centre(), last.T_cw, camera);
@@ -125,14 +122,13 @@ TrackFit FitOfBoxToTrack(const std::vector<BoxView>& track, const BoxView& view,
     const double height = last.box.Height() * depth / camera.fy;
     // The new view first: it fits over a narrow range of depths only.
     const std::optional<Box2> predicted = box_of(point, width, height, view.T_cw);
-    const double overlap =
-        predicted ? IntersectionOverUnion(grown(*predicted), grown(view.box)) : 0.0;
+    const double overlap = predicted ? IntersectionOverUnion(*predicted, view.box, margin_px) : 0.0;
     if (overlap < min_iou || overlap <= best.iou) continue;
     int fitting = 0;
     for (const BoxView& seen : track) {
       const std::optional<Box2> expected = box_of(point, width, height, seen.T_cw);
       fitting +=
-          expected && IntersectionOverUnion(grown(*expected), grown(seen.box)) >= min_iou ? 1 : 0;
+          expected && IntersectionOverUnion(*expected, seen.box, margin_px) >= min_iou ? 1 : 0;
     }
     if (fitting >= needed) best = {overlap, point};
   }

@@ -348,6 +348,21 @@ TEST(ObjectsOptions, ADuplicateBoxIouOutsideZeroToOneIsRefusedNamingTheKey) {
   EXPECT_NO_THROW(options.Check());
 }
 
+// A far laptop's box, 36 x 8 pixels, and its projection 4 pixels lower: IoU 0.5 at the
+// detector's resolution (both grown by 2 pixels), 0.33 as drawn: it fits whole. The edge noise
+// decides nothing on a box 120 pixels high, and a box beside the projection fits at neither.
+TEST(FitOfBox, ABoxAFewPixelsHighFitsWithinTheDetectorsEdgeNoise) {
+  const Box2 box{100, 50, 136, 58}, projected{100, 54, 136, 62};
+  EXPECT_EQ(FitOfBox(box, projected, 0.4), BoxFit::kNone);
+  EXPECT_EQ(FitOfBox(box, projected, 0.4, 2.0), BoxFit::kWhole);
+  EXPECT_NEAR(IntersectionOverUnion(box, projected), 1.0 / 3.0, 1e-9);
+  EXPECT_NEAR(IntersectionOverUnion(box, projected, 2.0), 0.5, 1e-9);
+  const Box2 large{100, 50, 200, 170}, lower{100, 53, 200, 173};
+  EXPECT_NEAR(IntersectionOverUnion(large, lower, 2.0), IntersectionOverUnion(large, lower), 0.01);
+  const Box2 beside{140, 54, 176, 62};
+  EXPECT_EQ(FitOfBox(beside, projected, 0.4, 2.0), BoxFit::kNone);
+}
+
 TEST(FitOfBox, WholePartialOrNone) {
   const Box2 projected{100, 100, 200, 300};
   EXPECT_EQ(FitOfBox({105, 95, 205, 290}, projected, 0.4), BoxFit::kWhole);
@@ -1219,10 +1234,11 @@ TEST_F(TwoObjectScene, AReDetectionAtTheWrongDepthOnTheSameRayJoinsTheObject) {
   for (const auto& [id, object] : joined.objects()) {
     if (object.class_id != 41) continue;
     EXPECT_EQ(object.sightings.size(), 60u);  // 40 before the gap, 20 after
-    // The boxes showing less than 40 % of the cup's width (IoU below 0.4): partial views.
+    // The boxes showing less than 40 % of the cup's width (IoU below 0.4, also with both
+    // grown by Objects.box_noise_px: 20 % and 28 %; 36 % reaches it): partial views.
     const auto partial = std::count_if(object.sightings.begin(), object.sightings.end(),
                                        [](const ObjectSighting& s) { return s.truncated; });
-    EXPECT_EQ(partial, 3);
+    EXPECT_EQ(partial, 2);
     EXPECT_LT((object.cuboid.centre - cup_.centre).norm(), 0.15 * cup_.size.maxCoeff());
   }
 }
