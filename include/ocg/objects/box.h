@@ -35,7 +35,9 @@ enum class BoxFit { kNone, kWhole, kPartial };
 constexpr double kPartialViewInside = 0.8;
 constexpr double kPartialViewSpan = 0.7;
 constexpr double kProjectionSlack = 0.1;
-BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou);
+// margin_px: the IoU is taken with both boxes grown by it (the detector's edge noise,
+// Objects.box_noise_px).
+BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou, double margin_px = 0.0);
 
 // A detection the object layer uses.
 struct ObjectDetection {
