@@ -16,11 +16,4 @@ double IntersectionOverUnion(const Box2& a, const Box2& b) {
   return united > 0 ? intersection / united : 0.0;
 }
 
-double IntersectionOverUnion(const Box2& a, const Box2& b, double margin) {
-  const auto grown = [margin](const Box2& box) {
-    return Box2{box.x0 - margin, box.y0 - margin, box.x1 + margin, box.y1 + margin};
-  };
-  return IntersectionOverUnion(grown(a), grown(b));
-}
-
 }  // namespace ocg

@@ -18,8 +18,8 @@ bool BesideAMoreConfidentBoxOfItsClass(const std::vector<ObjectDetection>& detec
   return false;
 }
 
-BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou, double margin_px) {
-  if (IntersectionOverUnion(box, projected, margin_px) >= min_iou) return BoxFit::kWhole;
+BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou) {
+  if (IntersectionOverUnion(box, projected) >= min_iou) return BoxFit::kWhole;
   const double slack_x = kProjectionSlack * projected.Width();
   const double slack_y = kProjectionSlack * projected.Height();
   const Box2 with_slack{projected.x0 - slack_x, projected.y0 - slack_y, projected.x1 + slack_x,

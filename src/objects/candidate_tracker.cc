@@ -50,9 +50,9 @@ MapObject* CandidateTracker::AcrossGap(const ObjectDetection& detection, std::in
     for (std::size_t index :
          Thinned(usable.size(), static_cast<std::size_t>(context_.options.max_rays)))
       track.push_back(usable[index]);
-    const TrackFit fit = FitOfBoxToTrack(
-        track, {T_cw, detection.box}, context_.camera, context_.options.min_reacquire_iou,
-        context_.options.min_inlier_share, context_.options.box_noise_px);
+    const TrackFit fit =
+        FitOfBoxToTrack(track, {T_cw, detection.box}, context_.camera,
+                        context_.options.min_reacquire_iou, context_.options.min_inlier_share);
     if (fit.iou <= best_fit || !PredictsSharply(track, fit.point, T_cw)) continue;
     best_fit = fit.iou;
     best = &candidate;

@@ -35,15 +35,13 @@ bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, doub
 
 // How each sighting of track fits object's projected cuboid (truncated ones: kNone).
 std::vector<BoxFit> FitsOfTrack(const MapObject& track, const MapObject& object, double min_iou,
-                                const Eigen::Matrix3d& R_wg, const PinholeCamera& camera,
-                                double margin_px = 0.0) {
+                                const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
   std::vector<BoxFit> fits;
   for (const ObjectSighting& sighting : track.sightings) {
     const std::optional<Box2> projected =
         sighting.truncated ? std::nullopt
                            : ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
-    fits.push_back(projected ? FitOfBox(sighting.box, *projected, min_iou, margin_px)
-                             : BoxFit::kNone);
+    fits.push_back(projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone);
   }
   return fits;
 }
@@ -121,9 +119,8 @@ MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,
     // As in the keyframe hygiene: another class is the same object misnamed only when
     // one session saw both; across sessions it is what was put at the old one's place.
     if (!same_class && !SeenInOneSession(candidate, object)) continue;
-    std::vector<BoxFit> fits =
-        FitsOfTrack(candidate, object, context.options.min_reacquire_iou, context.R_wg,
-                    context.camera, context.options.box_noise_px);
+    std::vector<BoxFit> fits = FitsOfTrack(candidate, object, context.options.min_reacquire_iou,
+                                           context.R_wg, context.camera);
     const double share = static_cast<double>(std::count_if(
                              fits.begin(), fits.end(),
                              [same_class](BoxFit fit) { return CountsAsFit(fit, same_class); })) /

@@ -96,8 +96,7 @@ RayIntersection IntersectRays(const std::vector<Ray>& rays, double min_sigma,
 }
 
 TrackFit FitOfBoxToTrack(const std::vector<BoxView>& track, const BoxView& view,
-                         const PinholeCamera& camera, double min_iou, double min_share,
-                         double margin_px) {
+                         const PinholeCamera& camera, double min_iou, double min_share) {
   TrackFit best;
   if (track.empty()) return best;
   const BoxView& last = track.back();
@@ -122,13 +121,12 @@ TrackFit FitOfBoxToTrack(const std::vector<BoxView>& track, const BoxView& view,
     const double height = last.box.Height() * depth / camera.fy;
     // The new view first: it fits over a narrow range of depths only.
     const std::optional<Box2> predicted = box_of(point, width, height, view.T_cw);
-    const double overlap = predicted ? IntersectionOverUnion(*predicted, view.box, margin_px) : 0.0;
+    const double overlap = predicted ? IntersectionOverUnion(*predicted, view.box) : 0.0;
     if (overlap < min_iou || overlap <= best.iou) continue;
     int fitting = 0;
     for (const BoxView& seen : track) {
       const std::optional<Box2> expected = box_of(point, width, height, seen.T_cw);
-      fitting +=
-          expected && IntersectionOverUnion(*expected, seen.box, margin_px) >= min_iou ? 1 : 0;
+      fitting += expected && IntersectionOverUnion(*expected, seen.box) >= min_iou ? 1 : 0;
     }
     if (fitting >= needed) best = {overlap, point};
   }

@@ -9,7 +9,6 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <tuple>
 
 #include "ocg/io/trajectory.h"
@@ -346,21 +345,6 @@ TEST(ObjectsOptions, ADuplicateBoxIouOutsideZeroToOneIsRefusedNamingTheKey) {
   }
   options.duplicate_box_iou = 1.0;
   EXPECT_NO_THROW(options.Check());
-}
-
-// A far laptop's box, 36 x 8 pixels, and its projection 4 pixels lower: IoU 0.5 at the
-// detector's resolution (both grown by 2 pixels), 0.33 as drawn: it fits whole. The edge noise
-// decides nothing on a box 120 pixels high, and a box beside the projection fits at neither.
-TEST(FitOfBox, ABoxAFewPixelsHighFitsWithinTheDetectorsEdgeNoise) {
-  const Box2 box{100, 50, 136, 58}, projected{100, 54, 136, 62};
-  EXPECT_EQ(FitOfBox(box, projected, 0.4), BoxFit::kNone);
-  EXPECT_EQ(FitOfBox(box, projected, 0.4, 2.0), BoxFit::kWhole);
-  EXPECT_NEAR(IntersectionOverUnion(box, projected), 1.0 / 3.0, 1e-9);
-  EXPECT_NEAR(IntersectionOverUnion(box, projected, 2.0), 0.5, 1e-9);
-  const Box2 large{100, 50, 200, 170}, lower{100, 53, 200, 173};
-  EXPECT_NEAR(IntersectionOverUnion(large, lower, 2.0), IntersectionOverUnion(large, lower), 0.01);
-  const Box2 beside{140, 54, 176, 62};
-  EXPECT_EQ(FitOfBox(beside, projected, 0.4, 2.0), BoxFit::kNone);
 }
 
 TEST(FitOfBox, WholePartialOrNone) {
@@ -1234,11 +1218,10 @@ TEST_F(TwoObjectScene, AReDetectionAtTheWrongDepthOnTheSameRayJoinsTheObject) {
   for (const auto& [id, object] : joined.objects()) {
     if (object.class_id != 41) continue;
     EXPECT_EQ(object.sightings.size(), 60u);  // 40 before the gap, 20 after
-    // The boxes showing less than 40 % of the cup's width (IoU below 0.4, also with both
-    // grown by Objects.box_noise_px: 20 % and 28 %; 36 % reaches it): partial views.
+    // The boxes showing less than 40 % of the cup's width (IoU below 0.4): partial views.
     const auto partial = std::count_if(object.sightings.begin(), object.sightings.end(),
                                        [](const ObjectSighting& s) { return s.truncated; });
-    EXPECT_EQ(partial, 2);
+    EXPECT_EQ(partial, 3);
     EXPECT_LT((object.cuboid.centre - cup_.centre).norm(), 0.15 * cup_.size.maxCoeff());
   }
 }
@@ -1393,69 +1376,6 @@ TEST_F(TwoObjectScene, AnEarlierRunOfBoxesJoinsTheObjectMappedLater) {
   };
   EXPECT_EQ(cup_sightings(0.0), 40u);
   EXPECT_EQ(cup_sightings(ObjectsOptions().candidate_gap_seconds), 43u);
-}
-
-// A laptop 4.5 m away, found by the detector in runs of 6 frames with gaps of 9 (longer
-// than Objects.predicted_box_frames) while the camera slides 0.7 m sideways: each run
-// spreads its rays by 0.3 degrees, all together by 9. Its boxes are some 40 x 9 pixels and
-// their edges jitter by up to 3 pixels, so the IoU of two boxes of it is well below
-// Objects.min_reacquire_iou as often as not: without Objects.box_noise_px no run continues
-// the one before, each starts a candidate of its own and the laptop is never mapped; with
-// it, the runs are one track and the laptop is mapped once, at its place. A second laptop
-// 0.3 m beside it, found in the runs between, is another track: two laptops.
-TEST(FarObject, RunsOfJitteredBoxesSeparatedByDetectorGapsAreOneTrack) {
-  Cuboid laptop;
-  laptop.centre = Eigen::Vector3d(0.0, 4.5, 0.77);
-  laptop.size = Eigen::Vector3d(0.33, 0.23, 0.03);
-  laptop.yaw = 0.3;
-  Cuboid second = laptop;
-  second.centre.x() += 0.3;
-  second.yaw = -0.2;
-  const Eigen::Matrix3d R_wg = GravityFrame(Eigen::Vector3d::UnitZ());
-  const auto laptops = [&](double box_noise_px, bool with_second) {
-    ObjectsOptions options;
-    options.box_noise_px = box_noise_px;
-    ObjectMap map(options, Camera());
-    std::mt19937 jitter(7);
-    const auto detection = [&](const Cuboid& cuboid, const SE3& T_cw) {
-      const Box2 box = *ProjectCuboid(cuboid, R_wg, T_cw, Camera());
-      double edges[4];
-      for (double& edge : edges) edge = static_cast<double>(jitter() % 7) - 3.0;
-      return Detection{63,
-                       box.x0 + edges[0],
-                       box.y0 + edges[1],
-                       box.Width() + edges[2] - edges[0],
-                       box.Height() + edges[3] - edges[1],
-                       0.9};
-    };
-    for (int frame = 0; frame < 150; ++frame) {
-      const Eigen::Vector3d eye(-0.35 + 0.7 * frame / 149.0, 0.0, 1.3);
-      const SE3 T_cw = LookFrom(eye, eye + Eigen::Vector3d(0.0, 4.5, -0.5));
-      std::vector<Detection> detections;
-      const int run = frame / 15;
-      if (frame % 15 < 6 && (!with_second || run % 2 == 0))
-        detections.push_back(detection(laptop, T_cw));
-      if (frame % 15 < 6 && with_second && run % 2 == 1)
-        detections.push_back(detection(second, T_cw));
-      map.AddFrame(frame, frame / 30.0, T_cw, FilterDetections(detections, options, Camera()));
-    }
-    std::vector<Eigen::Vector3d> centres;
-    for (const auto& [id, object] : map.objects()) centres.push_back(object.cuboid.centre);
-    return centres;
-  };
-  const double noise = ObjectsOptions().box_noise_px;
-  ASSERT_GT(noise, 0.0);
-  EXPECT_TRUE(laptops(0.0, false).empty()) << "the case needs a laptop never mapped without it";
-  const std::vector<Eigen::Vector3d> one = laptops(noise, false);
-  ASSERT_EQ(one.size(), 1u);
-  EXPECT_LT((one[0] - laptop.centre).norm(), 0.3) << one[0].transpose();
-  const std::vector<Eigen::Vector3d> two = laptops(noise, true);
-  ASSERT_EQ(two.size(), 2u);
-  for (const Cuboid& cuboid : {laptop, second}) {
-    int near = 0;
-    for (const Eigen::Vector3d& centre : two) near += (centre - cuboid.centre).norm() < 0.15;
-    EXPECT_EQ(near, 1) << cuboid.centre.transpose();
-  }
 }
 
 // A television and, 0.26 m from its centre, a cup (on the table in front of it), never

@@ -21,9 +21,5 @@ double SharedArea(const Box2& a, const Box2& b);
 
 // Intersection over union in [0, 1]; 0 when both boxes are empty.
 double IntersectionOverUnion(const Box2& a, const Box2& b);
-// The IoU of the two boxes each grown by margin pixels on every side: the IoU at a
-// detector's resolution (its box edges stray by about margin), which on a box a few
-// pixels high is not decided by that noise alone.
-double IntersectionOverUnion(const Box2& a, const Box2& b, double margin);
 
 }  // namespace ocg

@@ -35,9 +35,7 @@ enum class BoxFit { kNone, kWhole, kPartial };
 constexpr double kPartialViewInside = 0.8;
 constexpr double kPartialViewSpan = 0.7;
 constexpr double kProjectionSlack = 0.1;
-// margin_px: the IoU is taken with both boxes grown by it (the detector's edge noise,
-// Objects.box_noise_px).
-BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou, double margin_px = 0.0);
+BoxFit FitOfBox(const Box2& box, const Box2& projected, double min_iou);
 
 // A detection the object layer uses.
 struct ObjectDetection {

@@ -52,15 +52,13 @@ struct BoxView {
 // IoU at the best such depth, 0 when there is none; point: the object's centre there.
 // With views from one place this asks a box of about the same size where the last one
 // was; as the track's views spread, they fix the depth, and the new box must lie where
-// the track's object projects. Every IoU is taken with both boxes grown by margin_px on
-// each side (the detector's edge noise: on a box a few pixels high it alone decides IoU).
+// the track's object projects.
 struct TrackFit {
   double iou = 0.0;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
 };
 TrackFit FitOfBoxToTrack(const std::vector<BoxView>& track, const BoxView& view,
-                         const PinholeCamera& camera, double min_iou, double min_share,
-                         double margin_px = 0.0);
+                         const PinholeCamera& camera, double min_iou, double min_share);
 
 // The angle (degrees) under which a point sees the centres of two cameras.
 double ParallaxDeg(const Eigen::Vector3d& point, const SE3& T_cw_a, const SE3& T_cw_b);

@@ -59,13 +59,6 @@ struct ObjectsOptions {
   // object was never mapped (issue 18). 0: candidates take boxes through the predicted
   // box only.
   double candidate_gap_seconds = 30.0;
-  // Objects.box_noise_px: how far (pixels) a detector's box edges stray from where the
-  // object is. A box continues a candidate's track across a gap when the boxes overlap
-  // (IoU) with each grown by this much: IoU alone is noise on a far object's box a few
-  // pixels high (a laptop 4.5 m away, 40 x 9 pixels, never continued its track and was
-  // never mapped). Large boxes barely change. A candidate's boxes are compared so with a
-  // map object's projection too (join_candidates).
-  double box_noise_px = 2.0;
 
   // Objects.min_inlier_share: of a candidate's rays, the share that must meet at its centre
   // for promotion (a candidate fed by two objects of one class meets nowhere).
@@ -223,11 +216,6 @@ struct ObjectsOptions {
           "candidates whose boxes fit a map object's projection join it at the next keyframe. 0: "
           "the rule before it (predicted box only, dropped after "
           "`Objects.candidate_max_missed_frames`)");
-    visit("Objects.box_noise_px", self.box_noise_px, OptionBound::NonNegative(),
-          "pixels: how far a detector's box edges stray; the boxes compared to continue a "
-          "candidate's track across a gap (`Objects.candidate_gap_seconds`) are each grown by "
-          "this much before their IoU is taken (a far object's box a few pixels high), as are a "
-          "candidate's boxes and a map object's projection for `Objects.join_candidates`");
     visit("Objects.min_inlier_share", self.min_inlier_share, share,
           "share of a candidate's rays that must meet at its centre");
     visit("Objects.min_sightings", self.min_sightings, OptionBound::NonNegative(),
