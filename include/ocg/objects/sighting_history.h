@@ -107,7 +107,7 @@ class SightingHistory {
   // sightings kept at most; 0 keeps all.
   void Add(const ObjectSighting& sighting, std::size_t capacity);
   // The counts stay (what SeenAsClass and the change log ask of a removed object whose
-  // boxes nothing reads again), and session's sightings that carry a colour (the
+  // boxes nothing reads again), and the sightings of session that carry a colour (the
   // pairing's colour of the object; a pose-given run with images gives them as it goes).
   void ForgetSightings(int session);
   // Another history of the same object joins this one: the kept sightings in frame order
