@@ -21,6 +21,13 @@ void ForEachBetweenSessionCandidate(const SessionObjects& objects, Visit&& visit
   }
 }
 
+// visit(object) for each live object and each one removed in this run.
+template <typename Visit>
+void ForEachObject(const SessionObjects& objects, Visit&& visit) {
+  for (const auto& [id, object] : objects.live) visit(object);
+  for (const auto& [id, object] : objects.removed_in_run) visit(object);
+}
+
 }  // namespace
 
 SeenAsClass SeenAsClassIn(const SessionObjects& objects) {
@@ -40,8 +47,7 @@ SeenAsClass SeenAsClassIn(const SessionObjects& objects) {
     if (!earlier) seen.first[object.id] = now->SupportedFirst();
     seen.last[object.id] = now->SupportedLast();
   };
-  for (const auto& [id, object] : objects.live) add(object);
-  for (const auto& [id, object] : objects.removed_in_run) add(object);
+  ForEachObject(objects, add);
   return seen;
 }
 
@@ -86,8 +92,7 @@ std::map<ObjectId, ColourHistogram> ColourAppearancesOf(const SessionObjects& ob
     if (static_cast<int>(signatures.size()) < min_signatures) return;
     if (std::optional<ColourHistogram> mean = MeanColour(signatures)) colours[object.id] = *mean;
   };
-  for (const auto& [id, object] : objects.live) add(object);
-  for (const auto& [id, object] : objects.removed_in_run) add(object);
+  ForEachObject(objects, add);
   return colours;
 }
 
