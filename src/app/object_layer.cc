@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <opencv2/imgcodecs.hpp>
-#include <set>
 #include <utility>
 
 #include "object_map_file.h"
@@ -99,7 +97,7 @@ ObjectLayer::ObjectLayer(const Settings& settings, bool enabled, bool keep_first
 
 void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
                            double timestamp, const std::vector<Detection>& detections,
-                           const std::string& image_path, const cv::Mat& image) {
+                           FrameColourImage& colour) {
   if (!enabled_) return;
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = ThreadCpuSeconds();
@@ -119,27 +117,19 @@ void ObjectLayer::AddFrame(const System& system, const TrackingResult& result, s
     Follow(system);
   }
   if (!result.T_cw) return;
-  // Only a keyframe's image is read again (Finish()), and a frame becomes one when tracked.
-  if (!detections.empty() && !image_path.empty() && result.new_keyframe) {
-    image_paths_[frame_offset_ + frame] = image_path;
-    if (image_paths_.size() > 2 * image_paths_after_pruning_ + 16) PruneColourImages(system);
-  }
-  if (!detections.empty() && image_path.empty() && result.new_keyframe && image.type() == CV_8UC3) {
-    std::vector<std::uint8_t> png;
-    cv::imencode(".png", image, png);
-    colour_pngs_[frame_offset_ + frame] = std::move(png);
-    // Culled keyframes' images go, so memory follows the map's keyframes, not the run's.
-    if (colour_pngs_.size() > 2 * colour_pngs_after_pruning_ + 16) PruneColourImages(system);
-  }
   std::vector<PointObservation> points;
   points.reserve(result.points.size());
   for (const TrackedPoint& point : result.points)
     points.push_back({point.id, point.pixel, point.position});
+  // An OCG keyframe's sightings take their colours as they are made, as in pose-given
+  // runs: the same frames, the same image, whatever SLAM culls later.
+  const bool ocg_keyframe = tracked_frames_++ % settings_.objects.keyframe_interval == 0;
+  const cv::Mat bgr = ocg_keyframe && !detections.empty() ? colours_.ImageFor(colour) : cv::Mat();
   last_association_ =
-      mapper_->AddFrame(frame_offset_ + frame, timestamp, *result.T_cw, detections, &points);
+      mapper_->AddFrame(frame_offset_ + frame, timestamp, *result.T_cw, detections, &points, bgr);
   if (!detections.empty()) new_frames_.push_back(static_cast<std::size_t>(frame));
   if (result.new_keyframe) Follow(system);
-  if (tracked_frames_++ % settings_.objects.keyframe_interval == 0) {
+  if (ocg_keyframe) {
     // The map as it was just before the OCG's first removal, for the before/after
     // snapshots (exact in sequential mode; a keyframe late when the OCG has a thread).
     std::vector<ObjectView> before;
@@ -178,92 +168,20 @@ std::optional<std::vector<ObjectView>> ObjectLayer::TakeFirstRemoval() {
   return std::exchange(first_removal_, std::nullopt);
 }
 
-void ObjectLayer::FinishObjects(const System& system) {
+void ObjectLayer::Finish(const System& system) {
+  if (!enabled_) return;
   // A loaded object map already follows the loaded SLAM map, which only a tracked frame
   // changes; following it again would move the objects anyway (up and cuboids refine
   // each other a little more at every call).
   if (!loaded_ || tracked_frames_ > loaded_tracked_frames_) Follow(system);
   mapper_->Finish();
-  colour_images_ = colour_signatures_ = 0;
-}
-
-void ObjectLayer::FinishAppearances(const System& system) {
-  if (session_ == 0) return;
-  const KeyframeFeatureMap keyframes = KeyframeFeaturesOf(system);
+  colours_.WarnOfUnreadable();
   // The pairing (ChangeLog()) matches with the default AppearanceOptions too.
-  box_appearance_ =
-      mapper_->BoxAppearances(keyframes, BoxAppearanceOptions{}, AppearanceOptions{}.max_distance);
   colour_ = mapper_->ColourAppearances(AppearanceOptions{}.min_colour_signatures);
-}
-
-void ObjectLayer::Finish(const System& system, const std::vector<ObjectLayer*>& layers) {
-  std::vector<ObjectLayer*> enabled;
-  for (ObjectLayer* layer : layers) {
-    if (layer->enabled_) enabled.push_back(layer);
-  }
-  for (ObjectLayer* layer : enabled) layer->FinishObjects(system);
-  // The colours: keyframes only, a few hundred images read again at the end of a run, not
-  // one per frame while tracking (the box appearance reads the same keyframes' features).
-  // A later session reads its own keyframes; earlier sessions' sightings keep the colours
-  // their session gave them (map files).
-  const auto start = std::chrono::steady_clock::now();
-  for (const KeyFramePtr& keyframe : system.KeyFrames()) {
-    const auto frame = static_cast<std::int64_t>(keyframe->frame_id);
-    std::string path;
-    cv::Mat bgr;
-    for (const ObjectLayer* layer : enabled) {
-      const auto found = layer->image_paths_.find(frame);
-      if (found != layer->image_paths_.end()) path = found->second;
-      if (bgr.empty()) bgr = layer->ColourImageOf(frame);
-    }
-    if (!path.empty()) {
-      bgr = cv::imread(path, cv::IMREAD_COLOR);
-      if (bgr.empty()) {
-        spdlog::warn("cannot read '{}' again for the objects' colours: its keyframe gives none",
-                     path);
-        continue;
-      }
-    }
-    if (bgr.empty()) continue;
-    for (ObjectLayer* layer : enabled) {
-      if (layer->image_paths_.count(frame) == 0 && layer->colour_pngs_.count(frame) == 0) continue;
-      ++layer->colour_images_;
-      layer->colour_signatures_ +=
-          layer->mapper_->SetSightingColours(frame, bgr, ColourSignatureOptions{});
-    }
-  }
-  spdlog::debug("objects' colours of {} layer(s) from the keyframe images in {:.2f} s",
-                enabled.size(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  for (ObjectLayer* layer : enabled) {
-    layer->colour_pngs_.clear();
-    layer->colour_pngs_after_pruning_ = 0;
-    layer->FinishAppearances(system);
-  }
-}
-
-void ObjectLayer::PruneColourImages(const System& system) {
-  std::set<std::int64_t> keyframes;
-  for (const KeyFramePtr& keyframe : system.KeyFrames())
-    keyframes.insert(static_cast<std::int64_t>(keyframe->frame_id));
-  // Threaded mode: local mapping puts new keyframes in the map later, in order; frames after
-  // the newest keyframe in it may be ones still queued.
-  const std::int64_t newest = keyframes.empty() ? -1 : *keyframes.rbegin();
-  const auto culled = [&](std::int64_t frame) {
-    return frame <= newest && keyframes.count(frame) == 0;
-  };
-  for (auto it = colour_pngs_.begin(); it != colour_pngs_.end();)
-    it = culled(it->first) ? colour_pngs_.erase(it) : std::next(it);
-  colour_pngs_after_pruning_ = colour_pngs_.size();
-  for (auto it = image_paths_.begin(); it != image_paths_.end();)
-    it = culled(it->first) ? image_paths_.erase(it) : std::next(it);
-  image_paths_after_pruning_ = image_paths_.size();
-}
-
-cv::Mat ObjectLayer::ColourImageOf(std::int64_t frame) const {
-  const auto found = colour_pngs_.find(frame);
-  if (found == colour_pngs_.end()) return cv::Mat();
-  return cv::imdecode(found->second, cv::IMREAD_COLOR);
+  // Between sessions: the objects' looks in the keyframes' features.
+  if (session_ == 0) return;
+  box_appearance_ = mapper_->BoxAppearances(KeyframeFeaturesOf(system), BoxAppearanceOptions{},
+                                            AppearanceOptions{}.max_distance);
 }
 
 std::string ObjectLayer::Objects() const { return enabled_ ? mapper_->ObjectsJson() : ""; }
@@ -278,8 +196,7 @@ nlohmann::json ObjectLayer::Write(const std::string& output) const {
                   {"keyframes", keyframes_},
                   {"object_map_resets", resets_},
                   {"supporting_plane_inliers", stats.plane_inliers},
-                  {"colour_signatures",
-                   {{"keyframe_images", colour_images_}, {"sightings", colour_signatures_}}},
+                  {"colour_signatures", colours_.Report(stats)},
                   {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
                   {"timing",
                    {{"objects_per_frame", Timing(seconds_)},

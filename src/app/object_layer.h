@@ -14,11 +14,11 @@
 #include <iosfwd>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <opencv2/core/mat.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "keyframe_colours.h"
 #include "ocg/app/settings.h"
 #include "ocg/core/statistics.h"
 #include "ocg/io/detections.h"
@@ -53,14 +53,11 @@ class ObjectLayer {
   ObjectLayer(const Settings& settings, bool enabled, bool keep_first_removal);
   bool Enabled() const { return enabled_; }
 
-  // image_path: the frame's image file ("" when there is none), read again in colour at
-  // Finish() if the frame ends as a keyframe (the objects' colour signatures). Without a
-  // file, a BGR image (the pixels given) of a new keyframe with detections is kept for
-  // them instead, compressed losslessly (PNG in memory: the colours a file of the same
-  // pixels gives), until Finish() or the keyframe is culled.
+  // colour: the frame's colour image, asked for only at an OCG keyframe with detections,
+  // whose sightings take their colour signatures as they are made (keyframe_colours.h).
   void AddFrame(const System& system, const TrackingResult& result, std::int64_t frame,
                 double timestamp, const std::vector<Detection>& detections,
-                const std::string& image_path, const cv::Mat& image = cv::Mat());
+                FrameColourImage& colour);
   // The objects for the viewer (none without detections) and their up direction.
   std::vector<ObjectView> Views() const;
   // The objects in the map now (Views() also lists removed ones); 0 without a layer.
@@ -70,11 +67,10 @@ class ObjectLayer {
   std::vector<FrameDetection> LastFrameDetections() const;
   // Once: the objects just before the OCG's first removal, if there was one.
   std::optional<std::vector<ObjectView>> TakeFirstRemoval();
-  // After SLAM has finished: the objects take the final poses, the OCG its last keyframe,
-  // and the sightings at this session's keyframes their colour signatures, each keyframe
-  // image read once for every layer given (ocg_slam run --modes: one layer per mode, all
-  // fed the same frames). Layers that are not enabled are passed over.
-  static void Finish(const System& system, const std::vector<ObjectLayer*>& layers);
+  // After SLAM has finished: the objects take the final poses, the OCG its last keyframe;
+  // the session's colours (ObjectMap::ColourAppearances) and, in a later session, the
+  // box appearances are taken for the change log. Does nothing when not enabled.
+  void Finish(const System& system);
   // objects.json, changes.json ("" without an object layer).
   std::string Objects() const;
   std::string Changes() const;
@@ -97,9 +93,6 @@ class ObjectLayer {
  private:
   void Start();
   void Follow(const System& system);
-  // Finish()'s steps: before the colours, and after them.
-  void FinishObjects(const System& system);
-  void FinishAppearances(const System& system);
   ChangeLogContext ChangeLog() const;
 
   const Settings& settings_;
@@ -141,20 +134,8 @@ class ObjectLayer {
   std::optional<std::vector<ChangeEntry>> earlier_changes_;  // the loaded map file's log
   // Finish(): ObjectMap::BoxAppearances() over every keyframe of the SLAM map.
   std::map<ObjectId, std::vector<Descriptor>> box_appearance_;
-  // This session's image files of new keyframes with detections, by frame (over all
-  // sessions); those of culled keyframes go as colour_pngs_'s do.
-  std::map<std::int64_t, std::string> image_paths_;
-  std::size_t image_paths_after_pruning_ = 0;
-  // Frames without a file: their BGR pixels as PNG bytes, for new keyframes with detections.
-  std::map<std::int64_t, std::vector<std::uint8_t>> colour_pngs_;
-  std::size_t colour_pngs_after_pruning_ = 0;
-  // Drops the kept images and image paths of frames that are no longer keyframes (culled).
-  void PruneColourImages(const System& system);
-  // The colour image of a keyframe for its sightings' signatures; empty when none.
-  cv::Mat ColourImageOf(std::int64_t frame) const;
-  // Finish(): keyframe images read again, sightings given a colour signature.
-  int colour_images_ = 0;
-  int colour_signatures_ = 0;
+  // The keyframe colours' images and counts (run.json's colour_signatures).
+  KeyframeColours colours_;
   // Finish(): ObjectMap::ColourAppearances().
   std::map<ObjectId, ColourHistogram> colour_;
 };

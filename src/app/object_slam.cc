@@ -103,11 +103,12 @@ class ObjectSlam::Impl {
     if (image.type() == CV_8UC3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     const TrackingResult result =
         system_.TrackImage(gray, timestamp, source.timestamp_text, source.features.get());
-    objects_.AddFrame(system_, result, frames_, timestamp, detections, source.image_path, image);
+    // Read in colour only if a layer asks (an OCG keyframe with detections), once for all.
+    app_detail::FrameColourImage colour(source.image_path, image);
+    objects_.AddFrame(system_, result, frames_, timestamp, detections, colour);
     if (result.T_cw && !first_tracked_) first_tracked_ = frames_;
     for (AlsoMode& also : also_)
-      also.objects->AddFrame(system_, result, frames_, timestamp, detections, source.image_path,
-                             image);
+      also.objects->AddFrame(system_, result, frames_, timestamp, detections, colour);
     snapshots_.AfterFrame(system_, objects_, result, image, source.image_path);
     ++frames_;
     pose_ = result.T_cw;
@@ -124,9 +125,8 @@ class ObjectSlam::Impl {
   void Shutdown() {
     interrupted_ = stop_ != nullptr && stop_->Requested();
     system_.Shutdown();
-    std::vector<app_detail::ObjectLayer*> layers = {&objects_};
-    for (AlsoMode& also : also_) layers.push_back(also.objects.get());
-    app_detail::ObjectLayer::Finish(system_, layers);
+    objects_.Finish(system_);
+    for (AlsoMode& also : also_) also.objects->Finish(system_);
     wall_seconds_ = started_ ? SecondsSince(start_) : 0.0;
     if (started_) progress_.Add(Status());
   }

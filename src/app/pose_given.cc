@@ -3,47 +3,15 @@
 #include <spdlog/spdlog.h>
 #include <chrono>
 #include <cstdint>
-#include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "keyframe_colours.h"
 #include "object_layer.h"
 #include "ocg/core/statistics.h"
 #include "ocg/objects/object_mapper.h"
 #include "run_snapshots.h"
 
 namespace ocg {
-namespace {
-
-// The colours of the sightings made at frame (a keyframe), from its image when the frame
-// list gives one: a keyframe's image is read as it comes (a tenth of the frames), none is
-// kept. The pairing of moves weighs them (ChangeLogContext::colour).
-struct KeyframeColours {
-  std::int64_t images = 0, sightings = 0, unreadable = 0;
-  std::string first_unreadable;
-
-  void Set(ObjectMapper& mapper, std::int64_t frame, const std::string& path) {
-    const cv::Mat bgr =
-        std::filesystem::exists(path) ? cv::imread(path, cv::IMREAD_COLOR) : cv::Mat();
-    if (bgr.empty()) {
-      if (unreadable++ == 0) first_unreadable = path;
-      return;
-    }
-    ++images;
-    sightings += mapper.SetSightingColours(frame, bgr, ColourSignatureOptions{});
-  }
-  // One warning for the run, not one per keyframe (a frame list of a sequence whose
-  // images were left out lists thousands).
-  void WarnOfUnreadable() const {
-    if (unreadable == 0) return;
-    spdlog::warn(
-        "{} keyframe image(s) of the frame list could not be read (the first: '{}'): their "
-        "sightings give the objects no colour, and moves are paired without it",
-        unreadable, first_unreadable);
-  }
-};
-
-}  // namespace
 
 nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                                          const std::vector<PoseGivenFrame>& frames,
@@ -55,8 +23,8 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
   mapper.RecordObservations();
   const auto start = std::chrono::steady_clock::now();
   std::int64_t used = 0, without_pose = 0, keyframes = 0;
-  KeyframeColours colours;
-  DurationSummary frame_seconds;  // a summary: memory stays flat on a long run
+  app_detail::KeyframeColours colours;  // a keyframe's image is read as it comes, none kept
+  DurationSummary frame_seconds;        // a summary: memory stays flat on a long run
   bool interrupted = false;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (stop != nullptr && stop->Requested()) {
@@ -69,11 +37,15 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
       continue;
     }
     const auto frame_start = std::chrono::steady_clock::now();
-    const FrameAssociation association = mapper.AddFrame(
-        used, frame.timestamp, *frame.T_cw, detections.DetectionsFor(frame.timestamp_text, {}));
     const bool keyframe = used % settings.objects.keyframe_interval == 0;
-    if (keyframe && !frame.image_path.empty() && !association.detections.empty())
-      colours.Set(mapper, used, frame.image_path);
+    const std::vector<Detection> boxes = detections.DetectionsFor(frame.timestamp_text, {});
+    cv::Mat colour;
+    if (keyframe && !boxes.empty()) {
+      app_detail::FrameColourImage image(frame.image_path, cv::Mat());
+      colour = colours.ImageFor(image);
+    }
+    const FrameAssociation association =
+        mapper.AddFrame(used, frame.timestamp, *frame.T_cw, boxes, nullptr, colour);
     if (keyframe) {
       outputs.BeforeKeyframe(mapper);
       mapper.AddKeyframe(keyframes++, frame.timestamp, *frame.T_cw);
@@ -88,16 +60,14 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
   colours.WarnOfUnreadable();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  nlohmann::json report = {
-      {"frames", frames.size()},
-      {"interrupted", interrupted},
-      {"frames_used", used},
-      {"frames_without_pose", without_pose},
-      {"keyframes", keyframes},
-      {"colour_signatures",
-       {{"keyframe_images", colours.images}, {"sightings", colours.sightings}}},
-      {"wall_seconds", seconds},
-      {"timing", {{"objects_per_frame", app_detail::Timing(frame_seconds)}}}};
+  nlohmann::json report = {{"frames", frames.size()},
+                           {"interrupted", interrupted},
+                           {"frames_used", used},
+                           {"frames_without_pose", without_pose},
+                           {"keyframes", keyframes},
+                           {"colour_signatures", colours.Report(mapper.Stats())},
+                           {"wall_seconds", seconds},
+                           {"timing", {{"objects_per_frame", app_detail::Timing(frame_seconds)}}}};
   ChangeLogContext change_log;
   if (!frames.empty()) change_log.session_start = frames.front().timestamp;
   change_log.seen_as_class = mapper.SeenAsClassThisSession();

@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "ocg/core/cpu_time.h"
 #include "ocg/core/statistics.h"
 #include "ocg/ocg/replay_format.h"
 
@@ -31,11 +32,18 @@ ObjectMapper::~ObjectMapper() {
 
 FrameAssociation ObjectMapper::AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
                                         const std::vector<Detection>& detections,
-                                        const std::vector<PointObservation>* points) {
+                                        const std::vector<PointObservation>* points,
+                                        const cv::Mat& colour) {
   std::lock_guard<std::mutex> lock(map_mutex_);
   const std::vector<ObjectDetection> usable =
       FilterDetections(detections, map_.options(), map_.camera());
   FrameAssociation association = map_.AddFrame(frame, timestamp, T_cw, usable, points);
+  if (!colour.empty() && !association.detections.empty()) {
+    const double start = ThreadCpuSeconds();
+    ++stats_.colour_images;
+    stats_.colour_sightings += map_.SetSightingColours(frame, colour, ColourSignatureOptions{});
+    stats_.colour_cpu_seconds += ThreadCpuSeconds() - start;
+  }
   ++stats_.frames;
   stats_.detections_used += static_cast<std::int64_t>(usable.size());
   stats_.detections_matched +=
@@ -124,12 +132,6 @@ std::map<ObjectId, std::vector<Descriptor>> ObjectMapper::BoxAppearances(
     int max_distance) const {
   std::lock_guard<std::mutex> lock(map_mutex_);
   return map_.BoxAppearances(keyframes, options, max_distance);
-}
-
-int ObjectMapper::SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
-                                     const ColourSignatureOptions& options) {
-  std::lock_guard<std::mutex> lock(map_mutex_);
-  return map_.SetSightingColours(frame, bgr, options);
 }
 
 std::map<ObjectId, ColourHistogram> ObjectMapper::ColourAppearances(int min_signatures) const {

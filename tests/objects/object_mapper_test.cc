@@ -8,10 +8,9 @@
 
 #include <Eigen/Geometry>
 
-#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgproc.hpp>
+#include <opencv2/core/mat.hpp>
 #include <sstream>
 
 #include "ocg/objects/change_log.h"
@@ -115,89 +114,47 @@ TEST(ObjectMapper, AnObjectTakenAwayIsRemovedWhenTheCameraLeavesItsNeighbours) {
   }
 }
 
-// Two cups, one red and one blue, are carried past each other while the camera looks away
-// (frames 60-69): the red one to a place a little farther from its old one than the blue
-// one's new place is, and the blue one likewise. By distance alone the pairing takes each
-// removal to the nearer newcomer, the other cup; the keyframe images show their colours
-// (each cup drawn as a filled ellipse in its box on grey), and a removed cup keeps its
-// coloured sightings, so the moves follow the colours.
+// Two cups, one red and one blue, carried past each other while the camera looks away
+// (CupsCarriedPastEachOther): by distance alone the pairing takes each removal to the
+// nearer newcomer, the other cup; the keyframe images show their colours, given with the
+// keyframes' detections, and a removed cup keeps its coloured sightings, so the moves
+// follow the colours.
 TEST(ObjectMapper, MovesWithinASessionFollowTheObjectsColours) {
-  testing::SyntheticSceneOptions options = testing::TableWithObjects();
-  testing::SyntheticObject red = options.objects[testing::kTableCup];
-  red.centre = {0.15, 0.1, 0.8};
-  red.present_until = 60;
-  testing::SyntheticObject blue = red;
-  blue.centre = {0.15, -0.1, 0.8};
-  testing::SyntheticObject blue_moved = blue, red_moved = red;
-  blue_moved.centre = {0.35, 0.1, 0.8};   // 0.2 from red's old place
-  red_moved.centre = {0.35, -0.05, 0.8};  // 0.21 from blue's old place
-  blue_moved.present_from = red_moved.present_from = 60;
-  blue_moved.present_until = red_moved.present_until = std::numeric_limits<int>::max();
-  options.objects[testing::kTableCup] = red;
-  options.objects.push_back(blue);
-  options.objects.push_back(blue_moved);
-  options.objects.push_back(red_moved);
-  const std::size_t kRed = 0, kBlue = 4, kBlueMoved = 5, kRedMoved = 6;
-  const auto is_red = [&](int object) {
-    return object == static_cast<int>(kRed) || object == static_cast<int>(kRedMoved);
-  };
-  const testing::SyntheticScene scene = testing::SynthesizeScene(options);
-  const auto image_of = [&](std::size_t frame) {
-    cv::Mat bgr(scene.options.camera.height, scene.options.camera.width, CV_8UC3,
-                cv::Scalar(128, 128, 128));
-    for (std::size_t d = 0; d < scene.detections[frame].size(); ++d) {
-      const int object = scene.detected_objects[frame][d];
-      if (scene.options.objects[static_cast<std::size_t>(object)].class_id != 41) continue;
-      const Detection& box = scene.detections[frame][d];
-      const cv::Point centre(static_cast<int>(box.x + 0.5 * box.width),
-                             static_cast<int>(box.y + 0.5 * box.height));
-      const cv::Size axes(static_cast<int>(0.5 * box.width), static_cast<int>(0.5 * box.height));
-      cv::ellipse(bgr, centre, axes, 0, 0, 360,
-                  is_red(object) ? cv::Scalar(30, 30, 220) : cv::Scalar(220, 60, 30), cv::FILLED);
-    }
-    return bgr;
-  };
+  const testing::CarriedCups cups = testing::CupsCarriedPastEachOther();
+  const testing::SyntheticScene scene = testing::SynthesizeScene(cups.options);
   ObjectMapper mapper(ObjectsOptions{}, Paper(), scene.options.camera, true);
   for (int frame = 0; frame < scene.options.frames; ++frame) {
     const auto f = static_cast<std::size_t>(frame);
-    mapper.AddFrame(frame, scene.timestamps[f], scene.T_cw[f], scene.detections[f]);
-    if (frame % kKeyframeInterval != 0) continue;
-    mapper.SetSightingColours(frame, image_of(f), ColourSignatureOptions{});
-    mapper.AddKeyframe(frame / kKeyframeInterval, scene.timestamps[f], scene.T_cw[f]);
+    const bool keyframe = frame % kKeyframeInterval == 0;
+    mapper.AddFrame(frame, scene.timestamps[f], scene.T_cw[f], scene.detections[f], nullptr,
+                    keyframe ? cups.ColourImage(scene, f) : cv::Mat());
+    if (keyframe) mapper.AddKeyframe(frame / kKeyframeInterval, scene.timestamps[f], scene.T_cw[f]);
   }
   mapper.Finish();
   ASSERT_EQ(mapper.Stats().objects_removed, 2);
+  EXPECT_GT(mapper.Stats().colour_images, 0);
+  EXPECT_GT(mapper.Stats().colour_sightings, mapper.Stats().colour_images);
   ChangeLogContext context;
   context.seen_as_class = mapper.SeenAsClassThisSession();
   context.colour = mapper.ColourAppearances(context.appearance_options.min_colour_signatures);
-  const std::vector<ChangeEntry> changes =
-      ReviseChangeLog(mapper.Changes(), mapper.LiveObjects(), context);
   // Each move from a cup's old place to the other place of its colour.
-  const auto place_of = [&](const Eigen::Vector3d& centre) {
-    std::size_t nearest = 0;
-    for (std::size_t i = 0; i < scene.options.objects.size(); ++i) {
-      if ((scene.options.objects[i].centre - centre).norm() <
-          (scene.options.objects[nearest].centre - centre).norm())
-        nearest = i;
+  const auto moves_of = [&](const ChangeLogContext& with) {
+    std::map<std::size_t, std::size_t> moves;
+    for (const ChangeEntry& entry : ReviseChangeLog(mapper.Changes(), mapper.LiveObjects(), with)) {
+      if (entry.type != "moved") continue;
+      EXPECT_TRUE(entry.to.has_value());
+      if (entry.to)
+        moves[cups.PlaceOf(entry.cuboid.centre)] = cups.PlaceOf(entry.to->cuboid.centre);
     }
-    return nearest;
+    return moves;
   };
-  std::map<std::size_t, std::size_t> moves;
-  for (const ChangeEntry& entry : changes) {
-    if (entry.type != "moved") continue;
-    ASSERT_TRUE(entry.to.has_value());
-    moves[place_of(entry.cuboid.centre)] = place_of(entry.to->cuboid.centre);
-  }
-  EXPECT_EQ(moves, (std::map<std::size_t, std::size_t>{{kRed, kRedMoved}, {kBlue, kBlueMoved}}));
+  EXPECT_EQ(moves_of(context), (std::map<std::size_t, std::size_t>{{cups.red, cups.red_moved},
+                                                                   {cups.blue, cups.blue_moved}}));
   // Without the colours the nearer newcomers are taken: the case needs them.
   ChangeLogContext blind = context;
   blind.colour.clear();
-  std::map<std::size_t, std::size_t> blind_moves;
-  for (const ChangeEntry& entry : ReviseChangeLog(mapper.Changes(), mapper.LiveObjects(), blind))
-    if (entry.type == "moved")
-      blind_moves[place_of(entry.cuboid.centre)] = place_of(entry.to->cuboid.centre);
-  EXPECT_EQ(blind_moves,
-            (std::map<std::size_t, std::size_t>{{kRed, kBlueMoved}, {kBlue, kRedMoved}}));
+  EXPECT_EQ(moves_of(blind), (std::map<std::size_t, std::size_t>{{cups.red, cups.blue_moved},
+                                                                 {cups.blue, cups.red_moved}}));
 }
 
 TEST(ObjectMapper, RecordsTheOcgInputOfEveryKeyframe) {

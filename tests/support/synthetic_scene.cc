@@ -1,5 +1,7 @@
 #include "synthetic_scene.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <bitset>
 #include <cmath>
@@ -165,6 +167,56 @@ SyntheticScene SynthesizeScene(const SyntheticSceneOptions& options) {
     }
   }
   return scene;
+}
+
+CarriedCups CupsCarriedPastEachOther() {
+  CarriedCups cups;
+  cups.options = TableWithObjects();
+  SyntheticObject red = cups.options.objects[kTableCup];
+  red.centre = {0.15, 0.1, 0.8};
+  red.present_until = 60;
+  SyntheticObject blue = red;
+  blue.centre = {0.15, -0.1, 0.8};
+  SyntheticObject blue_moved = blue, red_moved = red;
+  blue_moved.centre = {0.35, 0.1, 0.8};   // 0.2 from red's old place
+  red_moved.centre = {0.35, -0.05, 0.8};  // 0.21 from blue's old place
+  blue_moved.present_from = red_moved.present_from = 60;
+  blue_moved.present_until = red_moved.present_until = std::numeric_limits<int>::max();
+  cups.options.objects[kTableCup] = red;
+  cups.options.objects.push_back(blue);
+  cups.options.objects.push_back(blue_moved);
+  cups.options.objects.push_back(red_moved);
+  return cups;
+}
+
+bool CarriedCups::IsRed(int object) const {
+  return object == static_cast<int>(red) || object == static_cast<int>(red_moved);
+}
+
+cv::Mat CarriedCups::ColourImage(const SyntheticScene& scene, std::size_t frame) const {
+  cv::Mat bgr(scene.options.camera.height, scene.options.camera.width, CV_8UC3,
+              cv::Scalar(128, 128, 128));
+  for (std::size_t d = 0; d < scene.detections[frame].size(); ++d) {
+    const int object = scene.detected_objects[frame][d];
+    if (scene.options.objects[static_cast<std::size_t>(object)].class_id != 41) continue;
+    const Detection& box = scene.detections[frame][d];
+    const cv::Point centre(static_cast<int>(box.x + 0.5 * box.width),
+                           static_cast<int>(box.y + 0.5 * box.height));
+    const cv::Size axes(static_cast<int>(0.5 * box.width), static_cast<int>(0.5 * box.height));
+    cv::ellipse(bgr, centre, axes, 0, 0, 360,
+                IsRed(object) ? cv::Scalar(30, 30, 220) : cv::Scalar(220, 60, 30), cv::FILLED);
+  }
+  return bgr;
+}
+
+std::size_t CarriedCups::PlaceOf(const Eigen::Vector3d& centre) const {
+  std::size_t nearest = red;
+  for (const std::size_t place : {red, blue, blue_moved, red_moved}) {
+    if ((options.objects[place].centre - centre).norm() <
+        (options.objects[nearest].centre - centre).norm())
+      nearest = place;
+  }
+  return nearest;
 }
 
 }  // namespace ocg::testing

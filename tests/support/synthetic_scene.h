@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <opencv2/core/mat.hpp>
 #include <utility>
 #include <vector>
 
@@ -103,6 +104,24 @@ SyntheticScene SynthesizeScene(const SyntheticSceneOptions& options);
 // frame cup_taken_at (default: never).
 SyntheticSceneOptions TableWithObjects(int cup_taken_at = std::numeric_limits<int>::max());
 constexpr int kTableCup = 0;  // the cup's index in TableWithObjects().objects
+
+// Two cups of one size, one red and one blue, on the table of TableWithObjects() (the
+// cup of kTableCup is the red one, the fourth object the blue one), carried past each
+// other while the camera looks away (frames 60-69): the red one to a place a little
+// farther from its old one than the blue one's new place is, and the blue one likewise.
+// By distance alone a pairing of moves takes each removal to the nearer newcomer, the
+// other cup; their colours tell them apart.
+struct CarriedCups {
+  SyntheticSceneOptions options;
+  std::size_t red = kTableCup, blue = 4, blue_moved = 5, red_moved = 6;  // in options.objects
+  bool IsRed(int object) const;
+  // A frame's colour image: grey, each detected cup a filled ellipse in its box, red or
+  // blue (BGR).
+  cv::Mat ColourImage(const SyntheticScene& scene, std::size_t frame) const;
+  // The index of the cup place (of the four) nearest centre.
+  std::size_t PlaceOf(const Eigen::Vector3d& centre) const;
+};
+CarriedCups CupsCarriedPastEachOther();
 
 // The camera at eye looking at target, world z up (x right, y down in the image).
 SE3 LookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);

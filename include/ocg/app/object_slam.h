@@ -83,8 +83,9 @@ struct FrameSource {
   // The frame's timestamp as written in the trajectories (default: the number, %.6f).
   std::string timestamp_text;
   // The image file, read in colour for the frame snapshots (empty: the pixels given) and,
-  // at Shutdown(), for the objects' colour signatures at keyframes (docs/sessions.md,
-  // "Moves in changes.json"; empty: the frame's sightings get none).
+  // when the pixels given are grey, for the objects' colour signatures if the frame is an
+  // OCG keyframe with detections, as it comes (docs/sessions.md, "Moves in changes.json";
+  // empty: the frame's sightings get none).
   std::string image_path;
   // The image's ORB features from ObjectSlam::FeatureExtractor(), made ahead on another
   // thread; null: tracking extracts them (it always does while initializing).
@@ -127,7 +128,8 @@ class ObjectSlam {
   ObjectSlam& operator=(const ObjectSlam&) = delete;
 
   // One frame: image CV_8UC1 grey or CV_8UC3 BGR of the settings' size (pixels; a BGR
-  // image gives the objects' colour signatures when source.image_path is empty);
+  // image gives the objects' colour signatures, a grey one leaves them to
+  // source.image_path);
   // timestamp in seconds, finite, strictly increasing; detections in this image's pixels
   // (EAO format, ignored when the options map no objects). Returns T_cw (world to camera,
   // map units) when the frame was tracked, else nothing. Throws std::invalid_argument for

@@ -21,7 +21,9 @@ struct PoseGivenFrame {
   std::string timestamp_text;  // the frame's name in the detections ("<timestamp_text>.txt")
   double timestamp = 0.0;      // seconds
   std::optional<SE3> T_cw;     // world to camera; none: the frame is skipped
-  std::string image_path;      // its image, for the frame views ("": none, drawn on grey)
+  // Its image, for the frame views ("": none, drawn on grey) and, at a keyframe with
+  // detections, the objects' colours (docs/sessions.md, "Moves in changes.json").
+  std::string image_path;
 };
 
 // Runs the object layer over frames (in time order; every Objects.keyframe_interval-th

@@ -40,6 +40,11 @@ struct ObjectLayerStats {
   std::int64_t detections_matched = 0;
   std::int64_t objects_created = 0;
   std::int64_t objects_removed = 0;  // by the OCG
+  // AddFrame()'s colour images (keyframes with detections after filtering) and the
+  // sightings they gave a colour signature.
+  std::int64_t colour_images = 0;
+  std::int64_t colour_sightings = 0;
+  double colour_cpu_seconds = 0.0;  // of colouring them (the caller's thread)
   // SLAM runs: the last supporting plane found (0 inliers: none, up from the cameras).
   int plane_inliers = 0;
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
@@ -53,10 +58,14 @@ class ObjectMapper {
   ObjectMapper& operator=(const ObjectMapper&) = delete;
 
   // Detections straight from the files: filtered here. points: the SLAM map points
-  // tracked in the frame (SLAM runs), else null.
+  // tracked in the frame (SLAM runs), else null. colour: the frame's BGR image (a
+  // keyframe's, both run kinds; empty: none): the sightings the frame made take their
+  // colour signatures (SetSightingColours) in the same step, before the OCG (on its own
+  // thread in threaded mode) can remove their objects, so a removed object keeps them.
   FrameAssociation AddFrame(std::int64_t frame, double timestamp, const SE3& T_cw,
                             const std::vector<Detection>& detections,
-                            const std::vector<PointObservation>* points = nullptr);
+                            const std::vector<PointObservation>* points = nullptr,
+                            const cv::Mat& colour = cv::Mat());
   // SLAM runs, before each AddKeyframe(): the copy of the SLAM map takes the changes; up
   // from the supporting plane of the map points refined by the objects' bottoms; the
   // sightings moved to their frames' optimized poses and the objects' points to their
@@ -107,9 +116,7 @@ class ObjectMapper {
   std::map<ObjectId, std::vector<Descriptor>> BoxAppearances(const KeyframeFeatureMap& keyframes,
                                                              const BoxAppearanceOptions& options,
                                                              int max_distance) const;
-  // ObjectMap::SetSightingColours() and ColourAppearances().
-  int SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
-                         const ColourSignatureOptions& options);
+  // ObjectMap::ColourAppearances().
   std::map<ObjectId, ColourHistogram> ColourAppearances(int min_signatures) const;
 
  private:

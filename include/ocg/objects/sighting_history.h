@@ -62,8 +62,8 @@ struct ObjectSighting {
   bool crowded = false;
   int class_id = 0;  // as detected (detectors confuse cup and bowl, book and laptop)
   int session = 0;   // the session (map files: 0 for the first run) that saw it
-  // The object's colour in the box (BoxColourSignature), set at the end of a SLAM run for
-  // the sightings at that session's keyframes (ObjectMap::SetSightingColours).
+  // The object's colour in the box (BoxColourSignature), set as the sighting is made at an
+  // OCG keyframe whose image is known (ObjectMapper::AddFrame, both run kinds).
   SightingColour colour;
   // Seconds, the frame's timestamp (SeenAsClass()). Not saved in map files: 0 in sightings
   // loaded from one.
