@@ -50,10 +50,12 @@ class KeyframeColours {
   // (a frame list of a sequence whose images were left out lists thousands).
   void WarnOfUnreadable() const;
   // run.json's "colour_signatures": keyframe_images and sightings (the mapper's counts,
-  // ObjectLayerStats), unreadable images, and the mean CPU milliseconds per keyframe image
-  // of reading it (when this layer read it: with --modes the first layer does) and of
-  // colouring its sightings.
+  // ObjectLayerStats) and the images that could not be read.
   nlohmann::json Report(const ObjectLayerStats& stats) const;
+  // run.json's timing entry "colour_per_keyframe_image": the mean CPU milliseconds of
+  // reading a keyframe's image (when this layer read it: with --modes the first layer
+  // does) and of colouring its sightings.
+  nlohmann::json Timing(const ObjectLayerStats& stats) const;
 
  private:
   std::int64_t unreadable_ = 0;

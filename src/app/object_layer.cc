@@ -200,7 +200,8 @@ nlohmann::json ObjectLayer::Write(const std::string& output) const {
                   {"up", {stats.up.x(), stats.up.y(), stats.up.z()}},
                   {"timing",
                    {{"objects_per_frame", Timing(seconds_)},
-                    {"object_layer_per_keyframe", PerKeyframeTiming(keyframe_cpu_seconds_)}}},
+                    {"object_layer_per_keyframe", PerKeyframeTiming(keyframe_cpu_seconds_)},
+                    {"colour_per_keyframe_image", colours_.Timing(stats)}}},
                   {"slam_map_full_reads", full_map_reads_}});
   if (settings_.ocg.modes().point_presence) {
     const ObjectMap::PointPresenceStats points = mapper_->PointPresenceStats();

@@ -67,7 +67,9 @@ nlohmann::json MapObjectsAlongTrajectory(const Settings& settings,
                            {"keyframes", keyframes},
                            {"colour_signatures", colours.Report(mapper.Stats())},
                            {"wall_seconds", seconds},
-                           {"timing", {{"objects_per_frame", app_detail::Timing(frame_seconds)}}}};
+                           {"timing",
+                            {{"objects_per_frame", app_detail::Timing(frame_seconds)},
+                             {"colour_per_keyframe_image", colours.Timing(mapper.Stats())}}}};
   ChangeLogContext change_log;
   if (!frames.empty()) change_log.session_start = frames.front().timestamp;
   change_log.seen_as_class = mapper.SeenAsClassThisSession();

@@ -140,15 +140,10 @@ TEST(ObjectSlam, AlsoModesWriteWhatRunsOfTheirOwnWrite) {
   EXPECT_NE(ReadFile(visibility_out + "/ocg.json"), ReadFile(paper_out + "/ocg.json"));
   const nlohmann::json report = nlohmann::json::parse(ReadFile(visibility_out + "/run.json"));
   EXPECT_EQ(report["objects"]["ocg_mode"], "visibility");
-  // Every mode's sightings take their colours from the keyframe images, read once for all
-  // (the counts; the time is the reading layer's).
+  // Every mode's sightings take their colours from the keyframe images, read once for all.
   const nlohmann::json tool_report = nlohmann::json::parse(ReadFile(tool_out + "/run.json"));
   EXPECT_GT(report["objects"]["colour_signatures"]["sightings"].get<int>(), 0);
-  for (const char* count : {"keyframe_images", "sightings", "unreadable_images"}) {
-    EXPECT_EQ(report["objects"]["colour_signatures"][count],
-              tool_report["objects"]["colour_signatures"][count])
-        << count;
-  }
+  EXPECT_EQ(report["objects"]["colour_signatures"], tool_report["objects"]["colour_signatures"]);
 }
 
 TEST(ObjectSlam, AlsoModesNeedObjectsAndSequentialMode) {
