@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <set>
 
 #include "ocg/objects/candidate_tracker.h"
 #include "ocg/objects/detection_association.h"
@@ -77,8 +78,12 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     if (entity->id > 0) {
       result.matched.emplace_back(static_cast<int>(d), entity->id);
       observed_since_keyframe_[entity->id] = frame;
-      if (!detection.truncated && Reestimate(*entity, false, context))
+      if (!detection.truncated && Reestimate(*entity, false, context)) {
         geometry_changed_[entity->id] = true;
+        unestimated_.erase(entity->id);
+      } else {
+        unestimated_.insert(entity->id);  // its votes or sightings changed: see FollowMap
+      }
     }
   }
   candidates.Update(frame, timestamp, [&](MapObject& candidate) {
@@ -147,8 +152,14 @@ void ObjectMap::FollowMap(
   const auto by_frame = [](const ObjectSighting& sighting, std::int64_t frame) {
     return sighting.frame < frame;
   };
+  // Incremental (Objects.plane_refit_share above 0, a keyframe's changes): the objects
+  // whose sightings or points moved are estimated again, the others only once the up
+  // direction turned by more than kUpTurnForAll since they all were.
+  const bool incremental = options_.plane_refit_share > 0.0 && frames != nullptr;
+  std::set<ObjectId> moved;
   for (auto* entities : {&objects_, &candidates_}) {
     for (auto& [id, entity] : *entities) {
+      bool entity_moved = false;
       if (frames == nullptr) {
         for (ObjectSighting& sighting : entity.sightings) {
           if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
@@ -162,16 +173,30 @@ void ObjectMap::FollowMap(
           if (sighting->frame != frame) continue;
           const std::optional<SE3> pose = pose_of_frame(frame);
           if (!pose) continue;
-          for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting)
+          for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting) {
             sighting->T_cw = *pose;
+            entity_moved = true;
+          }
         }
       }
+      // Only the points ObjectPointIds may count (enough votes, within reach of the
+      // cuboid's centre before or after) move the object.
+      const double reach = entity.cuboid.size.maxCoeff();
+      const auto counts = [&](const ObjectPoint& point, const Eigen::Vector3d& position) {
+        return point.votes >= options_.min_point_votes &&
+               (!entity.has_cuboid || (position - entity.cuboid.centre).norm() <= reach);
+      };
       for (auto point = entity.points.begin(); point != entity.points.end();) {
         const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
         if (!position) {
+          entity_moved = entity_moved || counts(point->second, point->second.position);
           point = entity.points.erase(point);
           continue;
         }
+        entity_moved =
+            entity_moved ||
+            (point->second.position != *position &&
+             (counts(point->second, point->second.position) || counts(point->second, *position)));
         point->second.position = *position;
         if (descriptor_of_point) {
           if (const Descriptor* descriptor = descriptor_of_point(point->first))
@@ -179,9 +204,15 @@ void ObjectMap::FollowMap(
         }
         ++point;
       }
+      if (entities == &objects_ && entity_moved) moved.insert(id);
     }
   }
+  const Eigen::Vector3d up = R_wg_.col(2);
+  const bool all = !incremental || !up_at_estimates_ ||
+                   std::acos(std::clamp(up.dot(*up_at_estimates_), -1.0, 1.0)) > kUpTurnForAll;
+  if (all) up_at_estimates_ = up;
   for (auto& [id, object] : objects_) {
+    if (!all && moved.count(id) == 0 && unestimated_.count(id) == 0) continue;
     const Cuboid before = object.cuboid;
     // The OCG hears of a change only when it matters (1% of the object's size).
     if (Reestimate(object, false, Context()) &&
@@ -190,6 +221,7 @@ void ObjectMap::FollowMap(
       geometry_changed_[id] = true;
     }
   }
+  unestimated_.clear();
 }
 
 std::vector<std::int64_t> ObjectMap::SightingFrames() const {

@@ -910,6 +910,95 @@ TEST_F(TwoObjectScene, ObjectsFollowTheirCamerasAndPointsWhenTheMapIsOptimized) 
   EXPECT_EQ(observation.updates.size(), 2u);
 }
 
+// With the plane kept (Objects.plane_refit_share above 0) FollowMap estimates again only
+// the objects whose sightings or points moved, and all of them once up turned by more
+// than a tenth of a degree: with up unchanged, that is what estimating every object gives.
+TEST_F(TwoObjectScene, IncrementalFollowMapEqualsEstimatingEveryObject) {
+  ObjectsOptions full_options;
+  full_options.yaw_min_elongation = 1.2;  // the laptop's points give its yaw
+  ObjectsOptions incremental_options = full_options;
+  incremental_options.plane_refit_share = 0.1;
+  ObjectMap full(full_options, Camera()), incremental(incremental_options, Camera());
+  const auto points = ScenePoints();
+  std::map<std::uint64_t, Eigen::Vector3d> positions(points.begin(), points.end());
+  std::map<std::int64_t, SE3> poses;
+  for (ObjectMap* map : {&full, &incremental}) {
+    Watch(*map, full_options, 0, 40, true, &points);
+    Watch(*map, full_options, 40, 60, false, &points);  // the laptop alone
+  }
+  for (int frame = 0; frame < 60; ++frame) poses[frame] = OrbitPose(0.02 * frame);
+  ASSERT_EQ(full.objects().size(), 2u);
+  const auto follow = [&](ObjectMap& map, const std::vector<std::int64_t>& frames) {
+    map.FollowMap(
+        [&](std::int64_t frame) -> std::optional<SE3> { return poses.at(frame); },
+        [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> { return positions.at(id); }, {},
+        &frames);
+  };
+  const auto cuboids = [](const ObjectMap& map) {
+    std::map<ObjectId, Cuboid> result;
+    for (const auto& [id, object] : map.objects()) result[id] = object.cuboid;
+    return result;
+  };
+  const auto expect_equal = [&](const char* step) {
+    const auto a = cuboids(full), b = cuboids(incremental);
+    ASSERT_EQ(a.size(), b.size()) << step;
+    for (const auto& [id, cuboid] : a) {
+      EXPECT_EQ(cuboid.centre, b.at(id).centre) << step << ": object " << id;
+      EXPECT_EQ(cuboid.size, b.at(id).size) << step << ": object " << id;
+      EXPECT_EQ(cuboid.yaw, b.at(id).yaw) << step << ": object " << id;
+    }
+  };
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const auto turned = [&](double degrees) {
+    return Eigen::AngleAxisd(degrees * kPi / 180.0, Eigen::Vector3d::UnitX()) * up;
+  };
+  // The first call estimates every object in both.
+  for (ObjectMap* map : {&full, &incremental}) {
+    map->SetUp(up);
+    follow(*map, {});
+  }
+  expect_equal("first call");
+  ObjectId laptop = 0;
+  for (const auto& [id, object] : full.objects()) laptop = object.class_id == 63 ? id : laptop;
+  ASSERT_GT(laptop, 0);
+  // A local adjustment moved the frames where the laptop was seen alone.
+  std::vector<std::int64_t> moved_frames;
+  for (int frame = 40; frame < 60; ++frame) {
+    poses[frame] = SE3(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.05, 0, 0)) * poses[frame];
+    moved_frames.push_back(frame);
+  }
+  Cuboid before = full.objects().at(laptop).cuboid;
+  for (ObjectMap* map : {&full, &incremental}) follow(*map, moved_frames);
+  ASSERT_GT((full.objects().at(laptop).cuboid.centre - before.centre).norm(), 1e-4);
+  expect_equal("frames moved");
+  // It moved the laptop's points alone (turned about its centre): its yaw follows them.
+  for (auto& [id, position] : positions) {
+    if (id >= 200 && id < 216)
+      position = laptop_.centre +
+                 Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * (position - laptop_.centre);
+  }
+  before = full.objects().at(laptop).cuboid;
+  for (ObjectMap* map : {&full, &incremental}) follow(*map, {});
+  ASSERT_GT(std::abs(full.objects().at(laptop).cuboid.yaw - before.yaw), 1e-3);
+  expect_equal("points moved");
+  // Up turned by more than a tenth of a degree: every object is estimated again.
+  for (ObjectMap* map : {&full, &incremental}) {
+    map->SetUp(turned(0.5));
+    follow(*map, {});
+  }
+  expect_equal("up turned");
+  // By less: the objects nothing moved keep their cuboids, within that turn of the others.
+  for (ObjectMap* map : {&full, &incremental}) {
+    map->SetUp(turned(0.55));
+    follow(*map, {});
+  }
+  for (const auto& [id, object] : full.objects()) {
+    const Cuboid& kept = incremental.objects().at(id).cuboid;
+    EXPECT_LT((object.cuboid.centre - kept.centre).norm(), 1e-3 * object.cuboid.size.maxCoeff());
+    EXPECT_LT((object.cuboid.size - kept.size).norm(), 0.02 * object.cuboid.size.maxCoeff());
+  }
+}
+
 TEST(MinAreaRectangle, FindsTheRectangleOfRotatedPoints) {
   const double yaw = 0.5;
   const Eigen::Rotation2Dd rotation(yaw);

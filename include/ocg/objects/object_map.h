@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -188,6 +189,12 @@ class ObjectMap {
   ObjectsOptions options_;
   PinholeCamera camera_;
   Eigen::Matrix3d R_wg_;
+  // FollowMap's incremental mode: the up direction every object was last estimated with
+  // (none: not yet), and how far (radians) up may turn before all are estimated again.
+  std::optional<Eigen::Vector3d> up_at_estimates_;
+  // The objects whose sightings or point votes changed since they were last estimated.
+  std::set<ObjectId> unestimated_;
+  static constexpr double kUpTurnForAll = 0.1 * 3.14159265358979323846 / 180.0;
   std::map<ObjectId, MapObject> objects_;
   std::map<ObjectId, MapObject> candidates_;                  // negative ids
   std::map<ObjectId, std::int64_t> observed_since_keyframe_;  // id -> last frame

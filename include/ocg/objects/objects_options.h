@@ -159,7 +159,9 @@ struct ObjectsOptions {
   // the whole map moved (a loop correction, a merge); 0: at every keyframe. The default
   // is 0: a kept plane changes the up direction, and with it the cuboids (0.1 changed the
   // smoke and desk_static outputs), while a fit costs what the map holds but not the run
-  // (RANSAC scores at most 4,000 points; the medians read them all).
+  // (RANSAC scores at most 4,000 points; the medians read them all). Above 0 the objects
+  // are also estimated incrementally at a keyframe (ObjectMap::FollowMap): only those whose
+  // sightings or counted points moved, all of them once up turned by more than 0.1 degree.
   double plane_refit_share = 0.0;
 
   // Objects.keyframe_interval: pose-given mode has no SLAM keyframes; every N-th frame is
@@ -299,7 +301,9 @@ struct ObjectsOptions {
     visit("Objects.plane_refit_share", self.plane_refit_share, OptionBound::NonNegative(),
           "SLAM runs: the plane is fitted again once this share of the map's points were "
           "added or removed since the last fit (or the whole map moved); 0: every keyframe, "
-          "whose up direction the outputs were made with");
+          "whose up direction the outputs were made with; above 0 a keyframe also estimates "
+          "again only the objects whose sightings or points moved (all once up turned by more "
+          "than 0.1 degree)");
     visit("Objects.keyframe_interval", self.keyframe_interval, OptionBound::AtLeast(1),
           "every N-th (tracked) frame is a keyframe for the OCG");
   }
