@@ -269,6 +269,24 @@ void ObjectLayer::StartSession(int session, std::int64_t frame_offset) {
   if (enabled_) mapper_->StartSession(session, frame_offset);
 }
 
+void ObjectLayer::PruneAnchoredFrames() {
+  const std::vector<std::int64_t> kept = mapper_->SightingFrames();  // sorted
+  anchored_frames_ = 0;
+  for (auto it = frames_by_anchor_.begin(); it != frames_by_anchor_.end();) {
+    std::vector<std::size_t>& frames = it->second;
+    frames.erase(std::remove_if(frames.begin(), frames.end(),
+                                [&](std::size_t call) {
+                                  return !std::binary_search(
+                                      kept.begin(), kept.end(),
+                                      frame_offset_ + static_cast<std::int64_t>(call));
+                                }),
+                 frames.end());
+    anchored_frames_ += frames.size();
+    it = frames.empty() ? frames_by_anchor_.erase(it) : std::next(it);
+  }
+  anchored_after_pruning_ = anchored_frames_;
+}
+
 void ObjectLayer::Follow(const System& system) {
   // What changed in the SLAM map since the last time (all of it the first time). Read
   // before the poses: a change after it is in the next call's answer.
@@ -284,6 +302,7 @@ void ObjectLayer::Follow(const System& system) {
   std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
   if (map.everything || follow_every_frame_) {
     frames_by_anchor_.clear();
+    anchored_frames_ = 0;
     for (const std::int64_t frame : mapper_->SightingFrames()) {
       if (frame >= frame_offset_) calls.push_back(static_cast<std::size_t>(frame - frame_offset_));
     }
@@ -293,6 +312,7 @@ void ObjectLayer::Follow(const System& system) {
       const auto anchored = frames_by_anchor_.find(keyframe.id);
       if (anchored == frames_by_anchor_.end()) continue;
       calls.insert(calls.end(), anchored->second.begin(), anchored->second.end());
+      anchored_frames_ -= anchored->second.size();
       frames_by_anchor_.erase(anchored);
     }
   }
@@ -304,7 +324,10 @@ void ObjectLayer::Follow(const System& system) {
     if (!poses[i]) continue;
     changes.frame_poses.emplace(frame_offset_ + static_cast<std::int64_t>(calls[i]), *poses[i]);
     frames_by_anchor_[anchors[i]].push_back(calls[i]);
+    ++anchored_frames_;
   }
+  if (anchored_frames_ > std::max<std::size_t>(1024, 2 * anchored_after_pruning_))
+    PruneAnchoredFrames();
   changes.points.reserve(map.points.size());
   for (const MapPointState& point : map.points) {
     changes.points.push_back(

@@ -129,6 +129,13 @@ class ObjectLayer {
   // first, after a new mapper or session; the SLAM map's "everything" too).
   std::map<std::uint64_t, std::vector<std::size_t>> frames_by_anchor_;
   std::vector<std::size_t> new_frames_;
+  // The frames frames_by_anchor_ holds, and how many it held after its last pruning: once
+  // twice as many, the frames no object or candidate keeps a sighting of any more
+  // (Objects.max_sightings thins them) leave it, so a keyframe's re-posed frames stay
+  // bounded as the run grows (amortized: a pruning per doubling).
+  std::size_t anchored_frames_ = 0;
+  std::size_t anchored_after_pruning_ = 0;
+  void PruneAnchoredFrames();
   bool follow_every_frame_ = true;
   std::optional<double> session_start_;                      // timestamp of the first frame given
   std::optional<std::vector<ChangeEntry>> earlier_changes_;  // the loaded map file's log

@@ -12,6 +12,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "ocg/core/cereal_types.h"
 #include "ocg/ocg/observation.h"
@@ -93,6 +94,8 @@ struct MapFileAccess {
   static void ObjectMapState(Archive& archive, Map& map) {
     archive(map.R_wg_, map.objects_, map.candidates_, map.observed_since_keyframe_,
             map.geometry_changed_, map.changes_, map.next_object_id_, map.next_candidate_id_);
+    // Loaded: FollowMap indexes the points again.
+    if constexpr (!std::is_const_v<Map>) map.point_index_valid_ = false;
   }
 
   template <class Archive, class Record>

@@ -71,13 +71,19 @@ RobustBounds RobustPointBounds(const std::vector<Eigen::Vector3d>& positions, do
 }
 
 Eigen::Vector3d CameraUpPrior(const std::vector<Eigen::Matrix3d>& camera_to_world_rotations) {
-  if (camera_to_world_rotations.empty()) return -Eigen::Vector3d::UnitY();
   Eigen::Matrix3d x_scatter = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d mean_up = Eigen::Vector3d::Zero();
+  Eigen::Vector3d minus_y_sum = Eigen::Vector3d::Zero();
   for (const Eigen::Matrix3d& R_wc : camera_to_world_rotations) {
     x_scatter += R_wc.col(0) * R_wc.col(0).transpose();
-    mean_up -= R_wc.col(1);
+    minus_y_sum -= R_wc.col(1);
   }
+  return CameraUpPrior(x_scatter, minus_y_sum, camera_to_world_rotations.size());
+}
+
+Eigen::Vector3d CameraUpPrior(const Eigen::Matrix3d& x_scatter, const Eigen::Vector3d& minus_y_sum,
+                              std::size_t count) {
+  if (count == 0) return -Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d& mean_up = minus_y_sum;
   // With the camera panning, the x axes span the horizontal plane and the direction they
   // leave out is up; a camera that never turns leaves a plane of choices, in which the
   // mean -y (tilted by the camera's pitch) decides.

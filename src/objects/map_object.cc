@@ -1,6 +1,7 @@
 #include "ocg/objects/map_object.h"
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 
 #include "ocg/objects/object_geometry.h"
@@ -162,6 +163,22 @@ void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>
     ++entry.votes;
     entry.position = point->position;
   }
+}
+
+void BoundPoints(MapObject& object, int max_points) {
+  const auto limit = static_cast<std::size_t>(max_points);
+  // A quarter over the bound before pruning: one prune per many added points.
+  if (max_points <= 0 || object.points.size() <= limit + limit / 4) return;
+  // The most voted kept; of equal votes the newer points (higher ids: the map culls the
+  // old ones first).
+  std::vector<std::pair<int, std::uint64_t>> ranked;
+  ranked.reserve(object.points.size());
+  for (const auto& [id, point] : object.points) ranked.emplace_back(point.votes, id);
+  std::nth_element(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(limit),
+                   ranked.end(), std::greater<>());
+  for (auto dropped = ranked.begin() + static_cast<std::ptrdiff_t>(limit); dropped != ranked.end();
+       ++dropped)
+    object.points.erase(dropped->second);
 }
 
 std::vector<std::size_t> Thinned(std::size_t count, std::size_t limit) {

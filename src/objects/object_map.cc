@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <set>
 
 #include "ocg/objects/candidate_tracker.h"
 #include "ocg/objects/detection_association.h"
@@ -66,19 +67,27 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
                             ? entities[static_cast<std::size_t>(assignment[d])]
                             : candidates.AcrossGap(detection, frame, timestamp, T_cw, session_);
     if (entity == nullptr) {
+      const ObjectId started = next_candidate_id_;
       candidates.Start(sighting, box_points[d]);
+      PointsJoined(candidates_.at(started), box_points[d]);
       ++result.new_candidates;
       continue;
     }
     entity->sightings.Add(sighting, static_cast<std::size_t>(options_.max_sightings));
     AddPointVotes(*entity, box_points[d]);
+    PointsJoined(*entity, box_points[d]);
+    BoundPoints(*entity, options_.max_object_points);
     entity->last_frame = frame;
     entity->last_timestamp = timestamp;
     if (entity->id > 0) {
       result.matched.emplace_back(static_cast<int>(d), entity->id);
       observed_since_keyframe_[entity->id] = frame;
-      if (!detection.truncated && Reestimate(*entity, false, context))
+      if (!detection.truncated && Reestimate(*entity, false, context)) {
         geometry_changed_[entity->id] = true;
+        unestimated_.erase(entity->id);
+      } else {
+        unestimated_.insert(entity->id);  // its votes or sightings changed: see FollowMap
+      }
     }
   }
   candidates.Update(frame, timestamp, [&](MapObject& candidate) {
@@ -95,6 +104,7 @@ void ObjectMap::Promote(MapObject& candidate, std::int64_t frame, FrameAssociati
   }
   MapObject object = std::move(candidate);
   object.id = next_object_id_++;
+  point_index_valid_ = false;  // its points now belong to a new id
   observed_since_keyframe_[object.id] = frame;
   geometry_changed_[object.id] = true;
   result->promoted.push_back(object.id);
@@ -106,7 +116,7 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
   if (!options_.join_candidates) return std::nullopt;
   MapObject* host = HostOf(candidate, objects_, Context());
   if (host == nullptr) return std::nullopt;
-  Absorb(*host, candidate, options_.max_sightings);
+  AbsorbInto(*host, candidate);
   Reestimate(*host, false, Context());
   observed_since_keyframe_[host->id] = frame;
   geometry_changed_[host->id] = true;
@@ -125,11 +135,17 @@ void ObjectMap::JoinWaitingCandidates() {
       continue;
     }
     // Its boxes are old: the host was not observed now (the OCG's evidence is the present).
-    Absorb(*host, candidate, options_.max_sightings);
+    AbsorbInto(*host, candidate);
     Reestimate(*host, false, Context());
     geometry_changed_[host->id] = true;
     it = candidates_.erase(it);
   }
+}
+
+void ObjectMap::AbsorbInto(MapObject& into, const MapObject& from) {
+  Absorb(into, from, options_.max_sightings);
+  BoundPoints(into, options_.max_object_points);
+  point_index_valid_ = false;  // into holds from's points now
 }
 
 void ObjectMap::StartSession(int session, std::int64_t first_frame) {
@@ -143,12 +159,44 @@ void ObjectMap::FollowMap(
     const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
     const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
     const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point,
-    const std::vector<std::int64_t>* frames) {
+    const std::vector<std::int64_t>* frames, const std::vector<std::uint64_t>* changed_points) {
   const auto by_frame = [](const ObjectSighting& sighting, std::int64_t frame) {
     return sighting.frame < frame;
   };
+  // Incremental (a keyframe's changes): the objects whose sightings or points moved are
+  // estimated again, the others only once the up direction turned by more than
+  // kUpTurnForAll since they all were.
+  const bool incremental = frames != nullptr;
+  std::set<ObjectId> moved;
+  // A point moves the entity when ObjectPointIds may count it (enough votes, within reach
+  // of the cuboid's centre before or after).
+  const auto follow_point = [&](MapObject& entity,
+                                std::map<std::uint64_t, ObjectPoint>::iterator point) {
+    const double reach = entity.cuboid.size.maxCoeff();
+    const auto counts = [&](const ObjectPoint& kept, const Eigen::Vector3d& position) {
+      return kept.votes >= options_.min_point_votes &&
+             (!entity.has_cuboid || (position - entity.cuboid.centre).norm() <= reach);
+    };
+    bool entity_moved = false;
+    const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
+    if (!position) {
+      entity_moved = counts(point->second, point->second.position);
+      entity.points.erase(point);
+      return entity_moved;
+    }
+    entity_moved =
+        point->second.position != *position &&
+        (counts(point->second, point->second.position) || counts(point->second, *position));
+    point->second.position = *position;
+    if (descriptor_of_point) {
+      if (const Descriptor* descriptor = descriptor_of_point(point->first))
+        point->second.descriptor = *descriptor;
+    }
+    return entity_moved;
+  };
   for (auto* entities : {&objects_, &candidates_}) {
     for (auto& [id, entity] : *entities) {
+      bool entity_moved = false;
       if (frames == nullptr) {
         for (ObjectSighting& sighting : entity.sightings) {
           if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
@@ -162,26 +210,61 @@ void ObjectMap::FollowMap(
           if (sighting->frame != frame) continue;
           const std::optional<SE3> pose = pose_of_frame(frame);
           if (!pose) continue;
-          for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting)
+          for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting) {
             sighting->T_cw = *pose;
+            entity_moved = true;
+          }
         }
       }
-      for (auto point = entity.points.begin(); point != entity.points.end();) {
-        const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
-        if (!position) {
-          point = entity.points.erase(point);
-          continue;
+      if (changed_points == nullptr) {
+        for (auto point = entity.points.begin(); point != entity.points.end();) {
+          const auto next = std::next(point);
+          entity_moved = follow_point(entity, point) || entity_moved;
+          point = next;
         }
-        point->second.position = *position;
-        if (descriptor_of_point) {
-          if (const Descriptor* descriptor = descriptor_of_point(point->first))
-            point->second.descriptor = *descriptor;
-        }
-        ++point;
+      }
+      if (entities == &objects_ && entity_moved) moved.insert(id);
+    }
+  }
+  if (changed_points != nullptr) {
+    // Only the points that changed in the map, and those that joined an entity since the
+    // last call (their map point may have moved before they joined), found through the
+    // point -> entities index.
+    if (!point_index_valid_) IndexPoints();
+    std::vector<std::uint64_t> visit = *changed_points;
+    visit.insert(visit.end(), fresh_points_.begin(), fresh_points_.end());
+    std::sort(visit.begin(), visit.end());
+    visit.erase(std::unique(visit.begin(), visit.end()), visit.end());
+    for (const std::uint64_t point_id : visit) {
+      const auto indexed = point_entities_.find(point_id);
+      if (indexed == point_entities_.end()) continue;
+      std::vector<ObjectId>& ids = indexed->second;
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      std::vector<ObjectId> holding;
+      for (const ObjectId id : ids) {
+        auto& entities = id > 0 ? objects_ : candidates_;
+        const auto entity = entities.find(id);
+        if (entity == entities.end()) continue;  // merged, dropped, removed or promoted
+        const auto point = entity->second.points.find(point_id);
+        if (point == entity->second.points.end()) continue;  // bounded away
+        if (follow_point(entity->second, point) && id > 0) moved.insert(id);
+        if (entity->second.points.count(point_id) > 0) holding.push_back(id);
+      }
+      if (holding.empty()) {
+        point_entities_.erase(indexed);
+      } else {
+        ids = std::move(holding);
       }
     }
   }
+  fresh_points_.clear();
+  const Eigen::Vector3d up = R_wg_.col(2);
+  const bool all = !incremental || !up_at_estimates_ ||
+                   std::acos(std::clamp(up.dot(*up_at_estimates_), -1.0, 1.0)) > kUpTurnForAll;
+  if (all) up_at_estimates_ = up;
   for (auto& [id, object] : objects_) {
+    if (!all && moved.count(id) == 0 && unestimated_.count(id) == 0) continue;
     const Cuboid before = object.cuboid;
     // The OCG hears of a change only when it matters (1% of the object's size).
     if (Reestimate(object, false, Context()) &&
@@ -189,6 +272,27 @@ void ObjectMap::FollowMap(
          (object.cuboid.size - before.size).norm() > 0.01 * before.size.maxCoeff())) {
       geometry_changed_[id] = true;
     }
+  }
+  unestimated_.clear();
+}
+
+void ObjectMap::IndexPoints() {
+  point_entities_.clear();
+  for (const auto* entities : {&objects_, &candidates_}) {
+    for (const auto& [id, entity] : *entities) {
+      for (const auto& [point, kept] : entity.points) point_entities_[point].push_back(id);
+    }
+  }
+  point_index_valid_ = true;
+}
+
+void ObjectMap::PointsJoined(const MapObject& entity,
+                             const std::vector<const PointObservation*>& box_points) {
+  for (const PointObservation* point : box_points) {
+    const auto kept = entity.points.find(point->id);
+    if (kept == entity.points.end() || kept->second.votes != 1) continue;  // not new
+    fresh_points_.push_back(point->id);
+    if (point_index_valid_) point_entities_[point->id].push_back(entity.id);
   }
 }
 
@@ -268,7 +372,7 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   MapObject& from = objects_.at(absorbed);
   ObjectChange change = ChangeOf("merged", keyframe_id, timestamp, from, session_);
   change.merged_into = kept;
-  Absorb(into, from, options_.max_sightings);
+  AbsorbInto(into, from);
   Reestimate(into, false, Context());
   geometry_changed_[kept] = true;
   if (observed_since_keyframe_.count(absorbed) > 0) {
@@ -297,6 +401,8 @@ std::vector<ObjectId> ObjectMap::RestoreRemoved(std::int64_t keyframe_id, double
     }
     const ObjectId id = it->second.object.id, recreated_as = found->id;
     const double removed_at = it->second.removed_at;
+    // Its points missed the map's changes while it was away: FollowMap reads them all.
+    for (const auto& [point, kept] : it->second.object.points) fresh_points_.push_back(point);
     objects_.emplace(id, std::move(it->second.object));
     it = removed_.erase(it);
     Merge(id, recreated_as, keyframe_id, timestamp, merges);

@@ -57,7 +57,7 @@ void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t se
   follow_work_ = SlamFollowWork{};
   follow_work_.points_changed = changes.points.size();
   changed_since_fit_ += slam_map_.Apply(changes);
-  const Eigen::Vector3d prior = CameraUpPrior(slam_map_.Rotations());
+  const Eigen::Vector3d prior = slam_map_.CameraUpPrior();
   if (changes.everything || !plane_fitted_ ||
       static_cast<double>(changed_since_fit_) >=
           options.plane_refit_share * static_cast<double>(points_at_fit_)) {
@@ -94,6 +94,11 @@ void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t se
   std::vector<std::int64_t> frames;
   frames.reserve(changes.frame_poses.size());
   for (const auto& [frame, pose] : changes.frame_poses) frames.push_back(frame);
+  // Of the map's points, those that changed: the objects follow them alone (the whole map
+  // when it started over).
+  std::vector<std::uint64_t> changed_points;
+  changed_points.reserve(changes.points.size());
+  for (const SlamMapChanges::Point& point : changes.points) changed_points.push_back(point.id);
   map_.FollowMap(
       [&changes](std::int64_t frame) -> std::optional<SE3> {
         const auto found = changes.frame_poses.find(frame);
@@ -109,7 +114,7 @@ void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t se
         const auto found = points.find(point);
         return found == points.end() ? nullptr : &found->second.descriptor;
       },
-      &frames);
+      changes.everything ? nullptr : &frames, changes.everything ? nullptr : &changed_points);
 }
 
 std::vector<std::int64_t> ObjectMapper::SightingFrames() const {

@@ -1,5 +1,7 @@
 #include "ocg/objects/slam_map_copy.h"
 
+#include "ocg/objects/map_cues.h"
+
 namespace ocg {
 
 std::size_t SlamMapCopy::Apply(const SlamMapChanges& changes) {
@@ -8,6 +10,8 @@ std::size_t SlamMapCopy::Apply(const SlamMapChanges& changes) {
     added_or_removed = points_.size();
     points_.clear();
     rotations_.clear();
+    x_scatter_.setZero();
+    minus_y_sum_.setZero();
   }
   for (const SlamMapChanges::Point& point : changes.points) {
     if (!point.position) {
@@ -19,10 +23,14 @@ std::size_t SlamMapCopy::Apply(const SlamMapChanges& changes) {
     added_or_removed += added ? 1 : 0;
   }
   for (const auto& [id, rotation] : changes.camera_rotations) {
+    const auto kept = rotations_.find(id);
+    if (kept != rotations_.end()) {
+      AddToSums(kept->second, -1.0);
+      rotations_.erase(kept);
+    }
     if (rotation) {
-      rotations_.insert_or_assign(id, *rotation);
-    } else {
-      rotations_.erase(id);
+      rotations_.emplace(id, *rotation);
+      AddToSums(*rotation, 1.0);
     }
   }
   return added_or_removed;
@@ -33,6 +41,15 @@ std::vector<Eigen::Vector3d> SlamMapCopy::Positions() const {
   positions.reserve(points_.size());
   for (const auto& [id, point] : points_) positions.push_back(point.position);
   return positions;
+}
+
+void SlamMapCopy::AddToSums(const Eigen::Matrix3d& R_wc, double sign) {
+  x_scatter_ += sign * (R_wc.col(0) * R_wc.col(0).transpose());
+  minus_y_sum_ -= sign * R_wc.col(1);
+}
+
+Eigen::Vector3d SlamMapCopy::CameraUpPrior() const {
+  return ocg::CameraUpPrior(x_scatter_, minus_y_sum_, rotations_.size());
 }
 
 std::vector<Eigen::Matrix3d> SlamMapCopy::Rotations() const {

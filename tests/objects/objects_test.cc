@@ -393,6 +393,34 @@ class TwoObjectScene : public ::testing::Test {
     }
     return detections;
   }
+  // The points in front of the camera, as tracking would report them.
+  static std::vector<PointObservation> Tracked(
+      const SE3& T_cw, const std::vector<std::pair<std::uint64_t, Eigen::Vector3d>>& points) {
+    std::vector<PointObservation> tracked;
+    for (const auto& [id, position] : points) {
+      const Eigen::Vector3d p_c = T_cw * position;
+      if (p_c.z() > 0.1) tracked.push_back({id, Camera().ProjectUndistorted(p_c), position});
+    }
+    return tracked;
+  }
+  // A camera going back and forth over the orbit's first 40 steps for `frames` frames, a
+  // keyframe every 10, with the tracked map points when given; returns the hygiene's merges.
+  std::vector<ObjectChange> BackAndForth(
+      ObjectMap& map, const ObjectsOptions& options, int frames,
+      const std::vector<std::pair<std::uint64_t, Eigen::Vector3d>>* points = nullptr) const {
+    std::vector<ObjectChange> merges;
+    for (int frame = 0; frame < frames; ++frame) {
+      const int step = frame % 80 < 40 ? frame % 80 : 80 - frame % 80;  // forward and back
+      const SE3 T_cw = OrbitPose(0.02 * step);
+      const std::vector<PointObservation> tracked =
+          points != nullptr ? Tracked(T_cw, *points) : std::vector<PointObservation>{};
+      map.AddFrame(frame, frame / 30.0, T_cw,
+                   FilterDetections(DetectionsAt(T_cw), options, Camera()),
+                   points != nullptr ? &tracked : nullptr);
+      if (frame % 10 == 9) map.MakeKeyframeObservation(frame / 10, frame / 30.0, T_cw, &merges);
+    }
+    return merges;
+  }
   // Frames first..last-1 of the orbit into the map (the cup hidden if asked), with the
   // tracked map points when given.
   void Watch(ObjectMap& map, const ObjectsOptions& options, int first, int last,
@@ -447,11 +475,7 @@ TEST_F(TwoObjectScene, ACameraTurningOnTheSpotPlacesObjectsByTheirMapPoints) {
       const double share = 0.5 + 0.5 * std::sin(frame * 0.15);
       const Eigen::Vector3d target = laptop_.centre + share * (cup_.centre - laptop_.centre);
       const SE3 T_cw = LookFrom(eye + Eigen::Vector3d(0, 0.005 * frame / 60.0, 0), target);
-      std::vector<PointObservation> tracked;
-      for (const auto& [id, position] : points) {
-        const Eigen::Vector3d p_c = T_cw * position;
-        if (p_c.z() > 0.1) tracked.push_back({id, Camera().ProjectUndistorted(p_c), position});
-      }
+      const std::vector<PointObservation> tracked = Tracked(T_cw, points);
       map.AddFrame(frame, frame / 30.0, T_cw,
                    FilterDetections(DetectionsAt(T_cw), options, Camera()), &tracked);
     }
@@ -908,6 +932,99 @@ TEST_F(TwoObjectScene, ObjectsFollowTheirCamerasAndPointsWhenTheMapIsOptimized) 
   const KeyframeObservation observation =
       map.MakeKeyframeObservation(0, 1.0, OrbitPose(0.78), &merges);
   EXPECT_EQ(observation.updates.size(), 2u);
+}
+
+// Given a keyframe's changes (the frames and points that moved), FollowMap visits only
+// those (the points through its point -> objects index) and estimates again only the
+// objects whose sightings or points moved, and all of them once up turned by more than a
+// tenth of a degree: with up unchanged, that is what following everything gives.
+TEST_F(TwoObjectScene, IncrementalFollowMapEqualsEstimatingEveryObject) {
+  ObjectsOptions options;
+  options.yaw_min_elongation = 1.2;  // the laptop's points give its yaw
+  ObjectMap full(options, Camera()), incremental(options, Camera());
+  const auto points = ScenePoints();
+  std::map<std::uint64_t, Eigen::Vector3d> positions(points.begin(), points.end());
+  std::map<std::int64_t, SE3> poses;
+  for (ObjectMap* map : {&full, &incremental}) {
+    Watch(*map, options, 0, 40, true, &points);
+    Watch(*map, options, 40, 60, false, &points);  // the laptop alone
+  }
+  for (int frame = 0; frame < 60; ++frame) poses[frame] = OrbitPose(0.02 * frame);
+  ASSERT_EQ(full.objects().size(), 2u);
+  // full: every sighting, every point, every object; incremental: what changed.
+  const auto follow = [&](ObjectMap& map, const std::vector<std::int64_t>& frames,
+                          const std::vector<std::uint64_t>& changed_points) {
+    const bool all = &map == &full;
+    map.FollowMap(
+        [&](std::int64_t frame) -> std::optional<SE3> { return poses.at(frame); },
+        [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> { return positions.at(id); }, {},
+        all ? nullptr : &frames, all ? nullptr : &changed_points);
+  };
+  const auto cuboids = [](const ObjectMap& map) {
+    std::map<ObjectId, Cuboid> result;
+    for (const auto& [id, object] : map.objects()) result[id] = object.cuboid;
+    return result;
+  };
+  const auto expect_equal = [&](const char* step) {
+    const auto a = cuboids(full), b = cuboids(incremental);
+    ASSERT_EQ(a.size(), b.size()) << step;
+    for (const auto& [id, cuboid] : a) {
+      EXPECT_EQ(cuboid.centre, b.at(id).centre) << step << ": object " << id;
+      EXPECT_EQ(cuboid.size, b.at(id).size) << step << ": object " << id;
+      EXPECT_EQ(cuboid.yaw, b.at(id).yaw) << step << ": object " << id;
+    }
+  };
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const auto turned = [&](double degrees) {
+    return Eigen::AngleAxisd(degrees * kPi / 180.0, Eigen::Vector3d::UnitX()) * up;
+  };
+  // The first call estimates every object in both.
+  for (ObjectMap* map : {&full, &incremental}) {
+    map->SetUp(up);
+    follow(*map, {}, {});
+  }
+  expect_equal("first call");
+  ObjectId laptop = 0;
+  for (const auto& [id, object] : full.objects()) laptop = object.class_id == 63 ? id : laptop;
+  ASSERT_GT(laptop, 0);
+  // A local adjustment moved the frames where the laptop was seen alone.
+  std::vector<std::int64_t> moved_frames;
+  for (int frame = 40; frame < 60; ++frame) {
+    poses[frame] = SE3(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.05, 0, 0)) * poses[frame];
+    moved_frames.push_back(frame);
+  }
+  Cuboid before = full.objects().at(laptop).cuboid;
+  for (ObjectMap* map : {&full, &incremental}) follow(*map, moved_frames, {});
+  ASSERT_GT((full.objects().at(laptop).cuboid.centre - before.centre).norm(), 1e-4);
+  expect_equal("frames moved");
+  // It moved the laptop's points alone (turned about its centre): its yaw follows them.
+  std::vector<std::uint64_t> moved_points;
+  for (auto& [id, position] : positions) {
+    if (id >= 200 && id < 216) moved_points.push_back(id);
+    if (id >= 200 && id < 216)
+      position = laptop_.centre +
+                 Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * (position - laptop_.centre);
+  }
+  before = full.objects().at(laptop).cuboid;
+  for (ObjectMap* map : {&full, &incremental}) follow(*map, {}, moved_points);
+  ASSERT_GT(std::abs(full.objects().at(laptop).cuboid.yaw - before.yaw), 1e-3);
+  expect_equal("points moved");
+  // Up turned by more than a tenth of a degree: every object is estimated again.
+  for (ObjectMap* map : {&full, &incremental}) {
+    map->SetUp(turned(0.5));
+    follow(*map, {}, {});
+  }
+  expect_equal("up turned");
+  // By less: the objects nothing moved keep their cuboids, within that turn of the others.
+  for (ObjectMap* map : {&full, &incremental}) {
+    map->SetUp(turned(0.55));
+    follow(*map, {}, {});
+  }
+  for (const auto& [id, object] : full.objects()) {
+    const Cuboid& kept = incremental.objects().at(id).cuboid;
+    EXPECT_LT((object.cuboid.centre - kept.centre).norm(), 1e-3 * object.cuboid.size.maxCoeff());
+    EXPECT_LT((object.cuboid.size - kept.size).norm(), 0.02 * object.cuboid.size.maxCoeff());
+  }
 }
 
 TEST(MinAreaRectangle, FindsTheRectangleOfRotatedPoints) {
@@ -1477,15 +1594,7 @@ TEST_F(TwoObjectScene, ARevisitedObjectKeepsABoundedHistoryAndAnswersAsBefore) {
     ObjectsOptions options;
     options.max_sightings = max_sightings;
     ObjectMap map(options, Camera());
-    std::vector<ObjectChange> merges;
-    for (int frame = 0; frame < 800; ++frame) {
-      const int step = frame % 80 < 40 ? frame % 80 : 80 - frame % 80;  // forward and back
-      const SE3 T_cw = OrbitPose(0.02 * step);
-      map.AddFrame(frame, frame / 30.0, T_cw,
-                   FilterDetections(DetectionsAt(T_cw), options, Camera()));
-      if (frame % 10 == 9) map.MakeKeyframeObservation(frame / 10, frame / 30.0, T_cw, &merges);
-    }
-    EXPECT_TRUE(merges.empty());
+    EXPECT_TRUE(BackAndForth(map, options, 800).empty());
     return map;
   };
   const ObjectMap bounded = run(64);
@@ -1511,6 +1620,40 @@ TEST_F(TwoObjectScene, ARevisitedObjectKeepsABoundedHistoryAndAnswersAsBefore) {
   }
   EXPECT_EQ(bounded.SeenAsClassThisSession().first, all.SeenAsClassThisSession().first);
   EXPECT_EQ(bounded.SeenAsClassThisSession().last, all.SeenAsClassThisSession().last);
+}
+
+// An object watched for 5,000 frames keeps at most Objects.max_sightings sightings and
+// Objects.max_object_points map points (the most voted), so what a keyframe costs per
+// object stays bounded; its cuboid stays within a tenth of its size of the one every
+// sighting and point give.
+TEST_F(TwoObjectScene, ALongWatchedObjectKeepsBoundedSightingsAndPoints) {
+  // The objects' points and a stretch of the wall behind them (enough for the bound).
+  std::vector<std::pair<std::uint64_t, Eigen::Vector3d>> points = ScenePoints();
+  points.resize(32 + 160);
+  const auto run = [&](int max_sightings, int max_points) {
+    ObjectsOptions options;
+    options.max_sightings = max_sightings;
+    options.max_object_points = max_points;
+    ObjectMap map(options, Camera());
+    BackAndForth(map, options, 5000, &points);
+    return map;
+  };
+  const ObjectMap bounded = run(ObjectsOptions().max_sightings, 20);
+  const ObjectMap all = run(0, 0);
+  ASSERT_EQ(bounded.objects().size(), 2u);
+  ASSERT_EQ(all.objects().size(), 2u);
+  const auto limit = static_cast<std::size_t>(ObjectsOptions().max_sightings);
+  for (const auto& [id, object] : bounded.objects()) {
+    const MapObject& whole = all.objects().at(id);
+    EXPECT_LE(object.sightings.size(), limit);
+    EXPECT_GT(whole.sightings.size(), 4000u);
+    EXPECT_EQ(object.sightings.total(), whole.sightings.size());
+    EXPECT_LE(object.points.size(), 25u);  // 20, pruned once a quarter over
+    EXPECT_GT(whole.points.size(), 25u);
+    const double size = whole.cuboid.size.maxCoeff();
+    EXPECT_LT((object.cuboid.centre - whole.cuboid.centre).norm(), 0.1 * size);
+    EXPECT_LT((object.cuboid.size - whole.cuboid.size).norm(), 0.1 * size);
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // association and each object's point set) and the supporting plane that says which way
 // is up. The pose-given mode has neither and does without.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -40,6 +41,10 @@ RobustBounds RobustPointBounds(const std::vector<Eigen::Vector3d>& positions, do
 // are carried upright (no roll), so up is roughly perpendicular to every camera's x axis
 // and on the side of their -y axes.
 Eigen::Vector3d CameraUpPrior(const std::vector<Eigen::Matrix3d>& camera_to_world_rotations);
+// The same from the rotations' sums (kept up to date as keyframes come and go): the
+// scatter of their x axes (sum of x x^T), the sum of their -y axes, and their count.
+Eigen::Vector3d CameraUpPrior(const Eigen::Matrix3d& x_scatter, const Eigen::Vector3d& minus_y_sum,
+                              std::size_t count);
 
 struct SupportingPlane {
   bool valid = false;

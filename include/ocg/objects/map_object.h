@@ -80,6 +80,10 @@ bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& conte
 void Absorb(MapObject& into, const MapObject& from, int max_sightings);
 // A vote of the object for each point in its box, which takes the point's position.
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points);
+// Keeps the object's max_points most voted points (Objects.max_object_points; 0 keeps all),
+// pruned once it holds a quarter more, so its point set's cost stays bounded however long
+// it is watched.
+void BoundPoints(MapObject& object, int max_points);
 // Every n-th index of count so that at most limit remain, first and last kept.
 std::vector<std::size_t> Thinned(std::size_t count, std::size_t limit);
 

@@ -16,7 +16,9 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "ocg/core/camera.h"
@@ -89,7 +91,8 @@ class ObjectMap {
       const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
       const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
       const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point = {},
-      const std::vector<std::int64_t>* frames = nullptr);
+      const std::vector<std::int64_t>* frames = nullptr,
+      const std::vector<std::uint64_t>* changed_points = nullptr);
 
   // The frames of the sightings the objects and candidates keep, sorted, each once.
   std::vector<std::int64_t> SightingFrames() const;
@@ -188,6 +191,26 @@ class ObjectMap {
   ObjectsOptions options_;
   PinholeCamera camera_;
   Eigen::Matrix3d R_wg_;
+  // FollowMap's incremental mode: the up direction every object was last estimated with
+  // (none: not yet), and how far (radians) up may turn before all are estimated again.
+  std::optional<Eigen::Vector3d> up_at_estimates_;
+  // The objects whose sightings or point votes changed since they were last estimated.
+  std::set<ObjectId> unestimated_;
+  // FollowMap's changed points: the entities holding each point (ids of objects and
+  // candidates; stale ids, of entities merged, dropped or promoted since, are skipped and
+  // pruned when read); rebuilt from every entity when not valid (after a promotion, a
+  // merge or a join, which move points to another id; rare).
+  std::unordered_map<std::uint64_t, std::vector<ObjectId>> point_entities_;
+  bool point_index_valid_ = false;
+  // The points that joined an entity since the last FollowMap.
+  std::vector<std::uint64_t> fresh_points_;
+  void IndexPoints();
+  // After AddPointVotes: the box's points new to entity enter the index.
+  void PointsJoined(const MapObject& entity,
+                    const std::vector<const PointObservation*>& box_points);
+  // Absorb, with the points bounded (Objects.max_object_points) and the index redone.
+  void AbsorbInto(MapObject& into, const MapObject& from);
+  static constexpr double kUpTurnForAll = 0.1 * 3.14159265358979323846 / 180.0;
   std::map<ObjectId, MapObject> objects_;
   std::map<ObjectId, MapObject> candidates_;                  // negative ids
   std::map<ObjectId, std::int64_t> observed_since_keyframe_;  // id -> last frame

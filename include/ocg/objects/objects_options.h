@@ -75,7 +75,11 @@ struct ObjectsOptions {
   // Objects.max_sightings: the sightings an object keeps at most (SightingHistory: beyond
   // it a sample spread evenly over the run, the newest quarter whole, with exact counts),
   // so a long run that keeps revisiting an object does not grow with it. 0: keep all.
-  int max_sightings = 4096;
+  int max_sightings = 256;
+  // Objects.max_object_points: the map points an object keeps at most (SLAM runs), the most
+  // voted (beyond it by a quarter, the least voted are dropped), so its point set and the
+  // map's changes it follows stay bounded however long it is watched. 0: keep all.
+  int max_object_points = 512;
 
   // Objects.merge_distance: two objects never seen in the same frame whose centres are
   // closer than this share of the larger one's largest extent (of the smaller one's when
@@ -156,11 +160,9 @@ struct ObjectsOptions {
   int plane_iterations = 300;
   // SLAM runs: the plane is kept from keyframe to keyframe and fitted again once this share
   // of the map's points (as many as at the last fit) were added or removed since, or when
-  // the whole map moved (a loop correction, a merge); 0: at every keyframe. The default
-  // is 0: a kept plane changes the up direction, and with it the cuboids (0.1 changed the
-  // smoke and desk_static outputs), while a fit costs what the map holds but not the run
-  // (RANSAC scores at most 4,000 points; the medians read them all).
-  double plane_refit_share = 0.0;
+  // the whole map moved (a loop correction, a merge); 0: at every keyframe (a fit costs
+  // what the map holds: RANSAC scores at most 4,000 points, the medians read them all).
+  double plane_refit_share = 0.1;
 
   // Objects.keyframe_interval: pose-given mode has no SLAM keyframes; every N-th frame is
   // one (about 3 per second at 30 Hz).
@@ -233,6 +235,9 @@ struct ObjectsOptions {
           "(the same frames for every object), with exact counts (observations, classes, "
           "sessions, first and last seen), so memory stays bounded on a long run that keeps "
           "revisiting it ([robustness.md](robustness.md) \"Long runs\")");
+    visit("Objects.max_object_points", self.max_object_points, OptionBound::NonNegative(),
+          "SLAM runs: map points an object keeps at most, the most voted (0 keeps all), so its "
+          "cost per keyframe stays bounded on a long run");
     visit("Objects.merge_distance", self.merge_distance, OptionBound::NonNegative(),
           "two objects never seen in the same frame, closer than this share of the larger one's "
           "largest extent (of the smaller one's when their classes differ: one object under two "
@@ -298,8 +303,7 @@ struct ObjectsOptions {
           "SLAM runs: RANSAC hypotheses (seeded from `System.seed`)");
     visit("Objects.plane_refit_share", self.plane_refit_share, OptionBound::NonNegative(),
           "SLAM runs: the plane is fitted again once this share of the map's points were "
-          "added or removed since the last fit (or the whole map moved); 0: every keyframe, "
-          "whose up direction the outputs were made with");
+          "added or removed since the last fit (or the whole map moved); 0: every keyframe");
     visit("Objects.keyframe_interval", self.keyframe_interval, OptionBound::AtLeast(1),
           "every N-th (tracked) frame is a keyframe for the OCG");
   }

@@ -48,8 +48,15 @@ class SlamMapCopy {
   // By id, as the SLAM map orders them.
   std::vector<Eigen::Vector3d> Positions() const;
   std::vector<Eigen::Matrix3d> Rotations() const;
+  // CameraUpPrior of the keyframes' rotations, from sums kept as they come and go (a
+  // keyframe costs what changed, not the keyframes the map holds).
+  Eigen::Vector3d CameraUpPrior() const;
 
  private:
+  // The rotations' sums CameraUpPrior reads: x axes' scatter, -y axes.
+  Eigen::Matrix3d x_scatter_ = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d minus_y_sum_ = Eigen::Vector3d::Zero();
+  void AddToSums(const Eigen::Matrix3d& R_wc, double sign);
   std::map<std::uint64_t, Point> points_;
   std::map<std::uint64_t, Eigen::Matrix3d> rotations_;
 };
