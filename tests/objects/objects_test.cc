@@ -1638,11 +1638,11 @@ TEST_F(TwoObjectScene, ALongWatchedObjectKeepsBoundedSightingsAndPoints) {
     BackAndForth(map, options, 5000, &points);
     return map;
   };
-  const ObjectMap bounded = run(ObjectsOptions().max_sightings, 20);
+  const ObjectMap bounded = run(256, 20);
   const ObjectMap all = run(0, 0);
   ASSERT_EQ(bounded.objects().size(), 2u);
   ASSERT_EQ(all.objects().size(), 2u);
-  const auto limit = static_cast<std::size_t>(ObjectsOptions().max_sightings);
+  const std::size_t limit = 256;
   for (const auto& [id, object] : bounded.objects()) {
     const MapObject& whole = all.objects().at(id);
     EXPECT_LE(object.sightings.size(), limit);
