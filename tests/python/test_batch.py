@@ -319,4 +319,6 @@ variants: {gt: {poses: groundtruth}}
             colours[name] = json.load(handle)["colour_signatures"]
     assert colours["smoke_s1"]["keyframe_images"] > 0, colours
     assert colours["smoke_s1"]["sightings"] > 0, colours
-    assert colours["smoke_s2"] == {"keyframe_images": 0, "sightings": 0}, colours
+    assert colours["smoke_s1"]["unreadable_images"] == 0, colours
+    assert colours["smoke_s2"] == {"keyframe_images": 0, "sightings": 0,
+                                   "unreadable_images": 0}, colours
