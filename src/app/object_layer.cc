@@ -36,6 +36,13 @@ KeyframeFeatureMap KeyframeFeaturesOf(const System& system) {
 
 }  // namespace
 
+bool KeyframeMoved(const KeyFrameState& before, const KeyFrameState& now, double tolerance) {
+  // A point one map unit in front of the camera moves by at most the centre's shift plus
+  // the turn (radians) times that unit.
+  const double turn = Eigen::AngleAxisd(before.R_wc.transpose() * now.R_wc).angle();
+  return (now.t_wc - before.t_wc).norm() + turn > tolerance;
+}
+
 nlohmann::json Timing(const std::vector<double>& seconds) {
   return {{"count", seconds.size()},
           {"median_ms", 1000.0 * Quantile(seconds, 0.5)},
@@ -227,6 +234,7 @@ void ObjectLayer::Start() {
   map_version_.reset();  // the new mapper's copy of the SLAM map is empty
   follow_every_frame_ = true;
   frames_by_anchor_.clear();
+  anchor_read_at_.clear();
   new_frames_.clear();
 }
 
@@ -302,6 +310,7 @@ void ObjectLayer::Follow(const System& system) {
   std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
   if (map.everything || follow_every_frame_) {
     frames_by_anchor_.clear();
+    anchor_read_at_.clear();
     anchored_frames_ = 0;
     for (const std::int64_t frame : mapper_->SightingFrames()) {
       if (frame >= frame_offset_) calls.push_back(static_cast<std::size_t>(frame - frame_offset_));
@@ -311,6 +320,10 @@ void ObjectLayer::Follow(const System& system) {
     for (const KeyFrameState& keyframe : map.keyframes) {
       const auto anchored = frames_by_anchor_.find(keyframe.id);
       if (anchored == frames_by_anchor_.end()) continue;
+      const auto read_at = anchor_read_at_.find(keyframe.id);
+      if (keyframe.live && read_at != anchor_read_at_.end() &&
+          !KeyframeMoved(read_at->second, keyframe, settings_.objects.follow_tolerance))
+        continue;  // its frames keep the poses they were given
       calls.insert(calls.end(), anchored->second.begin(), anchored->second.end());
       anchored_frames_ -= anchored->second.size();
       frames_by_anchor_.erase(anchored);
@@ -318,6 +331,20 @@ void ObjectLayer::Follow(const System& system) {
   }
   new_frames_.clear();
   follow_every_frame_ = false;
+  // The anchors whose frames are read now (and those that will be: a new frame's anchor
+  // is the newest keyframe, which the journal names) are compared with their pose now from
+  // here on; a frame given a pose later, from an anchor that had moved less than the
+  // tolerance, is off by at most that much more.
+  for (const KeyFrameState& keyframe : map.keyframes) {
+    if (!keyframe.live) {
+      anchor_read_at_.erase(keyframe.id);
+      continue;
+    }
+    const auto read_at = anchor_read_at_.find(keyframe.id);
+    if (read_at == anchor_read_at_.end() ||
+        KeyframeMoved(read_at->second, keyframe, settings_.objects.follow_tolerance))
+      anchor_read_at_[keyframe.id] = keyframe;
+  }
   std::vector<std::uint64_t> anchors;
   const std::vector<std::optional<SE3>> poses = system.FramePoses(calls, &anchors);
   for (std::size_t i = 0; i < calls.size(); ++i) {

@@ -44,6 +44,10 @@ nlohmann::json Timing(const DurationSummary& seconds);
 // run.json's timing.object_layer_per_keyframe: the median CPU time of the first and of the
 // last quarter of the keyframes' (in order), their ratio and the count.
 nlohmann::json PerKeyframeTiming(const std::vector<double>& cpu_seconds);
+// Whether a keyframe moved from before to now by more than tolerance (map units): the
+// shift of its camera centre plus its turn in radians times one map unit, a bound on how
+// far a point one unit in front of it (and its frames' views of it) moved.
+bool KeyframeMoved(const KeyFrameState& before, const KeyFrameState& now, double tolerance);
 
 class ObjectLayer {
  public:
@@ -135,6 +139,9 @@ class ObjectLayer {
   // bounded as the run grows (amortized: a pruning per doubling).
   std::size_t anchored_frames_ = 0;
   std::size_t anchored_after_pruning_ = 0;
+  // Each anchor keyframe's pose when its frames' poses were last read: its frames are read
+  // again once it moved more than Objects.follow_tolerance from there (KeyframeMoved).
+  std::map<std::uint64_t, KeyFrameState> anchor_read_at_;
   void PruneAnchoredFrames();
   bool follow_every_frame_ = true;
   std::optional<double> session_start_;                      // timestamp of the first frame given

@@ -184,14 +184,17 @@ void ObjectMap::FollowMap(
       entity.points.erase(point);
       return entity_moved;
     }
-    entity_moved =
-        point->second.position != *position &&
-        (counts(point->second, point->second.position) || counts(point->second, *position));
-    point->second.position = *position;
     if (descriptor_of_point) {
       if (const Descriptor* descriptor = descriptor_of_point(point->first))
         point->second.descriptor = *descriptor;
     }
+    // Incremental: a point that moved less than Objects.follow_tolerance keeps the
+    // position the object was estimated with (the copy lags the map by less than that).
+    const double shift = (*position - point->second.position).norm();
+    if (incremental && shift <= options_.follow_tolerance) return false;
+    entity_moved = shift > 0.0 && (counts(point->second, point->second.position) ||
+                                   counts(point->second, *position));
+    point->second.position = *position;
     return entity_moved;
   };
   for (auto* entities : {&objects_, &candidates_}) {

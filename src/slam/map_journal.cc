@@ -30,7 +30,9 @@ KeyFrameState StateOf(const Map& map, const KeyFrame& keyframe) {
   state.id = keyframe.id;
   if (keyframe.bad || keyframe.map != map.current_map()) return state;
   state.live = true;
-  state.R_wc = keyframe.T_cw.Inverse().rotation();  // as System::KeyFrameRotations
+  const SE3 T_wc = keyframe.T_cw.Inverse();
+  state.R_wc = T_wc.rotation();  // as System::KeyFrameRotations
+  state.t_wc = T_wc.translation();
   return state;
 }
 

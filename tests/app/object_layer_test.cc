@@ -116,6 +116,29 @@ std::map<std::size_t, std::size_t> Moves(const testing::CarriedCups& cups,
 // the cups removed keep theirs, and the first session's change log pairs the moves by
 // colour; without images the nearer newcomers are taken (crossed). The colours come alike
 // from the files (grey pixels given) and from BGR pixels.
+// A keyframe moved when a point one map unit in front of it moved more than the
+// tolerance: its centre's shift plus its turn (radians) times the unit, whichever way.
+TEST(ObjectLayer, AKeyframeMovedWhenItsShiftPlusTurnExceedsTheTolerance) {
+  KeyFrameState before;
+  before.live = true;
+  before.R_wc = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  before.t_wc = Eigen::Vector3d(1.0, -2.0, 0.5);
+  const auto moved_by = [&](const Eigen::Vector3d& shift, double turn) {
+    KeyFrameState now = before;
+    now.t_wc += shift;
+    now.R_wc = before.R_wc * Eigen::AngleAxisd(turn, Eigen::Vector3d(1, 1, 0).normalized());
+    return now;
+  };
+  EXPECT_FALSE(app_detail::KeyframeMoved(before, before, 0.0));
+  EXPECT_FALSE(app_detail::KeyframeMoved(before, moved_by({0.0004, 0, 0}, 0.0), 0.001));
+  EXPECT_FALSE(app_detail::KeyframeMoved(before, moved_by({0, 0.0004, 0}, 0.0004), 0.001));
+  EXPECT_TRUE(app_detail::KeyframeMoved(before, moved_by({0, 0, 0.0012}, 0.0), 0.001));
+  EXPECT_TRUE(app_detail::KeyframeMoved(before, moved_by({0, 0, 0}, 0.0012), 0.001));
+  EXPECT_TRUE(
+      app_detail::KeyframeMoved(before, moved_by({0.0006, 0, 0}, 0.0006), 0.001));   // the sum
+  EXPECT_TRUE(app_detail::KeyframeMoved(before, moved_by({1e-9, 0, 0}, 0.0), 0.0));  // 0: any move
+}
+
 TEST(ObjectLayer, MovesInTheFirstSessionOfASlamRunFollowTheObjectsColours) {
   const testing::CarriedCups cups = testing::CupsCarriedPastEachOther();
   const testing::SyntheticScene scene = testing::SynthesizeScene(cups.options);

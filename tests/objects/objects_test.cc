@@ -934,6 +934,59 @@ TEST_F(TwoObjectScene, ObjectsFollowTheirCamerasAndPointsWhenTheMapIsOptimized) 
   EXPECT_EQ(observation.updates.size(), 2u);
 }
 
+// A local adjustment deep in a revisited map moves many points by tiny amounts: a point
+// that moved less than Objects.follow_tolerance keeps the position its object was
+// estimated with and re-estimates nothing; once its moves add up past the tolerance (the
+// copy compares with what it holds, not with the last move) it follows. With tolerance 0
+// every move is followed.
+TEST_F(TwoObjectScene, PointsThatMovedLessThanTheFollowToleranceLeaveTheirObjects) {
+  const auto points = ScenePoints();
+  for (const double tolerance : {0.001, 0.0}) {
+    ObjectsOptions options;
+    options.follow_tolerance = tolerance;
+    ObjectMap map(options, Camera());
+    Watch(map, options, 0, 40, true, &points);
+    std::map<std::uint64_t, Eigen::Vector3d> positions(points.begin(), points.end());
+    std::map<std::int64_t, SE3> poses;
+    for (int frame = 0; frame < 40; ++frame) poses[frame] = OrbitPose(0.02 * frame);
+    const auto follow = [&](const std::vector<std::uint64_t>& changed) {
+      const std::vector<std::int64_t> no_frames;
+      map.FollowMap(
+          [&](std::int64_t frame) -> std::optional<SE3> { return poses.at(frame); },
+          [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> { return positions.at(id); }, {},
+          &no_frames, &changed);
+    };
+    map.SetUp(Eigen::Vector3d::UnitZ());
+    follow({});
+    ASSERT_EQ(map.objects().size(), 2u);
+    ObjectId cup = 0;
+    for (const auto& [id, object] : map.objects()) cup = object.class_id == 41 ? id : cup;
+    ASSERT_GT(cup, 0);
+    const MapObject before = map.objects().at(cup);
+    ASSERT_GT(before.points.size(), 4u);
+    // The cup's points sink 0.6 mm, twice over.
+    std::vector<std::uint64_t> changed;
+    for (const auto& [id, point] : before.points) {
+      positions[id] -= Eigen::Vector3d(0, 0, 0.0006);
+      changed.push_back(id);
+    }
+    follow(changed);
+    const MapObject& once = map.objects().at(cup);
+    for (const auto& [id, point] : once.points) {
+      const Eigen::Vector3d expected =
+          tolerance > 0.0 ? before.points.at(id).position : positions.at(id);
+      EXPECT_EQ(point.position, expected) << "tolerance " << tolerance << ", point " << id;
+    }
+    if (tolerance > 0.0) {
+      EXPECT_EQ(once.cuboid.centre, before.cuboid.centre);
+    }
+    for (const auto& [id, point] : before.points) positions[id] -= Eigen::Vector3d(0, 0, 0.0006);
+    follow(changed);
+    for (const auto& [id, point] : map.objects().at(cup).points)
+      EXPECT_EQ(point.position, positions.at(id)) << "tolerance " << tolerance << ", point " << id;
+  }
+}
+
 // Given a keyframe's changes (the frames and points that moved), FollowMap visits only
 // those (the points through its point -> objects index) and estimates again only the
 // objects whose sightings or points moved, and all of them once up turned by more than a

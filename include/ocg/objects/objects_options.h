@@ -165,6 +165,14 @@ struct ObjectsOptions {
   // the whole map moved (a loop correction, a merge); 0: at every keyframe (a fit costs
   // what the map holds: RANSAC scores at most 4,000 points, the medians read them all).
   double plane_refit_share = 0.1;
+  // SLAM runs: the object layer's copy of the SLAM map follows a change only when it moves
+  // things by more than this (map units): a keyframe whose camera moved less (its centre's
+  // shift plus its turn in radians times one map unit of depth; a monocular map's unit is
+  // about the scene's depth when tracking started) leaves its frames' poses as they were
+  // given, a map point that moved less leaves its position; so the copy stays within two
+  // tolerances of the map, and the many tiny moves a local bundle adjustment makes deep in
+  // a revisited map re-estimate no object. 0: every change is followed.
+  double follow_tolerance = 0.001;
 
   // Objects.keyframe_interval: pose-given mode has no SLAM keyframes; every N-th frame is
   // one (about 3 per second at 30 Hz).
@@ -306,6 +314,10 @@ struct ObjectsOptions {
     visit("Objects.plane_refit_share", self.plane_refit_share, OptionBound::NonNegative(),
           "SLAM runs: the plane is fitted again once this share of the map's points were "
           "added or removed since the last fit (or the whole map moved); 0: every keyframe");
+    visit("Objects.follow_tolerance", self.follow_tolerance, OptionBound::NonNegative(),
+          "SLAM runs: keyframes whose camera moved less than this (centre shift plus turn in "
+          "radians times one map unit) and map points that moved less leave the object "
+          "layer's copy as it was (map units); 0: every change is followed");
     visit("Objects.keyframe_interval", self.keyframe_interval, OptionBound::AtLeast(1),
           "every N-th (tracked) frame is a keyframe for the OCG");
   }
