@@ -308,7 +308,8 @@ void ObjectLayer::Follow(const System& system) {
   // pose is its anchor's times a fixed relative pose). The earlier sessions' frames have
   // no pose in this run: their sightings keep theirs.
   std::vector<std::size_t> calls;  // this session's frames, as TrackImage counted them
-  if (map.everything || follow_every_frame_) {
+  const bool every_frame = map.everything || follow_every_frame_;
+  if (every_frame) {
     frames_by_anchor_.clear();
     anchor_read_at_.clear();
     anchored_frames_ = 0;
@@ -317,33 +318,29 @@ void ObjectLayer::Follow(const System& system) {
     }
   } else {
     calls = std::move(new_frames_);
-    for (const KeyFrameState& keyframe : map.keyframes) {
-      const auto anchored = frames_by_anchor_.find(keyframe.id);
-      if (anchored == frames_by_anchor_.end()) continue;
-      const auto read_at = anchor_read_at_.find(keyframe.id);
-      if (keyframe.live && read_at != anchor_read_at_.end() &&
-          !KeyframeMoved(read_at->second, keyframe, settings_.objects.follow_tolerance))
-        continue;  // its frames keep the poses they were given
+  }
+  new_frames_.clear();
+  follow_every_frame_ = false;
+  // A keyframe the journal names counts as moved once it is culled, or its camera moved
+  // more than the tolerance since its frames were read: its frames are read again, and it
+  // is compared with its pose now from here on. A frame given a pose later, from an anchor
+  // that had moved less than the tolerance, is off by at most that much more.
+  for (const KeyFrameState& keyframe : map.keyframes) {
+    const auto read_at = anchor_read_at_.find(keyframe.id);
+    if (keyframe.live && read_at != anchor_read_at_.end() &&
+        !KeyframeMoved(read_at->second, keyframe, settings_.objects.follow_tolerance))
+      continue;  // its frames keep the poses they were given
+    const auto anchored = frames_by_anchor_.find(keyframe.id);
+    if (!every_frame && anchored != frames_by_anchor_.end()) {
       calls.insert(calls.end(), anchored->second.begin(), anchored->second.end());
       anchored_frames_ -= anchored->second.size();
       frames_by_anchor_.erase(anchored);
     }
-  }
-  new_frames_.clear();
-  follow_every_frame_ = false;
-  // The anchors whose frames are read now (and those that will be: a new frame's anchor
-  // is the newest keyframe, which the journal names) are compared with their pose now from
-  // here on; a frame given a pose later, from an anchor that had moved less than the
-  // tolerance, is off by at most that much more.
-  for (const KeyFrameState& keyframe : map.keyframes) {
-    if (!keyframe.live) {
-      anchor_read_at_.erase(keyframe.id);
-      continue;
-    }
-    const auto read_at = anchor_read_at_.find(keyframe.id);
-    if (read_at == anchor_read_at_.end() ||
-        KeyframeMoved(read_at->second, keyframe, settings_.objects.follow_tolerance))
+    if (keyframe.live) {
       anchor_read_at_[keyframe.id] = keyframe;
+    } else if (read_at != anchor_read_at_.end()) {
+      anchor_read_at_.erase(read_at);
+    }
   }
   std::vector<std::uint64_t> anchors;
   const std::vector<std::optional<SE3>> poses = system.FramePoses(calls, &anchors);

@@ -66,7 +66,7 @@ struct KeyFrameState {
   std::uint64_t id = 0;
   bool live = false;
   Eigen::Matrix3d R_wc = Eigen::Matrix3d::Identity();  // camera to world
-  Eigen::Vector3d t_wc = Eigen::Vector3d::Zero();        // the camera centre in the world
+  Eigen::Vector3d t_wc = Eigen::Vector3d::Zero();      // the camera centre in the world
 };
 
 struct MapChanges {
