@@ -91,6 +91,11 @@ class ObjectSlam::Impl {
       also_.back().objects =
           std::make_unique<app_detail::ObjectLayer>(*also_.back().settings, true, false);
     }
+    // The object layers are the journal's readers: the map need not tell them of moves
+    // below their tolerance. They read at the same keyframes (in sequential mode, the same
+    // map): another mode's layer sees what a run of its own would.
+    if (options.map_objects || !also_.empty())
+      system_.SetMapJournalPointTolerance(settings_.objects.follow_tolerance);
   }
 
   std::optional<SE3> Track(const cv::Mat& image, double timestamp,

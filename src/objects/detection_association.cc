@@ -1,5 +1,6 @@
 #include "ocg/objects/detection_association.h"
 
+#include <functional>
 #include <optional>
 
 #include "ocg/objects/assignment.h"
@@ -35,7 +36,8 @@ bool HoldsOwnPoint(const MapObject& object, const std::vector<const PointObserva
 double AssociationScore(const MapObject& object, const ObjectDetection& detection,
                         std::int64_t frame, const SE3& T_cw, int session,
                         const std::vector<const PointObservation*>& box_points,
-                        const PointCue* object_points, const ObjectMapContext& context) {
+                        const std::function<const PointCue*()>& point_cue,
+                        const ObjectMapContext& context) {
   if (object.has_cuboid) {
     // Geometry first: the ray through the box centre must pass near the object's centre.
     // Without this gate a detection of the same class close by (the object's new place
@@ -47,6 +49,9 @@ double AssociationScore(const MapObject& object, const ObjectDetection& detectio
       return 0.0;
     }
   }
+  // Past the gate: most objects of the class are elsewhere, and a cue costs a pass over
+  // the object's points.
+  const PointCue* object_points = point_cue();
   const ObjectSighting& last = object.sightings.back();
   if (object.has_cuboid && last.session < session && object_points != nullptr &&
       box_points.size() >= 3 && object_points->own_points >= 5 &&
@@ -132,8 +137,9 @@ std::vector<int> AssociateDetections(
   for (std::size_t d = 0; d < detections.size(); ++d) {
     for (std::size_t e = 0; e < entities.size(); ++e) {
       if (entities[e]->class_id != detections[d].class_id) continue;
-      const double score = AssociationScore(*entities[e], detections[d], frame, T_cw, session,
-                                            box_points[d], point_cue(e), context);
+      const double score = AssociationScore(
+          *entities[e], detections[d], frame, T_cw, session, box_points[d],
+          [&] { return point_cue(e); }, context);
       if (score < context.options.min_association_score) continue;
       cost(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(e)) =
           1.0 - score + (e >= object_count ? kCandidatePenalty : 0.0);

@@ -143,6 +143,14 @@ void ObjectMap::JoinWaitingCandidates() {
 }
 
 void ObjectMap::AbsorbInto(MapObject& into, const MapObject& from) {
+  // The points the joined votes make counted in into: FollowMap had not followed into's
+  // copy (its position may be old), so it reads them at its next call.
+  for (const auto& [id, point] : from.points) {
+    const auto kept = into.points.find(id);
+    const int before = kept == into.points.end() ? 0 : kept->second.votes;
+    if (before < options_.min_point_votes && before + point.votes >= options_.min_point_votes)
+      fresh_points_.push_back(id);
+  }
   Absorb(into, from, options_.max_sightings);
   BoundPoints(into, options_.max_object_points);
   point_index_valid_ = false;  // into holds from's points now
@@ -159,7 +167,7 @@ void ObjectMap::FollowMap(
     const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
     const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
     const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point,
-    const std::vector<std::int64_t>* frames, const std::vector<std::uint64_t>* changed_points) {
+    const std::vector<std::int64_t>* frames, const std::vector<ChangedPoint>* changed_points) {
   const auto by_frame = [](const ObjectSighting& sighting, std::int64_t frame) {
     return sighting.frame < frame;
   };
@@ -169,33 +177,39 @@ void ObjectMap::FollowMap(
   const bool incremental = frames != nullptr;
   std::set<ObjectId> moved;
   // A point moves the entity when ObjectPointIds may count it (enough votes, within reach
-  // of the cuboid's centre before or after).
+  // of the cuboid's centre before or after). The point takes the map point's state:
+  // position (null: gone from the map, and from the entity) and descriptor (null: keeps
+  // its own).
   const auto follow_point = [&](MapObject& entity,
-                                std::map<std::uint64_t, ObjectPoint>::iterator point) {
+                                std::map<std::uint64_t, ObjectPoint>::iterator point,
+                                const Eigen::Vector3d* position, const Descriptor* descriptor) {
     const double reach = entity.cuboid.size.maxCoeff();
-    const auto counts = [&](const ObjectPoint& kept, const Eigen::Vector3d& position) {
+    const auto counts = [&](const ObjectPoint& kept, const Eigen::Vector3d& at) {
       return kept.votes >= options_.min_point_votes &&
-             (!entity.has_cuboid || (position - entity.cuboid.centre).norm() <= reach);
+             (!entity.has_cuboid || (at - entity.cuboid.centre).norm() <= reach);
     };
-    bool entity_moved = false;
-    const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
-    if (!position) {
-      entity_moved = counts(point->second, point->second.position);
+    if (position == nullptr) {
+      const bool entity_moved = counts(point->second, point->second.position);
       entity.points.erase(point);
       return entity_moved;
     }
-    if (descriptor_of_point) {
-      if (const Descriptor* descriptor = descriptor_of_point(point->first))
-        point->second.descriptor = *descriptor;
-    }
+    if (descriptor != nullptr) point->second.descriptor = *descriptor;
     // Incremental: a point that moved less than Objects.follow_tolerance keeps the
     // position the object was estimated with (the copy lags the map by less than that).
     const double shift = (*position - point->second.position).norm();
     if (incremental && shift <= options_.follow_tolerance) return false;
-    entity_moved = shift > 0.0 && (counts(point->second, point->second.position) ||
-                                   counts(point->second, *position));
+    const bool entity_moved = shift > 0.0 && (counts(point->second, point->second.position) ||
+                                              counts(point->second, *position));
     point->second.position = *position;
     return entity_moved;
+  };
+  // A point's state by the callbacks.
+  const auto follow_point_by_id = [&](MapObject& entity,
+                                      std::map<std::uint64_t, ObjectPoint>::iterator point) {
+    const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
+    const Descriptor* descriptor =
+        position && descriptor_of_point ? descriptor_of_point(point->first) : nullptr;
+    return follow_point(entity, point, position ? &*position : nullptr, descriptor);
   };
   for (auto* entities : {&objects_, &candidates_}) {
     for (auto& [id, entity] : *entities) {
@@ -222,7 +236,7 @@ void ObjectMap::FollowMap(
       if (changed_points == nullptr) {
         for (auto point = entity.points.begin(); point != entity.points.end();) {
           const auto next = std::next(point);
-          entity_moved = follow_point(entity, point) || entity_moved;
+          entity_moved = follow_point_by_id(entity, point) || entity_moved;
           point = next;
         }
       }
@@ -234,12 +248,28 @@ void ObjectMap::FollowMap(
     // last call (their map point may have moved before they joined), found through the
     // point -> entities index.
     if (!point_index_valid_) IndexPoints();
-    std::vector<std::uint64_t> visit = *changed_points;
-    visit.insert(visit.end(), fresh_points_.begin(), fresh_points_.end());
-    std::sort(visit.begin(), visit.end());
-    visit.erase(std::unique(visit.begin(), visit.end()), visit.end());
-    for (const std::uint64_t point_id : visit) {
-      const auto indexed = point_entities_.find(point_id);
+    // The changed points with their states, then the fresh ones not among them (in id
+    // order, each once, as the changed ones are).
+    std::vector<ChangedPoint> visit = *changed_points;
+    std::sort(fresh_points_.begin(), fresh_points_.end());
+    fresh_points_.erase(std::unique(fresh_points_.begin(), fresh_points_.end()),
+                        fresh_points_.end());
+    std::vector<std::optional<Eigen::Vector3d>> fresh_positions;
+    fresh_positions.reserve(fresh_points_.size());  // no reallocation: visit points into it
+    for (const std::uint64_t id : fresh_points_) {
+      const auto changed = std::lower_bound(
+          changed_points->begin(), changed_points->end(), id,
+          [](const ChangedPoint& point, std::uint64_t key) { return point.id < key; });
+      if (changed != changed_points->end() && changed->id == id) continue;
+      fresh_positions.push_back(position_of_point(id));
+      const std::optional<Eigen::Vector3d>& position = fresh_positions.back();
+      visit.push_back({id, position ? &*position : nullptr,
+                       position && descriptor_of_point ? descriptor_of_point(id) : nullptr});
+    }
+    std::sort(visit.begin(), visit.end(),
+              [](const ChangedPoint& a, const ChangedPoint& b) { return a.id < b.id; });
+    for (const ChangedPoint& changed : visit) {
+      const auto indexed = point_entities_.find(changed.id);
       if (indexed == point_entities_.end()) continue;
       std::vector<ObjectId>& ids = indexed->second;
       std::sort(ids.begin(), ids.end());
@@ -249,10 +279,11 @@ void ObjectMap::FollowMap(
         auto& entities = id > 0 ? objects_ : candidates_;
         const auto entity = entities.find(id);
         if (entity == entities.end()) continue;  // merged, dropped, removed or promoted
-        const auto point = entity->second.points.find(point_id);
+        const auto point = entity->second.points.find(changed.id);
         if (point == entity->second.points.end()) continue;  // bounded away
-        if (follow_point(entity->second, point) && id > 0) moved.insert(id);
-        if (entity->second.points.count(point_id) > 0) holding.push_back(id);
+        if (follow_point(entity->second, point, changed.position, changed.descriptor) && id > 0)
+          moved.insert(id);
+        if (changed.position != nullptr) holding.push_back(id);  // else it left the entity
       }
       if (holding.empty()) {
         point_entities_.erase(indexed);
@@ -283,7 +314,9 @@ void ObjectMap::IndexPoints() {
   point_entities_.clear();
   for (const auto* entities : {&objects_, &candidates_}) {
     for (const auto& [id, entity] : *entities) {
-      for (const auto& [point, kept] : entity.points) point_entities_[point].push_back(id);
+      for (const auto& [point, kept] : entity.points) {
+        if (kept.votes >= options_.min_point_votes) point_entities_[point].push_back(id);
+      }
     }
   }
   point_index_valid_ = true;
@@ -293,7 +326,9 @@ void ObjectMap::PointsJoined(const MapObject& entity,
                              const std::vector<const PointObservation*>& box_points) {
   for (const PointObservation* point : box_points) {
     const auto kept = entity.points.find(point->id);
-    if (kept == entity.points.end() || kept->second.votes != 1) continue;  // not new
+    // Counted from this vote on (AddPointVotes adds one): before, FollowMap need not
+    // follow it.
+    if (kept == entity.points.end() || kept->second.votes != options_.min_point_votes) continue;
     fresh_points_.push_back(point->id);
     if (point_index_valid_) point_entities_[point->id].push_back(entity.id);
   }

@@ -1,5 +1,6 @@
 #include "ocg/objects/object_mapper.h"
 
+#include <algorithm>
 #include <map>
 
 #include "ocg/core/cpu_time.h"
@@ -71,7 +72,7 @@ void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t se
     follow_work_.plane_refit = true;
   }
   const SupportingPlane& plane = plane_;
-  const std::map<std::uint64_t, SlamMapCopy::Point>& points = slam_map_.points();
+  const std::unordered_map<std::uint64_t, SlamMapCopy::Point>& points = slam_map_.points();
   std::lock_guard<std::mutex> lock(map_mutex_);
   Eigen::Vector3d up = prior;
   if (plane.valid) {
@@ -94,11 +95,18 @@ void ObjectMapper::FollowSlamMap(const SlamMapChanges& changes, std::uint64_t se
   std::vector<std::int64_t> frames;
   frames.reserve(changes.frame_poses.size());
   for (const auto& [frame, pose] : changes.frame_poses) frames.push_back(frame);
-  // Of the map's points, those that changed: the objects follow them alone (the whole map
-  // when it started over).
-  std::vector<std::uint64_t> changed_points;
+  // Of the map's points, those that changed, with their states: the objects follow them
+  // alone (the whole map when it started over).
+  std::vector<ObjectMap::ChangedPoint> changed_points;
   changed_points.reserve(changes.points.size());
-  for (const SlamMapChanges::Point& point : changes.points) changed_points.push_back(point.id);
+  for (const SlamMapChanges::Point& point : changes.points) {
+    changed_points.push_back({point.id, point.position ? &*point.position : nullptr,
+                              point.position ? &point.descriptor : nullptr});
+  }
+  std::stable_sort(changed_points.begin(), changed_points.end(),
+                   [](const ObjectMap::ChangedPoint& a, const ObjectMap::ChangedPoint& b) {
+                     return a.id < b.id;
+                   });
   map_.FollowMap(
       [&changes](std::int64_t frame) -> std::optional<SE3> {
         const auto found = changes.frame_poses.find(frame);

@@ -1,5 +1,7 @@
 #include "ocg/objects/slam_map_copy.h"
 
+#include <algorithm>
+
 #include "ocg/objects/map_cues.h"
 
 namespace ocg {
@@ -37,9 +39,13 @@ std::size_t SlamMapCopy::Apply(const SlamMapChanges& changes) {
 }
 
 std::vector<Eigen::Vector3d> SlamMapCopy::Positions() const {
+  std::vector<std::uint64_t> ids;
+  ids.reserve(points_.size());
+  for (const auto& [id, point] : points_) ids.push_back(id);
+  std::sort(ids.begin(), ids.end());
   std::vector<Eigen::Vector3d> positions;
-  positions.reserve(points_.size());
-  for (const auto& [id, point] : points_) positions.push_back(point.position);
+  positions.reserve(ids.size());
+  for (const std::uint64_t id : ids) positions.push_back(points_.at(id).position);
   return positions;
 }
 

@@ -265,6 +265,9 @@ void Map::UpdatePointDescriptor(const MapPointPtr& point) const {
       best = i;
     }
   }
+  // Noted only when it changed: a point's descriptor is updated at each new observation,
+  // and mostly stays the one it was (a reader would read it again for nothing).
+  if (point->descriptor == descriptors[best]) return;
   point->descriptor = descriptors[best];
   journal_.Point(point->id);
 }

@@ -142,7 +142,7 @@ int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustm
   for (std::size_t p = 0; p < adjustment.points.size(); ++p) {
     if (adjustment.points[p]->bad) continue;
     adjustment.points[p]->position = problem.points[p].position;
-    map.journal().Point(adjustment.points[p]->id);
+    map.NotePointMoved(*adjustment.points[p]);
   }
   for (std::size_t i = 0; i < adjustment.report.outlier.size(); ++i) {
     if (!adjustment.report.outlier[i]) continue;
@@ -174,7 +174,7 @@ int ApplyAdjustment(Map& map, const ScalePyramid& pyramid, const KeyFrameAdjustm
     if (point->bad || reference == moved.end()) continue;
     point->position =
         reference->second.second.Inverse() * (reference->second.first * point->position);
-    map.journal().Point(point->id);
+    map.NotePointMoved(*point);
     map.UpdatePointGeometry(point, pyramid);
     ++followed;
   }

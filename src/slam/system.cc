@@ -347,6 +347,11 @@ MapChanges System::MapChangesSince(std::optional<std::uint64_t> version) const {
   return ChangesSince(map_, version);
 }
 
+void System::SetMapJournalPointTolerance(double tolerance) {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  map_.journal().SetPointTolerance(tolerance);
+}
+
 std::vector<KeyFramePtr> System::KeyFrames() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<KeyFramePtr> keyframes;

@@ -939,6 +939,21 @@ TEST_F(TwoObjectScene, ObjectsFollowTheirCamerasAndPointsWhenTheMapIsOptimized) 
 // estimated with and re-estimates nothing; once its moves add up past the tolerance (the
 // copy compares with what it holds, not with the last move) it follows. With tolerance 0
 // every move is followed.
+// FollowMap's changed points with their states, from positions (ids of points missing
+// there: gone from the map). positions must outlive the result.
+std::vector<ObjectMap::ChangedPoint> ChangedPointsOf(
+    const std::vector<std::uint64_t>& ids,
+    const std::map<std::uint64_t, Eigen::Vector3d>& positions) {
+  std::vector<ObjectMap::ChangedPoint> changed;
+  for (const std::uint64_t id : ids) {
+    const auto found = positions.find(id);
+    changed.push_back({id, found == positions.end() ? nullptr : &found->second, nullptr});
+  }
+  std::sort(changed.begin(), changed.end(),
+            [](const auto& a, const auto& b) { return a.id < b.id; });
+  return changed;
+}
+
 TEST_F(TwoObjectScene, PointsThatMovedLessThanTheFollowToleranceLeaveTheirObjects) {
   const auto points = ScenePoints();
   for (const double tolerance : {0.001, 0.0}) {
@@ -951,10 +966,11 @@ TEST_F(TwoObjectScene, PointsThatMovedLessThanTheFollowToleranceLeaveTheirObject
     for (int frame = 0; frame < 40; ++frame) poses[frame] = OrbitPose(0.02 * frame);
     const auto follow = [&](const std::vector<std::uint64_t>& changed) {
       const std::vector<std::int64_t> no_frames;
+      const std::vector<ObjectMap::ChangedPoint> states = ChangedPointsOf(changed, positions);
       map.FollowMap(
           [&](std::int64_t frame) -> std::optional<SE3> { return poses.at(frame); },
           [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> { return positions.at(id); }, {},
-          &no_frames, &changed);
+          &no_frames, &states);
     };
     map.SetUp(Eigen::Vector3d::UnitZ());
     follow({});
@@ -964,26 +980,31 @@ TEST_F(TwoObjectScene, PointsThatMovedLessThanTheFollowToleranceLeaveTheirObject
     ASSERT_GT(cup, 0);
     const MapObject before = map.objects().at(cup);
     ASSERT_GT(before.points.size(), 4u);
-    // The cup's points sink 0.6 mm, twice over.
+    // The cup's counted points (those FollowMap follows) sink 0.6 mm, twice over.
     std::vector<std::uint64_t> changed;
     for (const auto& [id, point] : before.points) {
+      if (point.votes < options.min_point_votes) continue;
       positions[id] -= Eigen::Vector3d(0, 0, 0.0006);
       changed.push_back(id);
     }
+    ASSERT_GT(changed.size(), 4u);
     follow(changed);
     const MapObject& once = map.objects().at(cup);
-    for (const auto& [id, point] : once.points) {
+    for (const std::uint64_t id : changed) {
       const Eigen::Vector3d expected =
           tolerance > 0.0 ? before.points.at(id).position : positions.at(id);
-      EXPECT_EQ(point.position, expected) << "tolerance " << tolerance << ", point " << id;
+      EXPECT_EQ(once.points.at(id).position, expected)
+          << "tolerance " << tolerance << ", point " << id;
     }
     if (tolerance > 0.0) {
       EXPECT_EQ(once.cuboid.centre, before.cuboid.centre);
     }
-    for (const auto& [id, point] : before.points) positions[id] -= Eigen::Vector3d(0, 0, 0.0006);
+    for (const std::uint64_t id : changed) positions[id] -= Eigen::Vector3d(0, 0, 0.0006);
     follow(changed);
-    for (const auto& [id, point] : map.objects().at(cup).points)
-      EXPECT_EQ(point.position, positions.at(id)) << "tolerance " << tolerance << ", point " << id;
+    for (const std::uint64_t id : changed) {
+      EXPECT_EQ(map.objects().at(cup).points.at(id).position, positions.at(id))
+          << "tolerance " << tolerance << ", point " << id;
+    }
   }
 }
 
@@ -1008,10 +1029,11 @@ TEST_F(TwoObjectScene, IncrementalFollowMapEqualsEstimatingEveryObject) {
   const auto follow = [&](ObjectMap& map, const std::vector<std::int64_t>& frames,
                           const std::vector<std::uint64_t>& changed_points) {
     const bool all = &map == &full;
+    const std::vector<ObjectMap::ChangedPoint> states = ChangedPointsOf(changed_points, positions);
     map.FollowMap(
         [&](std::int64_t frame) -> std::optional<SE3> { return poses.at(frame); },
         [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> { return positions.at(id); }, {},
-        all ? nullptr : &frames, all ? nullptr : &changed_points);
+        all ? nullptr : &frames, all ? nullptr : &states);
   };
   const auto cuboids = [](const ObjectMap& map) {
     std::map<ObjectId, Cuboid> result;
@@ -1078,6 +1100,114 @@ TEST_F(TwoObjectScene, IncrementalFollowMapEqualsEstimatingEveryObject) {
     EXPECT_LT((object.cuboid.centre - kept.centre).norm(), 1e-3 * object.cuboid.size.maxCoeff());
     EXPECT_LT((object.cuboid.size - kept.size).norm(), 0.02 * object.cuboid.size.maxCoeff());
   }
+}
+
+// The changed points come with their states (SLAM's journal gives them): FollowMap takes
+// those, asks position_of_point only for the points that joined an entity since the last
+// call, and a changed point given as gone leaves its entity.
+TEST_F(TwoObjectScene, FollowMapTakesTheChangedPointsStatesFromTheChanges) {
+  ObjectsOptions options;
+  ObjectMap map(options, Camera());
+  const auto points = ScenePoints();
+  Watch(map, options, 0, 40, true, &points);
+  const std::map<std::uint64_t, Eigen::Vector3d> positions(points.begin(), points.end());
+  int asked = 0;
+  const auto follow = [&](const std::vector<ObjectMap::ChangedPoint>& changed) {
+    const std::vector<std::int64_t> no_frames;
+    map.FollowMap([&](std::int64_t frame) -> std::optional<SE3> { return OrbitPose(0.02 * frame); },
+                  [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> {
+                    ++asked;
+                    return positions.at(id);
+                  },
+                  {}, &no_frames, &changed);
+  };
+  map.SetUp(Eigen::Vector3d::UnitZ());
+  follow({});
+  EXPECT_GT(asked, 0);  // the points that joined the objects while they were watched
+  ObjectId cup = 0;
+  for (const auto& [id, object] : map.objects()) cup = object.class_id == 41 ? id : cup;
+  ASSERT_GT(cup, 0);
+  const MapObject before = map.objects().at(cup);
+  ASSERT_GT(before.points.size(), 4u);
+  // Of the cup's counted points (FollowMap follows no others), the first is gone from the
+  // map, the others rose 1 cm; the callback still gives the old positions.
+  std::vector<std::uint64_t> ids;
+  for (const auto& [id, point] : before.points) {
+    if (point.votes >= options.min_point_votes) ids.push_back(id);
+  }
+  ASSERT_GT(ids.size(), 4u);
+  std::map<std::uint64_t, Eigen::Vector3d> moved;
+  for (const std::uint64_t id : ids) {
+    if (id != ids.front()) moved[id] = before.points.at(id).position + Eigen::Vector3d(0, 0, 0.01);
+  }
+  asked = 0;
+  follow(ChangedPointsOf(ids, moved));
+  EXPECT_EQ(asked, 0);
+  const MapObject& after = map.objects().at(cup);
+  EXPECT_EQ(after.points.count(ids.front()), 0u);
+  ASSERT_EQ(after.points.size(), before.points.size() - 1);
+  for (const std::uint64_t id : ids) {
+    if (id != ids.front()) {
+      EXPECT_EQ(after.points.at(id).position, moved.at(id)) << id;
+    }
+  }
+}
+
+// A point an object holds with fewer than Objects.min_point_votes votes counts nowhere
+// (ObjectPointIds), so FollowMap does not follow it: the background in a box gives many
+// such points, and each would cost a lookup at every keyframe. Once its votes reach the
+// threshold it is read from the map at the next call (it may have moved since its last
+// vote), and followed from then on.
+TEST_F(TwoObjectScene, FollowMapFollowsAPointOnceItsVotesCountIt) {
+  ObjectsOptions options;
+  ASSERT_EQ(options.min_point_votes, 3);
+  ObjectMap map(options, Camera());
+  auto points = ScenePoints();
+  Watch(map, options, 0, 40, true, &points);
+  std::map<std::uint64_t, Eigen::Vector3d> positions(points.begin(), points.end());
+  const std::vector<std::int64_t> no_frames;
+  const auto follow = [&](const std::vector<std::uint64_t>& changed) {
+    const std::vector<ObjectMap::ChangedPoint> states = ChangedPointsOf(changed, positions);
+    map.FollowMap([&](std::int64_t frame) -> std::optional<SE3> { return OrbitPose(0.02 * frame); },
+                  [&](std::uint64_t id) -> std::optional<Eigen::Vector3d> {
+                    const auto found = positions.find(id);
+                    if (found == positions.end()) return {};
+                    return found->second;
+                  },
+                  {}, &no_frames, &states);
+  };
+  map.SetUp(Eigen::Vector3d::UnitZ());
+  follow({});
+  ObjectId cup = 0;
+  for (const auto& [id, object] : map.objects()) cup = object.class_id == 41 ? id : cup;
+  ASSERT_GT(cup, 0);
+  // A new point on the cup's top, tracked in one frame: one vote.
+  constexpr std::uint64_t kNew = 500;
+  const Eigen::Vector3d first = cup_.centre + Eigen::Vector3d(0, 0, 0.5 * cup_.size.z());
+  points.push_back({kNew, first});
+  positions[kNew] = first;
+  Watch(map, options, 40, 41, true, &points);
+  ASSERT_EQ(map.objects().at(cup).points.at(kNew).votes, 1);
+  // The map moves it 1 cm: not followed.
+  positions[kNew] = first + Eigen::Vector3d(0, 0, 0.01);
+  follow({kNew});
+  EXPECT_EQ(map.objects().at(cup).points.at(kNew).position, first);
+  // Two more votes (tracking still saw it where it was), then the map moves it again
+  // before the next call: that call reads it.
+  positions[kNew] = first;
+  Watch(map, options, 41, 43, true, &points);
+  ASSERT_EQ(map.objects().at(cup).points.at(kNew).votes, 3);
+  const Eigen::Vector3d moved = first + Eigen::Vector3d(0, 0, 0.02);
+  positions[kNew] = moved;
+  follow({});
+  EXPECT_EQ(map.objects().at(cup).points.at(kNew).position, moved);
+  // Followed from then on: moved again, and then gone.
+  positions[kNew] = moved + Eigen::Vector3d(0, 0, 0.01);
+  follow({kNew});
+  EXPECT_EQ(map.objects().at(cup).points.at(kNew).position, positions[kNew]);
+  positions.erase(kNew);
+  follow({kNew});
+  EXPECT_EQ(map.objects().at(cup).points.count(kNew), 0u);
 }
 
 TEST(MinAreaRectangle, FindsTheRectangleOfRotatedPoints) {

@@ -189,6 +189,100 @@ TEST(MapJournal, ChangesReadDoNotDependOnTheMapSize) {
   EXPECT_EQ(read[1], 35u);
 }
 
+// The changed points' states are found by walking the map's points from one changed id
+// to the next when they are near and by a search when they are far: runs of neighbours,
+// lone points far apart, the first and the last point, culled ones, all read as a full
+// read gives them.
+TEST(MapJournal, ChangedPointsNearAndFarApartReadAsAFullRead) {
+  Map map;
+  testing::FillRandomMap(200, 60, 3, &map);
+  Copy copy;
+  copy.Follow(map);
+  std::vector<MapPointPtr> points;
+  for (const auto& [id, point] : map.points()) points.push_back(point);
+  ASSERT_GT(points.size(), 500u);
+  std::vector<std::size_t> changed = {0, points.size() - 1};
+  for (std::size_t i = 100; i < 130; ++i) changed.push_back(i);                // a run
+  for (std::size_t i = 131; i < 300; i += 3) changed.push_back(i);             // near, with gaps
+  for (std::size_t i = 300; i < points.size(); i += 41) changed.push_back(i);  // far apart
+  for (const std::size_t i : changed) {
+    points[i]->position += Eigen::Vector3d(0.01, 0.0, 0.0);
+    map.journal().Point(points[i]->id);  // as the adjustments' write-back notes it
+  }
+  for (const std::size_t i : {5u, 120u, 400u}) map.ErasePoint(points[i]);
+  copy.Follow(map);
+  EXPECT_FALSE(copy.everything);
+  ExpectSameAsFullRead(copy, map);
+}
+
+// A point's descriptor is updated at each new observation and mostly stays as it was: the
+// journal notes the update only when the descriptor changed (a reader that followed it
+// would read the same state again).
+TEST(MapJournal, ADescriptorUpdateIsNotedOnlyWhenTheDescriptorChanged) {
+  Map map;
+  testing::FillRandomMap(20, 60, 3, &map);
+  MapPointPtr point;
+  for (const auto& [id, candidate] : map.points()) {
+    if (candidate->observations.size() >= 2) point = candidate;
+  }
+  ASSERT_NE(point, nullptr);
+  map.UpdatePointDescriptor(point);
+  const Descriptor descriptor = point->descriptor;
+  const std::uint64_t version = map.journal().version();
+  map.UpdatePointDescriptor(point);
+  EXPECT_EQ(map.journal().version(), version);
+  point->descriptor = Descriptor{};
+  ASSERT_NE(point->descriptor, descriptor);
+  map.UpdatePointDescriptor(point);
+  EXPECT_EQ(point->descriptor, descriptor);
+  EXPECT_EQ(map.journal().version(), version + 1);
+}
+
+// With a point tolerance, an adjustment's move is noted once the point is more than the
+// tolerance from where the reader last read it: the reader's copy stays within the
+// tolerance of the map and hears of a point after its moves add up, not at each one.
+TEST(MapJournal, MovesBelowThePointToleranceFromTheLastReadAreNotNoted) {
+  Map map;
+  testing::FillRandomMap(20, 60, 3, &map);
+  map.journal().SetPointTolerance(0.001);
+  Copy copy;
+  copy.Follow(map);
+  auto it = map.points().begin();
+  const MapPointPtr a = it->second, b = std::next(it)->second;
+  const Eigen::Vector3d a_read = a->position, b_read = b->position;
+  const auto move = [&](const MapPointPtr& point, double dx) {
+    point->position += Eigen::Vector3d(dx, 0.0, 0.0);
+    map.NotePointMoved(*point);  // as the adjustments' write-back
+  };
+  const std::uint64_t version = map.journal().version();
+  move(a, 0.0006);
+  move(b, 0.0006);
+  EXPECT_EQ(map.journal().version(), version);  // within the tolerance of the last read
+  move(a, 0.0006);                              // 1.2 mm from it: noted
+  EXPECT_EQ(map.journal().version(), version + 1);
+  copy.Follow(map);
+  EXPECT_EQ(copy.points.at(a->id).position, a->position);
+  EXPECT_EQ(copy.points.at(b->id).position, b_read);
+  EXPECT_LE((copy.points.at(b->id).position - b->position).norm(), 0.001);
+  // Read again at its new place: the next small move is measured from there.
+  move(a, 0.0006);
+  EXPECT_EQ(map.journal().version(), version + 1);
+  EXPECT_NE(a->position, a_read);
+  // Tolerance 0: every move is noted; a write-back that leaves a point where it was read
+  // is not.
+  map.journal().SetPointTolerance(0.0);
+  const MapPointPtr c = std::next(it, 2)->second;
+  move(c, 0.0);
+  EXPECT_EQ(map.journal().version(), version + 1);
+  move(c, 1e-9);
+  EXPECT_EQ(map.journal().version(), version + 2);
+  move(a, 0.0);  // 0.6 mm from where it was read
+  move(b, 0.0);  // 0.6 mm
+  EXPECT_EQ(map.journal().version(), version + 4);
+  copy.Follow(map);
+  ExpectSameAsFullRead(copy, map);
+}
+
 // The journal keeps at most its capacity: a reader further behind reads everything.
 TEST(MapJournal, AReaderBehindTheBoundReadsEverything) {
   MapJournal journal(4);

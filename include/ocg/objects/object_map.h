@@ -87,12 +87,21 @@ class ObjectMap {
   // pose_of_frame is asked for SightingFrames() alone; with frames (sorted, each once: the
   // only frames pose_of_frame knows) only for those, found in each object's sightings by
   // bisection, so a keyframe that moved a few frames visits a few sightings.
+  // changed_points (with frames): the map points that changed, with their state now
+  // (sorted by id, each once); only those are followed, and the points that joined an
+  // entity since the last call, whose state position_of_point and descriptor_of_point
+  // give.
+  struct ChangedPoint {
+    std::uint64_t id = 0;
+    const Eigen::Vector3d* position = nullptr;  // world; null: the point is gone
+    const Descriptor* descriptor = nullptr;     // null: not known
+  };
   void FollowMap(
       const std::function<std::optional<SE3>(std::int64_t frame)>& pose_of_frame,
       const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
       const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point = {},
       const std::vector<std::int64_t>* frames = nullptr,
-      const std::vector<std::uint64_t>* changed_points = nullptr);
+      const std::vector<ChangedPoint>* changed_points = nullptr);
 
   // The frames of the sightings the objects and candidates keep, sorted, each once.
   std::vector<std::int64_t> SightingFrames() const;
@@ -196,13 +205,17 @@ class ObjectMap {
   std::optional<Eigen::Vector3d> up_at_estimates_;
   // The objects whose sightings or point votes changed since they were last estimated.
   std::set<ObjectId> unestimated_;
-  // FollowMap's changed points: the entities holding each point (ids of objects and
-  // candidates; stale ids, of entities merged, dropped or promoted since, are skipped and
-  // pruned when read); rebuilt from every entity when not valid (after a promotion, a
-  // merge or a join, which move points to another id; rare).
+  // FollowMap's changed points: the entities holding each point with at least
+  // Objects.min_point_votes votes (ids of objects and candidates; stale ids, of entities
+  // merged, dropped or promoted since, are skipped and pruned when read); rebuilt from
+  // every entity when not valid (after a promotion, a merge or a join, which move points
+  // to another id; rare). A point with fewer votes is counted nowhere (ObjectPointIds), so
+  // its position and descriptor are not followed: an entity holds many such points (the
+  // background in its boxes), and AddPointVotes gives a point its position now at each vote.
   std::unordered_map<std::uint64_t, std::vector<ObjectId>> point_entities_;
   bool point_index_valid_ = false;
-  // The points that joined an entity since the last FollowMap.
+  // The points counted by an entity since the last FollowMap (whose map point may have
+  // moved after they were last given a position).
   std::vector<std::uint64_t> fresh_points_;
   void IndexPoints();
   // After AddPointVotes: the box's points new to entity enter the index.

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -43,7 +44,9 @@ class SlamMapCopy {
   };
   // Returns the points added and removed (moved ones are not counted).
   std::size_t Apply(const SlamMapChanges& changes);
-  const std::map<std::uint64_t, Point>& points() const { return points_; }
+  // By id, in no order (a hash map: a keyframe's thousands of changed points each cost a
+  // lookup, not a walk down a tree of the whole map).
+  const std::unordered_map<std::uint64_t, Point>& points() const { return points_; }
   const std::map<std::uint64_t, Eigen::Matrix3d>& camera_rotations() const { return rotations_; }
   // By id, as the SLAM map orders them.
   std::vector<Eigen::Vector3d> Positions() const;
@@ -57,7 +60,7 @@ class SlamMapCopy {
   Eigen::Matrix3d x_scatter_ = Eigen::Matrix3d::Zero();
   Eigen::Vector3d minus_y_sum_ = Eigen::Vector3d::Zero();
   void AddToSums(const Eigen::Matrix3d& R_wc, double sign);
-  std::map<std::uint64_t, Point> points_;
+  std::unordered_map<std::uint64_t, Point> points_;
   std::map<std::uint64_t, Eigen::Matrix3d> rotations_;
 };
 

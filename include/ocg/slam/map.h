@@ -55,6 +55,11 @@ struct MapPoint {
   // local map search already had this point, so that a point seen by several local
   // keyframes is projected once without a set of ids per frame. Not saved with the map.
   std::uint64_t searched_by_frame = kNoFrame;
+  // Where the map journal's reader last read it (ChangesSince): an adjustment that moves
+  // it less than MapJournal::point_tolerance() from there leaves it out of the journal.
+  // Not saved with the map.
+  Eigen::Vector3d read_position =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 
   static constexpr std::uint64_t kNoFrame = std::numeric_limits<std::uint64_t>::max();
 
@@ -259,6 +264,12 @@ class Map {
   // What changed (map_journal.h). Whoever changes a point's position or descriptor or a
   // keyframe's pose outside Map's methods notes it here (the adjustments' write-back).
   MapJournal& journal() const { return journal_; }
+  // An adjustment moved the point: noted unless it is within the journal's point
+  // tolerance of where the reader last read it.
+  void NotePointMoved(const MapPoint& point) const {
+    if (!((point.position - point.read_position).norm() <= journal_.point_tolerance()))
+      journal_.Point(point.id);
+  }
 
  private:
   mutable std::mutex mutex_;

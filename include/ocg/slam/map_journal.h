@@ -31,6 +31,15 @@ class MapJournal {
 
   // Note a change (after making it: a reader that saw the version reads the new state).
   void Point(std::uint64_t id);
+  // Map units: an adjustment's move of a point is noted once the point is more than this
+  // from where the reader last read it (Map::NotePointMoved), so the reader's copy of a
+  // point stays within this of the map's without hearing of every tiny move (most moves
+  // of a local bundle adjustment are below a millimetre). 0 (the default): every move.
+  // The object layer sets it to its Objects.follow_tolerance. Readers that read at the
+  // same moments (the object layers of several OCG modes) each stay within it; one that
+  // reads at other moments may lag by a few tolerances.
+  void SetPointTolerance(double tolerance) { point_tolerance_ = tolerance; }
+  double point_tolerance() const { return point_tolerance_; }
   void KeyFrame(std::uint64_t id);
   void Everything();
 
@@ -52,6 +61,7 @@ class MapJournal {
   std::deque<Entry> entries_;  // versions version_ - entries_.size() + 1 .. version_
   std::uint64_t version_ = 0;
   std::uint64_t everything_ = 0;  // the version of the last Everything()
+  double point_tolerance_ = 0.0;
 };
 
 // The state now of a point or keyframe of the current map; live false when it is gone
