@@ -244,9 +244,9 @@ void ObjectMap::FollowMap(
     }
   }
   if (changed_points != nullptr) {
-    // Only the points that changed in the map, and those that joined an entity since the
-    // last call (their map point may have moved before they joined), found through the
-    // point -> entities index.
+    // Only the points that changed in the map, and those an entity counts since the last
+    // call (their map point may have moved since their last vote), found through the
+    // point -> entities index (counted points only).
     if (!point_index_valid_) IndexPoints();
     // The changed points with their states, then the fresh ones not among them (in id
     // order, each once, as the changed ones are).

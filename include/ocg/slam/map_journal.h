@@ -34,7 +34,7 @@ class MapJournal {
   // Map units: an adjustment's move of a point is noted once the point is more than this
   // from where the reader last read it (Map::NotePointMoved), so the reader's copy of a
   // point stays within this of the map's without hearing of every tiny move (most moves
-  // of a local bundle adjustment are below a millimetre). 0 (the default): every move.
+  // of a local bundle adjustment are below 0.001 map units). 0 (the default): every move.
   // The object layer sets it to its Objects.follow_tolerance. Readers that read at the
   // same moments (the object layers of several OCG modes) each stay within it; one that
   // reads at other moments may lag by a few tolerances.

@@ -159,8 +159,8 @@ class System {
   // points and keyframes changed, or the whole map after a loop correction, a global
   // adjustment, a merge, a reset or a switch of map.
   MapChanges MapChangesSince(std::optional<std::uint64_t> version) const;
-  // MapJournal::SetPointTolerance (map units): for a single reader of MapChangesSince;
-  // call before the first frame.
+  // MapJournal::SetPointTolerance (map units): for the readers of MapChangesSince that
+  // read at the same moments (the object layers); call before the first frame.
   void SetMapJournalPointTolerance(double tolerance);
   // The keyframes in the current map (for tests and diagnostics; read them while the
   // system is idle: after Shutdown(), or between TrackImage calls in sequential mode).
