@@ -934,11 +934,22 @@ TEST_F(TwoObjectScene, ObjectsFollowTheirCamerasAndPointsWhenTheMapIsOptimized) 
   EXPECT_EQ(observation.updates.size(), 2u);
 }
 
-// A local adjustment deep in a revisited map moves many points by tiny amounts: a point
-// that moved less than Objects.follow_tolerance keeps the position its object was
-// estimated with and re-estimates nothing; once its moves add up past the tolerance (the
-// copy compares with what it holds, not with the last move) it follows. With tolerance 0
-// every move is followed.
+// The id of the map's object of this class (the highest, when there are more); 0: none.
+ObjectId IdOfClass(const ObjectMap& map, int class_id) {
+  ObjectId found = 0;
+  for (const auto& [id, object] : map.objects()) found = object.class_id == class_id ? id : found;
+  return found;
+}
+
+// The ids of the points the object counts (at least min_votes votes), in id order.
+std::vector<std::uint64_t> CountedPointIds(const MapObject& object, int min_votes) {
+  std::vector<std::uint64_t> ids;
+  for (const auto& [id, point] : object.points) {
+    if (point.votes >= min_votes) ids.push_back(id);
+  }
+  return ids;
+}
+
 // FollowMap's changed points with their states, from positions (ids of points missing
 // there: gone from the map). positions must outlive the result.
 std::vector<ObjectMap::ChangedPoint> ChangedPointsOf(
@@ -954,6 +965,11 @@ std::vector<ObjectMap::ChangedPoint> ChangedPointsOf(
   return changed;
 }
 
+// A local adjustment deep in a revisited map moves many points by tiny amounts: a point
+// that moved less than Objects.follow_tolerance keeps the position its object was
+// estimated with and re-estimates nothing; once its moves add up past the tolerance (the
+// copy compares with what it holds, not with the last move) it follows. With tolerance 0
+// every move is followed.
 TEST_F(TwoObjectScene, PointsThatMovedLessThanTheFollowToleranceLeaveTheirObjects) {
   const auto points = ScenePoints();
   for (const double tolerance : {0.001, 0.0}) {
@@ -975,18 +991,13 @@ TEST_F(TwoObjectScene, PointsThatMovedLessThanTheFollowToleranceLeaveTheirObject
     map.SetUp(Eigen::Vector3d::UnitZ());
     follow({});
     ASSERT_EQ(map.objects().size(), 2u);
-    ObjectId cup = 0;
-    for (const auto& [id, object] : map.objects()) cup = object.class_id == 41 ? id : cup;
+    const ObjectId cup = IdOfClass(map, 41);
     ASSERT_GT(cup, 0);
     const MapObject before = map.objects().at(cup);
     ASSERT_GT(before.points.size(), 4u);
     // The cup's counted points (those FollowMap follows) sink 0.6 mm, twice over.
-    std::vector<std::uint64_t> changed;
-    for (const auto& [id, point] : before.points) {
-      if (point.votes < options.min_point_votes) continue;
-      positions[id] -= Eigen::Vector3d(0, 0, 0.0006);
-      changed.push_back(id);
-    }
+    const std::vector<std::uint64_t> changed = CountedPointIds(before, options.min_point_votes);
+    for (const std::uint64_t id : changed) positions[id] -= Eigen::Vector3d(0, 0, 0.0006);
     ASSERT_GT(changed.size(), 4u);
     follow(changed);
     const MapObject& once = map.objects().at(cup);
@@ -1059,8 +1070,7 @@ TEST_F(TwoObjectScene, IncrementalFollowMapEqualsEstimatingEveryObject) {
     follow(*map, {}, {});
   }
   expect_equal("first call");
-  ObjectId laptop = 0;
-  for (const auto& [id, object] : full.objects()) laptop = object.class_id == 63 ? id : laptop;
+  const ObjectId laptop = IdOfClass(full, 63);
   ASSERT_GT(laptop, 0);
   // A local adjustment moved the frames where the laptop was seen alone.
   std::vector<std::int64_t> moved_frames;
@@ -1124,17 +1134,13 @@ TEST_F(TwoObjectScene, FollowMapTakesTheChangedPointsStatesFromTheChanges) {
   map.SetUp(Eigen::Vector3d::UnitZ());
   follow({});
   EXPECT_GT(asked, 0);  // the points that joined the objects while they were watched
-  ObjectId cup = 0;
-  for (const auto& [id, object] : map.objects()) cup = object.class_id == 41 ? id : cup;
+  const ObjectId cup = IdOfClass(map, 41);
   ASSERT_GT(cup, 0);
   const MapObject before = map.objects().at(cup);
   ASSERT_GT(before.points.size(), 4u);
   // Of the cup's counted points (FollowMap follows no others), the first is gone from the
   // map, the others rose 1 cm; the callback still gives the old positions.
-  std::vector<std::uint64_t> ids;
-  for (const auto& [id, point] : before.points) {
-    if (point.votes >= options.min_point_votes) ids.push_back(id);
-  }
+  const std::vector<std::uint64_t> ids = CountedPointIds(before, options.min_point_votes);
   ASSERT_GT(ids.size(), 4u);
   std::map<std::uint64_t, Eigen::Vector3d> moved;
   for (const std::uint64_t id : ids) {
@@ -1178,8 +1184,7 @@ TEST_F(TwoObjectScene, FollowMapFollowsAPointOnceItsVotesCountIt) {
   };
   map.SetUp(Eigen::Vector3d::UnitZ());
   follow({});
-  ObjectId cup = 0;
-  for (const auto& [id, object] : map.objects()) cup = object.class_id == 41 ? id : cup;
+  const ObjectId cup = IdOfClass(map, 41);
   ASSERT_GT(cup, 0);
   // A new point on the cup's top, tracked in one frame: one vote.
   constexpr std::uint64_t kNew = 500;
