@@ -6,13 +6,17 @@ set -euo pipefail
 usage() {
   cat <<'USAGE'
 Usage: tools/fuzz.sh [SECONDS] [--jobs N] [--only NAME[,NAME...]] [--exclude NAME[,NAME...]]
-                    [--build-dir DIR]
+                    [--tests NAME[,NAME...]] [--build-dir DIR]
 
 Builds every fuzz target of fuzz/targets.txt (clang 14, libFuzzer, address and undefined
 sanitizers) and runs each for SECONDS (default 600), N at a time (default 1), then prints
 one line per target: runs, execs/s and the result. --only keeps the named targets,
 --exclude leaves them out; only the targets kept are built (with the libraries they need:
-`settings` needs the whole library, the others a few modules).
+`settings` needs the whole library, the others a few modules). --tests also builds the
+named test programs of tests/ (e.g. ocg_test) in the same build, so under the same
+sanitizers, and runs them first: a failing test or a sanitizer report fails the run. The
+suite's fuzz_smoke does so with ocg_test, the sanitizer smoke sharing the fuzzers' build
+(tools/sanitize.sh runs the whole suite under gcc's sanitizers).
 
 Seeds: fuzz/seeds/<target>/ (committed), tests/data, config/ and, when present,
 ../shared/data. Inputs the fuzzer finds interesting go to BUILD/corpus/<target>/ and are
@@ -24,7 +28,8 @@ Limits per input: -max_len from fuzz/targets.txt, -timeout=10 s, -rss_limit_mb=2
 (also the largest single allocation).
 
 Build folder: --build-dir, else $OCG_FUZZ_BUILD_DIR, else build-fuzz/ in the source tree.
-Exit status: 0 when nothing was found, 1 on any finding, 2 on a usage or build error.
+Exit status: 0 when nothing was found, 1 on any finding or failing test, 2 on a usage or
+build error.
 USAGE
 }
 
@@ -34,12 +39,14 @@ SECONDS_PER_TARGET=600
 JOBS=1
 ONLY=""
 EXCLUDE=""
+TESTS=""
 while [ $# -gt 0 ]; do
   case "$1" in
     -h|--help) usage; exit 0 ;;
     --jobs) JOBS=${2:?--jobs needs a number}; shift 2 ;;
     --only) ONLY=${2:?--only needs target names}; shift 2 ;;
     --exclude) EXCLUDE=${2:?--exclude needs target names}; shift 2 ;;
+    --tests) TESTS=${2:?--tests needs test program names}; shift 2 ;;
     --build-dir) BUILD=${2:?--build-dir needs a folder}; shift 2 ;;
     *)
       if [[ "$1" =~ ^[0-9]+$ ]] && [ "$1" -gt 0 ]; then
@@ -68,6 +75,11 @@ for name in ${ONLY//,/ } ${EXCLUDE//,/ }; do
 done
 
 # name max_len, from the one list CMake also builds from.
+for test in ${TESTS//,/ }; do
+  grep -qE "^ocg_add_test\($test( |$)" "$ROOT/tests/CMakeLists.txt" ||
+    { echo "fuzz.sh: no test program '$test' (see ocg_add_test in tests/CMakeLists.txt)" >&2; exit 2; }
+done
+
 TARGETS=()
 declare -A MAX_LEN
 while read -r name _library max_len; do
@@ -91,15 +103,33 @@ echo "== configure ($BUILD)"
 cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" "${LAUNCHER[@]}" \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-gline-tables-only -O1" \
-  -DOCG_FUZZ=ON -DOCG_WERROR=OFF -DOCG_BUILD_TESTS=OFF -DOCG_BUILD_BENCH=OFF -DOCG_BUILD_TOOLS=OFF \
+  -DOCG_FUZZ=ON -DOCG_WERROR=OFF -DOCG_BUILD_TESTS=ON -DOCG_BUILD_BENCH=OFF -DOCG_BUILD_TOOLS=ON \
+  -DOCG_BUILD_PYTHON=OFF \
   >"$BUILD/configure.log" 2>&1 || { cat "$BUILD/configure.log"; exit 2; }
 echo "== build ($(nproc 2>/dev/null || echo 2) jobs)"
 BUILD_START=$(date +%s)
-cmake --build "$BUILD" --target "${TARGETS[@]/#/ocg_fuzz_}" --parallel "$(nproc 2>/dev/null || echo 2)" \
+TEST_PROGRAMS=(${TESTS//,/ })
+cmake --build "$BUILD" --target "${TARGETS[@]/#/ocg_fuzz_}" "${TEST_PROGRAMS[@]}" --parallel "$(nproc 2>/dev/null || echo 2)" \
   >"$BUILD/build.log" 2>&1 || { tail -n 60 "$BUILD/build.log"; echo "fuzz.sh: build failed, log: $BUILD/build.log" >&2; exit 2; }
 echo "   built in $(( $(date +%s) - BUILD_START )) s"
 
 # Seeds beyond fuzz/seeds: the real files the readers are made for, where they exist.
+# The test programs first (tools/sanitize.sh's smoke, on clang's build): a report ends the
+# program (halt_on_error, -fno-sanitize-recover) and fails the run like a failing test.
+# Differential.* compares the OCG with its naive reference on long random streams (minutes
+# under ASan); the other tests run the same graph code.
+for test in "${TEST_PROGRAMS[@]}"; do
+  echo "== $test (address, undefined)"
+  TEST_START=$(date +%s)
+  (cd "$BUILD/tests" &&
+    ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:detect_stack_use_after_return=1 \
+    LSAN_OPTIONS="suppressions=$ROOT/tools/sanitize/lsan.supp:print_suppressions=0" \
+    UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 OCG_SOURCE_DIR=$ROOT \
+      "./$test" --gtest_brief=1 --gtest_filter=-Differential.*) ||
+    { echo "fuzz.sh: $test failed under the sanitizers (its output above)" >&2; exit 1; }
+  echo "   ran in $(($(date +%s) - TEST_START)) s"
+done
+
 SHARED=${OCG_SHARED_DATA:-$ROOT/../shared/data}
 extra_seeds() {
   local name=$1 out=$2

@@ -15,9 +15,10 @@ Usage: tools/sanitize.sh [--smoke] address|undefined|thread
              and a threaded end-to-end run of ocg_slam (local mapping and loop closing on
              their threads, global bundle adjustment on its own, the OCG on its thread
              through --detections).
-  --smoke    with address: the same flags on the OCG's ocg_test (its thread included),
-             for CI (the ctest test sanitize_smoke runs it); a few minutes on 2 cores. The
-             readers run under address and undefined in the suite's fuzz_smoke.
+  --smoke    with address: the same flags on the OCG's ocg_test (its thread included);
+             a few minutes on 2 cores. The suite runs ocg_test and the readers under
+             clang's address and undefined in fuzz_smoke (tools/fuzz.sh --tests), on the
+             fuzzers' build.
 
 Build folders (beside build/, or under $OCG_SANITIZE_ROOT): build-asan (--smoke too),
 build-ubsan, build-tsan. gcc, RelWithDebInfo (-O1: a sanitizer's stacks stay
@@ -103,7 +104,7 @@ mkdir -p "$BUILD"
 cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" "${LAUNCHER[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_COMPILER=g++ -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" \
   -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="$FLAGS" -DCMAKE_SHARED_LINKER_FLAGS="$FLAGS" \
-  -DOCG_WERROR=OFF -DOCG_BUILD_BENCH=OFF -DOCG_SANITIZE_SMOKE=OFF -DOCG_BUILD_PYTHON=OFF >"$BUILD/configure.log" 2>&1 ||
+  -DOCG_WERROR=OFF -DOCG_BUILD_BENCH=OFF -DOCG_BUILD_PYTHON=OFF >"$BUILD/configure.log" 2>&1 ||
   { cat "$BUILD/configure.log"; exit 1; }
 
 # The smoke: the OCG (its thread included); few modules, fast tests. The input readers were
