@@ -181,6 +181,32 @@ struct MapFileAccess {
     SaveDetector(archive, mapper.manager_.detector_);
     archive(counters.change_log.value_or(""));
     archive(SightingColours(mapper.map_));
+    archive(EstimateBookkeeping(mapper.map_));
+  }
+
+  // Version 6: per map object in id order, the changes waiting for an estimate and the
+  // sightings its last estimate had (Objects.reestimate_share), so that a loaded map goes
+  // on re-estimating as the saved one would have.
+  using Bookkeeping = std::pair<int, std::uint64_t>;
+  static std::vector<Bookkeeping> EstimateBookkeeping(const ObjectMap& map) {
+    std::vector<Bookkeeping> entries;
+    for (const auto& [id, object] : map.objects_)
+      entries.emplace_back(object.changes_since_estimate, object.sightings_at_estimate);
+    return entries;
+  }
+  static void SetEstimateBookkeeping(const std::vector<Bookkeeping>& entries, ObjectMap* map) {
+    if (entries.size() != map->objects_.size())
+      throw std::runtime_error("the estimate bookkeeping is for " + std::to_string(entries.size()) +
+                               " objects, the map holds " + std::to_string(map->objects_.size()));
+    auto entry = entries.begin();
+    for (auto& [id, object] : map->objects_) {
+      if (entry->first < 0)
+        throw std::runtime_error("object " + std::to_string(id) + " has " +
+                                 std::to_string(entry->first) + " changes waiting");
+      object.changes_since_estimate = entry->first;
+      object.sightings_at_estimate = static_cast<std::size_t>(entry->second);
+      ++entry;
+    }
   }
 
   // Version 3: the colour signature of each map object's sightings, objects in id order.
@@ -231,6 +257,11 @@ struct MapFileAccess {
       std::vector<ColourList> colours;
       archive(colours);
       SetSightingColours(colours, &mapper->map_);
+    }
+    if (file_version >= 6) {
+      std::vector<Bookkeeping> bookkeeping;
+      archive(bookkeeping);
+      SetEstimateBookkeeping(bookkeeping, &mapper->map_);
     }
     return counters;
   }

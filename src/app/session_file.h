@@ -27,7 +27,9 @@ inline constexpr const char* kMapFileKind = "ocg_slam session map";
 // a later session pairs their objects without them. Files before version 4 take their ORB
 // settings from the settings text they saved (OrbOfOlderFile) and check the vocabulary's
 // word count alone.
-inline constexpr std::uint32_t kMapFileVersion = 5;
+// 6: the object layer ends with each map object's estimate bookkeeping
+// (Objects.reestimate_share); older files load with none waiting.
+inline constexpr std::uint32_t kMapFileVersion = 6;
 inline constexpr std::uint32_t kOldestMapFileVersion = 1;
 
 struct SessionRecord {

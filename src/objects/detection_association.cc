@@ -1,6 +1,5 @@
 #include "ocg/objects/detection_association.h"
 
-#include <functional>
 #include <optional>
 
 #include "ocg/objects/assignment.h"
@@ -11,11 +10,31 @@ namespace {
 
 constexpr double kCandidatePenalty = 0.05;  // a map object wins a tie against a candidate
 
-// An object's points as an association cue: how many are its own and the bounds of its
-// point set.
-struct PointCue {
-  int own_points = 0;
-  RobustBounds bounds;
+// An object's points as an association cue, each part computed on first use (a pass over
+// the object's points each): how many are its own (enough votes), and the bounds of its
+// point set, which only an object with a few own points needs (a frame meets many young
+// candidates that have none).
+class PointCue {
+ public:
+  PointCue(const MapObject& object, int min_votes) : object_(&object), min_votes_(min_votes) {}
+  int OwnPoints() {
+    if (!own_points_) {
+      int own = 0;
+      for (const auto& [id, point] : object_->points) own += point.votes >= min_votes_ ? 1 : 0;
+      own_points_ = own;
+    }
+    return *own_points_;
+  }
+  const RobustBounds& Bounds() {
+    if (!bounds_) bounds_ = RobustPointBounds(ObjectPointSet(*object_, min_votes_), 3.0);
+    return *bounds_;
+  }
+
+ private:
+  const MapObject* object_;
+  int min_votes_;
+  std::optional<int> own_points_;
+  std::optional<RobustBounds> bounds_;
 };
 
 // Whether one of box_points is a point on the object (voted for, within its largest
@@ -36,8 +55,7 @@ bool HoldsOwnPoint(const MapObject& object, const std::vector<const PointObserva
 double AssociationScore(const MapObject& object, const ObjectDetection& detection,
                         std::int64_t frame, const SE3& T_cw, int session,
                         const std::vector<const PointObservation*>& box_points,
-                        const std::function<const PointCue*()>& point_cue,
-                        const ObjectMapContext& context) {
+                        PointCue* object_points, const ObjectMapContext& context) {
   if (object.has_cuboid) {
     // Geometry first: the ray through the box centre must pass near the object's centre.
     // Without this gate a detection of the same class close by (the object's new place
@@ -49,12 +67,11 @@ double AssociationScore(const MapObject& object, const ObjectDetection& detectio
       return 0.0;
     }
   }
-  // Past the gate: most objects of the class are elsewhere, and a cue costs a pass over
-  // the object's points.
-  const PointCue* object_points = point_cue();
+  // Past the gate (most objects of the class are elsewhere) the point cue's parts are
+  // computed as they are needed.
   const ObjectSighting& last = object.sightings.back();
   if (object.has_cuboid && last.session < session && object_points != nullptr &&
-      box_points.size() >= 3 && object_points->own_points >= 5 &&
+      box_points.size() >= 3 && object_points->OwnPoints() >= 5 &&
       !HoldsOwnPoint(object, box_points, context)) {
     // Found again in a later session: between the visits an object of its class may have
     // been put down anywhere along this view's ray, and one view has no depth, so the
@@ -96,12 +113,12 @@ double AssociationScore(const MapObject& object, const ObjectDetection& detectio
   }
   // Map points: the box holds the object's own points, and they lie where its points do.
   // Too few on either side says nothing (untextured objects, a new object).
-  if (object_points != nullptr && box_points.size() >= 3 && object_points->own_points >= 5) {
+  if (object_points != nullptr && box_points.size() >= 3 && object_points->OwnPoints() >= 5) {
     int shared = 0, inside = 0;
     for (const PointObservation* point : box_points) {
       const auto own = object.points.find(point->id);
       shared += own != object.points.end() && own->second.votes >= context.options.min_point_votes;
-      inside += object_points->bounds.Contains(point->position) ? 1 : 0;
+      inside += object_points->Bounds().Contains(point->position) ? 1 : 0;
     }
     const double count = static_cast<double>(box_points.size());
     sum += shared / count + inside / count;
@@ -117,29 +134,20 @@ std::vector<int> AssociateDetections(
     const std::vector<ObjectDetection>& detections,
     const std::vector<std::vector<const PointObservation*>>& box_points, bool with_points,
     std::int64_t frame, const SE3& T_cw, int session, const ObjectMapContext& context) {
-  // Built on first use: only entities of a detected class need theirs.
-  std::vector<std::optional<PointCue>> point_cues(entities.size());
-  const auto point_cue = [&](std::size_t e) -> const PointCue* {
-    if (!with_points) return nullptr;
-    if (!point_cues[e]) {
-      PointCue cue;
-      for (const auto& [id, point] : entities[e]->points)
-        cue.own_points += point.votes >= context.options.min_point_votes ? 1 : 0;
-      cue.bounds =
-          RobustPointBounds(ObjectPointSet(*entities[e], context.options.min_point_votes), 3.0);
-      point_cues[e] = std::move(cue);
-    }
-    return &*point_cues[e];
-  };
+  // Each part built on first use: only entities of a detected class past the gate need one.
+  std::vector<PointCue> point_cues;
+  point_cues.reserve(entities.size());
+  for (const MapObject* entity : entities)
+    point_cues.emplace_back(*entity, context.options.min_point_votes);
   Eigen::MatrixXd cost =
       Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(detections.size()),
                                 static_cast<Eigen::Index>(entities.size()), kForbiddenCost);
   for (std::size_t d = 0; d < detections.size(); ++d) {
     for (std::size_t e = 0; e < entities.size(); ++e) {
       if (entities[e]->class_id != detections[d].class_id) continue;
-      const double score = AssociationScore(
-          *entities[e], detections[d], frame, T_cw, session, box_points[d],
-          [&] { return point_cue(e); }, context);
+      const double score =
+          AssociationScore(*entities[e], detections[d], frame, T_cw, session, box_points[d],
+                           with_points ? &point_cues[e] : nullptr, context);
       if (score < context.options.min_association_score) continue;
       cost(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(e)) =
           1.0 - score + (e >= object_count ? kCandidatePenalty : 0.0);

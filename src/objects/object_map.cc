@@ -82,7 +82,8 @@ FrameAssociation ObjectMap::AddFrame(std::int64_t frame, double timestamp, const
     if (entity->id > 0) {
       result.matched.emplace_back(static_cast<int>(d), entity->id);
       observed_since_keyframe_[entity->id] = frame;
-      if (!detection.truncated && Reestimate(*entity, false, context)) {
+      if (!NoteChanges(*entity, 1)) continue;  // Objects.reestimate_share
+      if (!detection.truncated && Estimate(*entity)) {
         geometry_changed_[entity->id] = true;
         unestimated_.erase(entity->id);
       } else {
@@ -104,7 +105,7 @@ void ObjectMap::Promote(MapObject& candidate, std::int64_t frame, FrameAssociati
   }
   MapObject object = std::move(candidate);
   object.id = next_object_id_++;
-  point_index_valid_ = false;  // its points now belong to a new id
+  IndexEntity(object);  // its counted points under its new id
   observed_since_keyframe_[object.id] = frame;
   geometry_changed_[object.id] = true;
   result->promoted.push_back(object.id);
@@ -117,7 +118,7 @@ std::optional<ObjectId> ObjectMap::JoinCandidate(MapObject& candidate, std::int6
   MapObject* host = HostOf(candidate, objects_, Context());
   if (host == nullptr) return std::nullopt;
   AbsorbInto(*host, candidate);
-  Reestimate(*host, false, Context());
+  Estimate(*host);
   observed_since_keyframe_[host->id] = frame;
   geometry_changed_[host->id] = true;
   return host->id;
@@ -136,7 +137,7 @@ void ObjectMap::JoinWaitingCandidates() {
     }
     // Its boxes are old: the host was not observed now (the OCG's evidence is the present).
     AbsorbInto(*host, candidate);
-    Reestimate(*host, false, Context());
+    Estimate(*host);
     geometry_changed_[host->id] = true;
     it = candidates_.erase(it);
   }
@@ -153,7 +154,14 @@ void ObjectMap::AbsorbInto(MapObject& into, const MapObject& from) {
   }
   Absorb(into, from, options_.max_sightings);
   BoundPoints(into, options_.max_object_points);
-  point_index_valid_ = false;  // into holds from's points now
+  // into holds from's points now: those it counts enter the index under its id (one it
+  // counted before is there already; a repeated id is pruned when read).
+  if (!point_index_valid_) return;
+  for (const auto& [id, point] : from.points) {
+    const auto kept = into.points.find(id);
+    if (kept != into.points.end() && kept->second.votes >= options_.min_point_votes)
+      point_entities_[id].push_back(into.id);
+  }
 }
 
 void ObjectMap::StartSession(int session, std::int64_t first_frame) {
@@ -175,7 +183,8 @@ void ObjectMap::FollowMap(
   // estimated again, the others only once the up direction turned by more than
   // kUpTurnForAll since they all were.
   const bool incremental = frames != nullptr;
-  std::set<ObjectId> moved;
+  // The objects whose inputs moved, with how many moved (sightings re-posed, points).
+  std::map<ObjectId, int> moved;
   // A point moves the entity when ObjectPointIds may count it (enough votes, within reach
   // of the cuboid's centre before or after). The point takes the map point's state:
   // position (null: gone from the map, and from the entity) and descriptor (null: keeps
@@ -213,7 +222,7 @@ void ObjectMap::FollowMap(
   };
   for (auto* entities : {&objects_, &candidates_}) {
     for (auto& [id, entity] : *entities) {
-      bool entity_moved = false;
+      int entity_moved = 0;
       if (frames == nullptr) {
         for (ObjectSighting& sighting : entity.sightings) {
           if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
@@ -229,18 +238,18 @@ void ObjectMap::FollowMap(
           if (!pose) continue;
           for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting) {
             sighting->T_cw = *pose;
-            entity_moved = true;
+            ++entity_moved;
           }
         }
       }
       if (changed_points == nullptr) {
         for (auto point = entity.points.begin(); point != entity.points.end();) {
           const auto next = std::next(point);
-          entity_moved = follow_point_by_id(entity, point) || entity_moved;
+          if (follow_point_by_id(entity, point)) ++entity_moved;
           point = next;
         }
       }
-      if (entities == &objects_ && entity_moved) moved.insert(id);
+      if (entities == &objects_ && entity_moved > 0) moved[id] += entity_moved;
     }
   }
   if (changed_points != nullptr) {
@@ -282,7 +291,7 @@ void ObjectMap::FollowMap(
         const auto point = entity->second.points.find(changed.id);
         if (point == entity->second.points.end()) continue;  // bounded away
         if (follow_point(entity->second, point, changed.position, changed.descriptor) && id > 0)
-          moved.insert(id);
+          ++moved[id];
         if (changed.position != nullptr) holding.push_back(id);  // else it left the entity
       }
       if (holding.empty()) {
@@ -298,16 +307,38 @@ void ObjectMap::FollowMap(
                    std::acos(std::clamp(up.dot(*up_at_estimates_), -1.0, 1.0)) > kUpTurnForAll;
   if (all) up_at_estimates_ = up;
   for (auto& [id, object] : objects_) {
-    if (!all && moved.count(id) == 0 && unestimated_.count(id) == 0) continue;
+    if (!all && unestimated_.count(id) == 0) {
+      const auto moves = moved.find(id);
+      if (moves == moved.end() || !NoteChanges(object, moves->second)) continue;
+    }
     const Cuboid before = object.cuboid;
     // The OCG hears of a change only when it matters (1% of the object's size).
-    if (Reestimate(object, false, Context()) &&
+    if (Estimate(object) &&
         ((object.cuboid.centre - before.centre).norm() > 0.01 * before.size.maxCoeff() ||
          (object.cuboid.size - before.size).norm() > 0.01 * before.size.maxCoeff())) {
       geometry_changed_[id] = true;
     }
   }
   unestimated_.clear();
+}
+
+bool ObjectMap::Estimate(MapObject& object) {
+  object.changes_since_estimate = 0;
+  object.sightings_at_estimate = object.sightings.size();
+  return Reestimate(object, false, Context());
+}
+
+bool ObjectMap::NoteChanges(MapObject& object, int changes) const {
+  object.changes_since_estimate += changes;
+  return object.changes_since_estimate > 0 &&
+         object.changes_since_estimate >=
+             options_.reestimate_share * static_cast<double>(object.sightings_at_estimate);
+}
+
+void ObjectMap::EstimatePending() {
+  for (auto& [id, object] : objects_) {
+    if (object.changes_since_estimate > 0 && Estimate(object)) geometry_changed_[id] = true;
+  }
 }
 
 void ObjectMap::IndexPoints() {
@@ -320,6 +351,13 @@ void ObjectMap::IndexPoints() {
     }
   }
   point_index_valid_ = true;
+}
+
+void ObjectMap::IndexEntity(const MapObject& entity) {
+  if (!point_index_valid_) return;
+  for (const auto& [point, kept] : entity.points) {
+    if (kept.votes >= options_.min_point_votes) point_entities_[point].push_back(entity.id);
+  }
 }
 
 void ObjectMap::PointsJoined(const MapObject& entity,
@@ -411,7 +449,7 @@ void ObjectMap::Merge(ObjectId kept, ObjectId absorbed, std::int64_t keyframe_id
   ObjectChange change = ChangeOf("merged", keyframe_id, timestamp, from, session_);
   change.merged_into = kept;
   AbsorbInto(into, from);
-  Reestimate(into, false, Context());
+  Estimate(into);
   geometry_changed_[kept] = true;
   if (observed_since_keyframe_.count(absorbed) > 0) {
     observed_since_keyframe_[kept] =
@@ -441,6 +479,7 @@ std::vector<ObjectId> ObjectMap::RestoreRemoved(std::int64_t keyframe_id, double
     const double removed_at = it->second.removed_at;
     // Its points missed the map's changes while it was away: FollowMap reads them all.
     for (const auto& [point, kept] : it->second.object.points) fresh_points_.push_back(point);
+    IndexEntity(it->second.object);  // its entries were pruned while it was away
     objects_.emplace(id, std::move(it->second.object));
     it = removed_.erase(it);
     Merge(id, recreated_as, keyframe_id, timestamp, merges);

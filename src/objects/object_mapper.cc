@@ -174,6 +174,9 @@ void ObjectMapper::StartSession(int session, std::int64_t first_frame) {
 void ObjectMapper::Finish() {
   manager_.EndSession();
   manager_.Shutdown();
+  // The outputs tell every sighting (Objects.reestimate_share lets estimates wait).
+  std::lock_guard<std::mutex> lock(map_mutex_);
+  map_.EstimatePending();
 }
 
 ObjectMap::PointPresenceStats ObjectMapper::PointPresenceStats() const {

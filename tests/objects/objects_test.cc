@@ -900,6 +900,7 @@ TEST_F(TwoObjectScene, ObjectsFollowTheirCamerasAndPointsWhenTheMapIsOptimized) 
   ObjectMap map(options, Camera());
   const auto points = ScenePoints();
   Watch(map, options, 0, 40, true, &points);
+  map.EstimatePending();  // the estimates of every sighting (Objects.reestimate_share)
   std::map<ObjectId, Eigen::Vector3d> before;
   for (const auto& [id, object] : map.objects()) before[id] = object.cuboid.centre;
   // Bundle adjustment moved the whole map by 0.3 m along x: every camera and point moved
@@ -1109,6 +1110,57 @@ TEST_F(TwoObjectScene, IncrementalFollowMapEqualsEstimatingEveryObject) {
     const Cuboid& kept = incremental.objects().at(id).cuboid;
     EXPECT_LT((object.cuboid.centre - kept.centre).norm(), 1e-3 * object.cuboid.size.maxCoeff());
     EXPECT_LT((object.cuboid.size - kept.size).norm(), 0.02 * object.cuboid.size.maxCoeff());
+  }
+}
+
+// Objects.reestimate_share: a new sighting estimates an object again only once the changes
+// since its last estimate reach that share of the sightings it had then; the changes still
+// waiting are estimated by EstimatePending, to exactly what estimating at every change
+// gives. So a mature object costs a bounded amount per new sighting (issue 37, point 3).
+TEST_F(TwoObjectScene, AnObjectIsEstimatedAgainOnceItsChangesReachTheShare) {
+  ObjectsOptions every_change, half;
+  every_change.reestimate_share = 0.0;
+  half.reestimate_share = 0.5;
+  ObjectMap eager(every_change, Camera()), lagging(half, Camera());
+  Watch(eager, every_change, 0, 40);
+  Watch(lagging, half, 0, 40);
+  const ObjectId cup = IdOfClass(eager, 41);
+  ASSERT_GT(cup, 0);
+  ASSERT_EQ(IdOfClass(lagging, 41), cup);
+  EXPECT_EQ(eager.objects().at(cup).changes_since_estimate, 0);
+  // Its boxes now pull its estimate 2 cm aside, frame by frame.
+  cup_.centre += Eigen::Vector3d(0.02, 0.0, 0.0);
+  const MapObject& waiting = lagging.objects().at(cup);
+  const int due =
+      static_cast<int>(std::ceil(0.5 * static_cast<double>(waiting.sightings_at_estimate)));
+  ASSERT_GT(due - waiting.changes_since_estimate, 2);
+  const Eigen::Vector3d estimated = waiting.cuboid.centre;
+  int frame = 40;
+  while (waiting.changes_since_estimate + 1 < due) {
+    Watch(eager, every_change, frame, frame + 1);
+    Watch(lagging, half, frame, frame + 1);
+    ++frame;
+    EXPECT_EQ(waiting.cuboid.centre, estimated) << "frame " << frame;
+  }
+  EXPECT_GT((eager.objects().at(cup).cuboid.centre - estimated).norm(), 1e-3);
+  // The change that reaches the share.
+  Watch(eager, every_change, frame, frame + 1);
+  Watch(lagging, half, frame, frame + 1);
+  ++frame;
+  EXPECT_EQ(waiting.changes_since_estimate, 0);
+  EXPECT_EQ(waiting.cuboid.centre, eager.objects().at(cup).cuboid.centre);
+  // A few changes wait again; EstimatePending (before outputs) takes them in.
+  Watch(eager, every_change, frame, frame + 3);
+  Watch(lagging, half, frame, frame + 3);
+  EXPECT_EQ(waiting.changes_since_estimate, 3);
+  EXPECT_NE(waiting.cuboid.centre, eager.objects().at(cup).cuboid.centre);
+  lagging.EstimatePending();
+  EXPECT_EQ(waiting.changes_since_estimate, 0);
+  for (const auto& [id, object] : eager.objects()) {
+    const Cuboid& kept = lagging.objects().at(id).cuboid;
+    EXPECT_EQ(object.cuboid.centre, kept.centre) << "object " << id;
+    EXPECT_EQ(object.cuboid.size, kept.size) << "object " << id;
+    EXPECT_EQ(object.cuboid.yaw, kept.yaw) << "object " << id;
   }
 }
 

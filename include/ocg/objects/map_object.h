@@ -48,6 +48,10 @@ struct MapObject {
   double last_timestamp = 0.0;
   std::int64_t keyframes_in_map = 0;            // keyframes since promotion
   std::map<std::uint64_t, ObjectPoint> points;  // by SLAM map point id
+  // Objects.reestimate_share: the inputs changed since the last estimate and the sightings
+  // that estimate had (ObjectMap). Not kept in map files: a loaded object counts from 0.
+  int changes_since_estimate = 0;
+  std::size_t sightings_at_estimate = 0;
 };
 
 // What every part of the object map reads of it: its options, its camera and its gravity

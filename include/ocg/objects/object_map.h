@@ -169,10 +169,18 @@ class ObjectMap {
   // days later elsewhere, does not report them as observed (it did, and so reset the
   // doubt of objects moved between the sessions).
   void StartSession(int session, std::int64_t first_frame);
+  // Estimates every object with changes still waiting for their share
+  // (Objects.reestimate_share): called before a run's outputs are read.
+  void EstimatePending();
 
  private:
   friend struct MapFileAccess;
   ObjectMapContext Context() const { return {options_, camera_, R_wg_}; }
+  // Reestimate() of an object (not a candidate), its count of changes since reset.
+  bool Estimate(MapObject& object);
+  // Counts changes more changed inputs of object; true once it is due for an estimate
+  // (Objects.reestimate_share).
+  bool NoteChanges(MapObject& object, int changes) const;
   SessionObjects SessionView() const;
   // A candidate whose rays met in frame: joins the map object it is (JoinCandidate) or
   // becomes one.
@@ -207,9 +215,11 @@ class ObjectMap {
   std::set<ObjectId> unestimated_;
   // FollowMap's changed points: the entities holding each point with at least
   // Objects.min_point_votes votes (ids of objects and candidates; stale ids, of entities
-  // merged, dropped or promoted since, are skipped and pruned when read); rebuilt from
-  // every entity when not valid (after a promotion, a merge or a join, which move points
-  // to another id; rare). A point with fewer votes is counted nowhere (ObjectPointIds), so
+  // merged, dropped or promoted since, are skipped and pruned when read); built from every
+  // entity when not valid (the first call, a loaded map), then kept up to date: a
+  // promotion, a join, a merge or a restore adds the entity's counted points under its id
+  // (rebuilding it at each cost a revisited room's many joins a growing share of a
+  // keyframe). A point with fewer votes is counted nowhere (ObjectPointIds), so
   // its position and descriptor are not followed: an entity holds many such points (the
   // background in its boxes), and AddPointVotes gives a point its position now at each vote.
   std::unordered_map<std::uint64_t, std::vector<ObjectId>> point_entities_;
@@ -218,6 +228,8 @@ class ObjectMap {
   // moved after they were last given a position).
   std::vector<std::uint64_t> fresh_points_;
   void IndexPoints();
+  // A valid index takes entity's counted points under its id.
+  void IndexEntity(const MapObject& entity);
   // After AddPointVotes: the box's points new to entity enter the index.
   void PointsJoined(const MapObject& entity,
                     const std::vector<const PointObservation*>& box_points);

@@ -91,7 +91,8 @@ class ObjectMapper {
   // is first_frame (ObjectMap and ObjectChangeDetector::StartSession); call before it.
   void StartSession(int session, std::int64_t first_frame);
   // Lets the OCG finish every keyframe, then ends the session (the camera leaves:
-  // ObjectChangeDetector::EndSession). Idempotent.
+  // ObjectChangeDetector::EndSession), and estimates the objects whose changes were
+  // waiting for their share (Objects.reestimate_share). Idempotent.
   void Finish();
 
   std::string ObjectsJson() const;

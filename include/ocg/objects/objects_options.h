@@ -173,6 +173,14 @@ struct ObjectsOptions {
   // tolerances of the map, and the many tiny moves a local bundle adjustment makes deep in
   // a revisited map re-estimate no object. 0: every change is followed.
   double follow_tolerance = 0.001;
+  // Objects.reestimate_share: an object is estimated again once the inputs that changed
+  // since its last estimate (new sightings, re-posed sightings, moved counted points) reach
+  // this share of the sightings it was estimated from, and at least one changed. A mature object's
+  // estimate then costs a bounded amount per new input (its estimate's cost grows with its inputs,
+  // its estimates become rarer in proportion), so the per-keyframe cost stays flat as objects
+  // gather sightings (issue 37, point 3). Changes still waiting are estimated before outputs are
+  // read (ObjectMap::EstimatePending). 0: every change is estimated at once.
+  double reestimate_share = 0.1;
 
   // Objects.keyframe_interval: pose-given mode has no SLAM keyframes; every N-th frame is
   // one (about 3 per second at 30 Hz).
@@ -314,6 +322,10 @@ struct ObjectsOptions {
     visit("Objects.plane_refit_share", self.plane_refit_share, OptionBound::NonNegative(),
           "SLAM runs: the plane is fitted again once this share of the map's points were "
           "added or removed since the last fit (or the whole map moved); 0: every keyframe");
+    visit("Objects.reestimate_share", self.reestimate_share, OptionBound::Closed(0, 1),
+          "an object is estimated again once the inputs changed since its last estimate (new "
+          "or re-posed sightings, moved points) reach this share of the sightings it was "
+          "estimated from; 0: at every change");
     visit("Objects.follow_tolerance", self.follow_tolerance, OptionBound::NonNegative(),
           "SLAM runs: keyframes whose camera moved less than this (centre shift plus turn in "
           "radians times one map unit) and map points that moved less leave the object "
