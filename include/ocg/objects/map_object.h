@@ -49,7 +49,7 @@ struct MapObject {
   std::int64_t keyframes_in_map = 0;            // keyframes since promotion
   std::map<std::uint64_t, ObjectPoint> points;  // by SLAM map point id
   // Objects.reestimate_share: the inputs changed since the last estimate and the sightings
-  // that estimate had (ObjectMap). Not kept in map files: a loaded object counts from 0.
+  // that estimate had (ObjectMap; map files keep them from version 6 on).
   int changes_since_estimate = 0;
   std::size_t sightings_at_estimate = 0;
 };

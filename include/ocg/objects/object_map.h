@@ -176,7 +176,7 @@ class ObjectMap {
  private:
   friend struct MapFileAccess;
   ObjectMapContext Context() const { return {options_, camera_, R_wg_}; }
-  // Reestimate() of an object (not a candidate), its count of changes since reset.
+  // Reestimate() of a map object (not a candidate); its changes are counted from 0 again.
   bool Estimate(MapObject& object);
   // Counts changes more changed inputs of object; true once it is due for an estimate
   // (Objects.reestimate_share).
