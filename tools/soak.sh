@@ -3,13 +3,13 @@
 # (docs/robustness.md, "Long runs")
 #
 #   tools/soak.sh [MINUTES] [--preset NAME] [--frames N] [--out DIR] [--bin DIR]
-#                 [--data DIR] [--max-growth PERCENT] [--max-fps N]
+#                 [--data DIR] [--max-growth PERCENT] [--max-fps N] [--sample-seconds S]
 #
 # Renders a preset once (ocg_synth --detector realistic, kept in --data), builds from it a
 # long sequence played forward and back with fresh timestamps (no frame after the first
 # pass shows anything new), runs `ocg_slam run` on it threaded with detections for
 # MINUTES (default 60), then stops it with SIGINT, which makes it write every output and
-# its map. Every 10 s the run logs its frames, keyframes, map points, objects and
+# its map. Every S s (10) the run logs its frames, keyframes, map points, objects and
 # resident memory; they go to OUT/soak.csv and OUT/soak.svg. At the end: the growth
 # after the first pass (resident memory, keyframes, map points). Stopping the soak
 # (Ctrl-C, SIGTERM) stops the run the same way: nothing is lost.
@@ -24,13 +24,14 @@
 #   --max-fps N      the sequence holds enough passes for MINUTES at up to N frames a second
 #                    (default 50; a small scene on a fast machine runs faster: the run must
 #                    still be going when the soak stops it)
+#   --sample-seconds S  seconds between the run's samples (default 10)
 # Exit status: 0 when the run wrote its outputs (and, with --max-growth, the growth is
 # within it), 1 otherwise, 2 for a wrong command line.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
-usage() { sed -n '2,26p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; }
 
-minutes=60 preset=round_2 frames=0 out=soak_out bin="$HERE/../build/tools" data="" max_growth="" max_fps=50
+minutes=60 preset=round_2 frames=0 out=soak_out bin="$HERE/../build/tools" data="" max_growth="" max_fps=50 sample_seconds=10
 while [ $# -gt 0 ]; do
   case $1 in
     -h | --help) usage; exit 0 ;;
@@ -41,11 +42,14 @@ while [ $# -gt 0 ]; do
     --data) data=$2; shift 2 ;;
     --max-growth) max_growth=$2; shift 2 ;;
     --max-fps) max_fps=$2; shift 2 ;;
+    --sample-seconds) sample_seconds=$2; shift 2 ;;
     [0-9]*) minutes=$1; shift ;;
     *) echo "soak.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 [[ "$minutes" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "soak.sh: MINUTES must be a number, got '$minutes'" >&2; exit 2; }
+[[ "$sample_seconds" =~ ^[1-9][0-9]*$ ]] ||
+  { echo "soak.sh: --sample-seconds must be a whole number of seconds, got '$sample_seconds'" >&2; exit 2; }
 for tool in ocg_synth ocg_slam; do
   [ -x "$bin/$tool" ] || { echo "soak.sh: no $bin/$tool (build it, or give --bin)" >&2; exit 2; }
 done
@@ -83,7 +87,7 @@ echo "soak: $minutes min on $preset, $pass_frames frames a pass forward and back
 rm -rf "$out/run"
 "$bin/ocg_slam" run --settings "$settings" --sequence "$sequence" \
   --detections "$sequence/detections" --snapshots none --out "$out/run" \
-  --save-map "$out/soak.ocgmap" --progress-seconds 10 >"$out/run.log" 2>&1 &
+  --save-map "$out/soak.ocgmap" --progress-seconds "$sample_seconds" >"$out/run.log" 2>&1 &
 pid=$!
 stopped=""
 stop_run() {  # the run writes everything on SIGINT; the soak then reports
