@@ -1,6 +1,7 @@
 #include "ocg/objects/map_hygiene.h"
 
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 namespace ocg {
@@ -42,6 +43,33 @@ std::vector<BoxFit> FitsOfTrack(const MapObject& track, const MapObject& object,
         sighting.truncated ? std::nullopt
                            : ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
     fits.push_back(projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone);
+  }
+  return fits;
+}
+
+// FitsOfTrack for a host search: none once the misses among track's usable (untruncated)
+// boxes keep the share of fits below `needed` (as HostOf computes the share: fits over
+// usable boxes). Most objects of the map miss a waiting candidate's first boxes.
+std::optional<std::vector<BoxFit>> FitsOfTrackReaching(const MapObject& track,
+                                                       const MapObject& object, bool same_class,
+                                                       double needed, std::size_t usable,
+                                                       const ObjectMapContext& context) {
+  std::vector<BoxFit> fits;
+  std::size_t misses = 0;
+  for (const ObjectSighting& sighting : track.sightings) {
+    const std::optional<Box2> projected =
+        sighting.truncated
+            ? std::nullopt
+            : ProjectCuboid(object.cuboid, context.R_wg, sighting.T_cw, context.camera);
+    const BoxFit fit = projected
+                           ? FitOfBox(sighting.box, *projected, context.options.min_reacquire_iou)
+                           : BoxFit::kNone;
+    fits.push_back(fit);
+    if (sighting.truncated || CountsAsFit(fit, same_class)) continue;
+    ++misses;
+    // The best share still possible, computed as the share itself is.
+    if (static_cast<double>(usable - misses) / static_cast<double>(usable) < needed)
+      return std::nullopt;
   }
   return fits;
 }
@@ -119,8 +147,14 @@ MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,
     // As in the keyframe hygiene: another class is the same object misnamed only when
     // one session saw both; across sessions it is what was put at the old one's place.
     if (!same_class && !SeenInOneSession(candidate, object)) continue;
-    std::vector<BoxFit> fits = FitsOfTrack(candidate, object, context.options.min_reacquire_iou,
-                                           context.R_wg, context.camera);
+    // Another class never outranks a host of the candidate's class; a rank at least the
+    // best's needs that share.
+    if (!same_class && best.first) continue;
+    const double needed = same_class == best.first ? best.second : context.options.min_inlier_share;
+    std::optional<std::vector<BoxFit>> reached = FitsOfTrackReaching(
+        candidate, object, same_class, needed, static_cast<std::size_t>(usable), context);
+    if (!reached) continue;
+    std::vector<BoxFit> fits = std::move(*reached);
     const double share = static_cast<double>(std::count_if(
                              fits.begin(), fits.end(),
                              [same_class](BoxFit fit) { return CountsAsFit(fit, same_class); })) /
