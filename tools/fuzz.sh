@@ -73,13 +73,12 @@ for name in ${ONLY//,/ } ${EXCLUDE//,/ }; do
   grep -qE "^$name +" "$ROOT/fuzz/targets.txt" ||
     { echo "fuzz.sh: no fuzz target '$name' (see fuzz/targets.txt)" >&2; exit 2; }
 done
-
-# name max_len, from the one list CMake also builds from.
 for test in ${TESTS//,/ }; do
   grep -qE "^ocg_add_test\($test( |$)" "$ROOT/tests/CMakeLists.txt" ||
     { echo "fuzz.sh: no test program '$test' (see ocg_add_test in tests/CMakeLists.txt)" >&2; exit 2; }
 done
 
+# name max_len, from the one list CMake also builds from.
 TARGETS=()
 declare -A MAX_LEN
 while read -r name _library max_len; do
@@ -113,7 +112,6 @@ cmake --build "$BUILD" --target "${TARGETS[@]/#/ocg_fuzz_}" "${TEST_PROGRAMS[@]}
   >"$BUILD/build.log" 2>&1 || { tail -n 60 "$BUILD/build.log"; echo "fuzz.sh: build failed, log: $BUILD/build.log" >&2; exit 2; }
 echo "   built in $(( $(date +%s) - BUILD_START )) s"
 
-# Seeds beyond fuzz/seeds: the real files the readers are made for, where they exist.
 # The test programs first (tools/sanitize.sh's smoke, on clang's build): a report ends the
 # program (halt_on_error, -fno-sanitize-recover) and fails the run like a failing test.
 # Differential.* compares the OCG with its naive reference on long random streams (minutes
@@ -130,6 +128,7 @@ for test in "${TEST_PROGRAMS[@]}"; do
   echo "   ran in $(($(date +%s) - TEST_START)) s"
 done
 
+# Seeds beyond fuzz/seeds: the real files the readers are made for, where they exist.
 SHARED=${OCG_SHARED_DATA:-$ROOT/../shared/data}
 extra_seeds() {
   local name=$1 out=$2

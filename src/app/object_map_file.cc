@@ -184,6 +184,14 @@ struct MapFileAccess {
     archive(EstimateBookkeeping(mapper.map_));
   }
 
+  // A list read back with one entry per map object (id order) has as many as the map;
+  // what: the list's name with its verb ("the sighting colours are").
+  static void RequireOnePerObject(std::size_t entries, const ObjectMap& map, const char* what) {
+    if (entries != map.objects_.size())
+      throw std::runtime_error(std::string(what) + " for " + std::to_string(entries) +
+                               " objects, the map holds " + std::to_string(map.objects_.size()));
+  }
+
   // Version 6: per map object in id order, the changes waiting for an estimate and the
   // sightings its last estimate had (Objects.reestimate_share), so that a loaded map goes
   // on re-estimating as the saved one would have.
@@ -195,9 +203,7 @@ struct MapFileAccess {
     return entries;
   }
   static void SetEstimateBookkeeping(const std::vector<Bookkeeping>& entries, ObjectMap* map) {
-    if (entries.size() != map->objects_.size())
-      throw std::runtime_error("the estimate bookkeeping is for " + std::to_string(entries.size()) +
-                               " objects, the map holds " + std::to_string(map->objects_.size()));
+    RequireOnePerObject(entries.size(), *map, "the estimate bookkeeping is");
     auto entry = entries.begin();
     for (auto& [id, object] : map->objects_) {
       if (entry->first < 0)
@@ -221,9 +227,7 @@ struct MapFileAccess {
     return colours;
   }
   static void SetSightingColours(const std::vector<ColourList>& colours, ObjectMap* map) {
-    if (colours.size() != map->objects_.size())
-      throw std::runtime_error("the sighting colours are for " + std::to_string(colours.size()) +
-                               " objects, the map holds " + std::to_string(map->objects_.size()));
+    RequireOnePerObject(colours.size(), *map, "the sighting colours are");
     auto list = colours.begin();
     for (auto& [id, object] : map->objects_) {
       if (list->size() != object.sightings.size())

@@ -34,26 +34,15 @@ bool SeenAsProjectionOf(const MapObject& stand_in, const MapObject& object, doub
   return usable > 0;
 }
 
-// How each sighting of track fits object's projected cuboid (truncated ones: kNone).
-std::vector<BoxFit> FitsOfTrack(const MapObject& track, const MapObject& object, double min_iou,
-                                const Eigen::Matrix3d& R_wg, const PinholeCamera& camera) {
-  std::vector<BoxFit> fits;
-  for (const ObjectSighting& sighting : track.sightings) {
-    const std::optional<Box2> projected =
-        sighting.truncated ? std::nullopt
-                           : ProjectCuboid(object.cuboid, R_wg, sighting.T_cw, camera);
-    fits.push_back(projected ? FitOfBox(sighting.box, *projected, min_iou) : BoxFit::kNone);
-  }
-  return fits;
-}
-
-// FitsOfTrack for a host search: none once the misses among track's usable (untruncated)
-// boxes keep the share of fits below `needed` (as HostOf computes the share: fits over
-// usable boxes). Most objects of the map miss a waiting candidate's first boxes.
-std::optional<std::vector<BoxFit>> FitsOfTrackReaching(const MapObject& track,
-                                                       const MapObject& object, bool same_class,
-                                                       double needed, std::size_t usable,
-                                                       const ObjectMapContext& context) {
+// How each sighting of track fits object's projected cuboid (truncated ones: kNone). With
+// `needed` > 0 (a host search): none once the misses among track's `usable` untruncated
+// boxes keep the share of fits (CountsAsFit for same_class, over the usable boxes, as
+// HostOf computes it) below needed; most objects of the map miss a waiting candidate's
+// first boxes.
+std::optional<std::vector<BoxFit>> FitsOfTrack(const MapObject& track, const MapObject& object,
+                                               const ObjectMapContext& context,
+                                               bool same_class = false, double needed = 0.0,
+                                               std::size_t usable = 0) {
   std::vector<BoxFit> fits;
   std::size_t misses = 0;
   for (const ObjectSighting& sighting : track.sightings) {
@@ -65,7 +54,7 @@ std::optional<std::vector<BoxFit>> FitsOfTrackReaching(const MapObject& track,
                            ? FitOfBox(sighting.box, *projected, context.options.min_reacquire_iou)
                            : BoxFit::kNone;
     fits.push_back(fit);
-    if (sighting.truncated || CountsAsFit(fit, same_class)) continue;
+    if (needed <= 0.0 || sighting.truncated || CountsAsFit(fit, same_class)) continue;
     ++misses;
     // The best share still possible, computed as the share itself is.
     if (static_cast<double>(usable - misses) / static_cast<double>(usable) < needed)
@@ -151,8 +140,8 @@ MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,
     // best's needs that share.
     if (!same_class && best.first) continue;
     const double needed = same_class == best.first ? best.second : context.options.min_inlier_share;
-    std::optional<std::vector<BoxFit>> reached = FitsOfTrackReaching(
-        candidate, object, same_class, needed, static_cast<std::size_t>(usable), context);
+    std::optional<std::vector<BoxFit>> reached = FitsOfTrack(
+        candidate, object, context, same_class, needed, static_cast<std::size_t>(usable));
     if (!reached) continue;
     std::vector<BoxFit> fits = std::move(*reached);
     const double share = static_cast<double>(std::count_if(
@@ -176,8 +165,7 @@ MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,
 void MarkPartialViews(MapObject& stand_in, const MapObject& object,
                       const ObjectMapContext& context) {
   if (!object.has_cuboid) return;
-  const std::vector<BoxFit> fits = FitsOfTrack(stand_in, object, context.options.min_reacquire_iou,
-                                               context.R_wg, context.camera);
+  const std::vector<BoxFit> fits = *FitsOfTrack(stand_in, object, context);
   for (std::size_t i = 0; i < stand_in.sightings.size(); ++i) {
     if (fits[i] == BoxFit::kPartial) stand_in.sightings[i].truncated = true;
   }

@@ -145,22 +145,22 @@ void ObjectMap::JoinWaitingCandidates() {
 
 void ObjectMap::AbsorbInto(MapObject& into, const MapObject& from) {
   // The points the joined votes make counted in into: FollowMap had not followed into's
-  // copy (its position may be old), so it reads them at its next call.
+  // copy (its position may be old), so it reads them at its next call, and those kept
+  // enter the index under into's id (the points into counted before are there already; a
+  // repeated id is pruned when read).
+  std::vector<std::uint64_t> counted;
   for (const auto& [id, point] : from.points) {
     const auto kept = into.points.find(id);
     const int before = kept == into.points.end() ? 0 : kept->second.votes;
     if (before < options_.min_point_votes && before + point.votes >= options_.min_point_votes)
-      fresh_points_.push_back(id);
+      counted.push_back(id);
   }
   Absorb(into, from, options_.max_sightings);
   BoundPoints(into, options_.max_object_points);
-  // into holds from's points now: those it counts enter the index under its id (one it
-  // counted before is there already; a repeated id is pruned when read).
+  fresh_points_.insert(fresh_points_.end(), counted.begin(), counted.end());
   if (!point_index_valid_) return;
-  for (const auto& [id, point] : from.points) {
-    const auto kept = into.points.find(id);
-    if (kept != into.points.end() && kept->second.votes >= options_.min_point_votes)
-      point_entities_[id].push_back(into.id);
+  for (const std::uint64_t id : counted) {
+    if (into.points.count(id) > 0) point_entities_[id].push_back(into.id);
   }
 }
 
