@@ -25,7 +25,10 @@ cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DOCG_
 # Every tool and the Python module: what the README's getting started uses after the demo.
 TARGETS=(ocg_synth ocg_slam ocg_eval ocg_render ocg_diff ocg_replay ocg_detect
   ocg_convert_detections ocg_vocab)
-cmake --build "$BUILD" --target help 2>/dev/null | grep -qw ocg_python && TARGETS+=(ocg_python)
+# The list is read whole before grep: `cmake | grep -q` under pipefail fails when grep
+# exits at its match before cmake has written the rest (SIGPIPE).
+BUILD_TARGETS=$(cmake --build "$BUILD" --target help 2>/dev/null || true)
+grep -qw ocg_python <<<"$BUILD_TARGETS" && TARGETS+=(ocg_python)
 # Progress every 20 steps (Ninja's "[done/total]", Make's "[ n%]"); the whole log on failure.
 set +e
 cmake --build "$BUILD" --parallel "$JOBS" --target "${TARGETS[@]}" 2>&1 |

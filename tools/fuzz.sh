@@ -154,9 +154,10 @@ extra_seeds() {
     detections_text)
       # The first byte of an input chooses strict (even) or lenient (odd) reading.
       if [ -d "$SHARED/tum_fr3_long_office/detections" ]; then
-        local i=0
-        for file in $(ls "$SHARED/tum_fr3_long_office/detections" | head -n 20); do
-          { printf 's'; cat "$SHARED/tum_fr3_long_office/detections/$file"; } >"$out/real_$i.txt"
+        # A glob, not `ls | head`: under pipefail, head exiting early fails the pipe.
+        local i=0 files=("$SHARED/tum_fr3_long_office/detections"/*)
+        for file in "${files[@]:0:20}"; do
+          { printf 's'; cat "$file"; } >"$out/real_$i.txt"
           i=$((i + 1))
         done
       fi ;;

@@ -57,12 +57,12 @@ apt_get_waiting() {
     fi
     if [ "${waited}" -ge "${LOCK_WAIT}" ]; then
       echo "install_deps: the package manager is still locked after ${waited} s:" >&2
-      grep -iE "lock" "${log}" | head -n 2 >&2
+      grep -m 2 -iE "lock" "${log}" >&2 || true
       echo "install_deps: wait for that process to finish (or raise OCG_APT_LOCK_WAIT) and rerun" >&2
       return "${status}"
     fi
     if [ $((waited % 30)) -eq 0 ]; then
-      holder="$(grep -oiE "held by process [0-9]+( \([^)]*\))?" "${log}" | head -n 1 || true)"
+      holder="$(grep -m 1 -oiE "held by process [0-9]+( \([^)]*\))?" "${log}" || true)"
       echo "install_deps: waiting for the package manager lock${holder:+ (${holder})}, ${waited} s so far"
     fi
     sleep "${LOCK_POLL}"
@@ -72,9 +72,11 @@ apt_get_waiting() {
 
 missing=()
 for package in "${PACKAGES[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$package")
-  fi
+  # Matched in the shell, not by `| grep -q`, which under pipefail may fail the pipe.
+  case "$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)" in
+    *"install ok installed"*) ;;
+    *) missing+=("$package") ;;
+  esac
 done
 
 if [ ${#missing[@]} -eq 0 ]; then

@@ -152,7 +152,7 @@ start_munge() {
   fi
 }
 
-node_state() { sinfo -h -N -o "%T" 2>/dev/null | head -n 1; }
+node_state() { sinfo -h -N -o "%T" 2>/dev/null | sed -n 1p; }
 
 wait_idle() {
   local state=""

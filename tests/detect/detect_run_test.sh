@@ -32,7 +32,7 @@ fi
 
 mkdir -p "$WORK/list"
 ln -s "$DATA/rgb" "$WORK/list/rgb"
-grep -v '^#' "$DATA/rgb.txt" | head -n "$FRAMES" >"$WORK/list/rgb.txt"
+awk -v frames="$FRAMES" '!/^#/ && kept < frames { print; kept++ }' "$DATA/rgb.txt" >"$WORK/list/rgb.txt"
 "$TOOLS/ocg_detect" --images "$WORK/list/rgb.txt" --out "$WORK/det" --model "$MODEL" --json \
   >"$WORK/ocg_detect.log" 2>&1 || fail "ocg_detect failed" "$WORK/ocg_detect.log"
 run() {  # NAME ARGS...

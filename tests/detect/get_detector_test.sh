@@ -9,7 +9,8 @@ trap 'rm -rf "${WORK}"' EXIT
 fail() { echo "FAIL: $1"; [ -f "${2:-}" ] && cat "$2"; exit 1; }
 SCRIPT="${SOURCE_DIR}/tools/get_detector.sh"
 
-bash "${SCRIPT}" --help | grep -q -- "--tarball" || fail "--help lacks --tarball"
+help=$(bash "${SCRIPT}" --help)
+grep -q -- "--tarball" <<<"${help}" || fail "--help lacks --tarball"
 status=0; bash "${SCRIPT}" --bogus > "${WORK}/out" 2>&1 || status=$?
 [ "${status}" -eq 2 ] || fail "an unknown argument gave exit code ${status}, not 2" "${WORK}/out"
 if ! /usr/bin/python3 -c "import numpy, onnx" 2>/dev/null; then

@@ -26,7 +26,8 @@ for t in ("1.000000", "1.033000"):
 open(sys.argv[1] + "/seq/rgb.txt", "w").write("# test\n1.000000 rgb/1.000000.png\n1.033000 rgb/1.033000.png\n")
 PY
 
-"${TOOLS}/ocg_detect" --help | grep -q -- "--tile" || fail "--help lacks --tile"
+help=$("${TOOLS}/ocg_detect" --help)
+grep -q -- "--tile" <<<"${help}" || fail "--help lacks --tile"
 
 "${TOOLS}/ocg_detect" --images "${WORK}/seq/rgb.txt" --out "${WORK}/det" --model "${WORK}/tiny.onnx" \
   --json > "${WORK}/out" 2>&1 || fail "a run on two frames failed" "${WORK}/out"
