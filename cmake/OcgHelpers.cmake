@@ -12,6 +12,16 @@ function(_ocg_apply_flags target)
   endif()
 endfunction()
 
+# The flags of a test program. The code under test is the libraries', built as the build
+# type says; the test bodies (GoogleTest's macros, scene set-up) compile a third faster at
+# -O1 than at -O3 and run as fast. On x86-64 without -ffast-math the level does not change
+# a floating-point result. Coming after the build type's flags, this -O1 is the one that
+# counts.
+function(_ocg_apply_test_flags target)
+  _ocg_apply_flags(${target})
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo,MinSizeRel>:-O1>)
+endfunction()
+
 # ocg_add_library(<module> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
 # Creates target ocglib_<module> (file libocg_<module>) with alias ocg::<module>, headers under include/ocg/<module>.
 function(ocg_add_library module)
@@ -36,7 +46,10 @@ function(ocg_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} ocg_test_support GTest::gtest GTest::gtest_main)
-  _ocg_apply_flags(${name})
+  _ocg_apply_test_flags(${name})
+  if(TARGET ocg_test_pch_host)
+    target_precompile_headers(${name} REUSE_FROM ocg_test_pch_host)
+  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
     PROPERTIES ENVIRONMENT "OCG_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 endfunction()
