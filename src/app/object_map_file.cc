@@ -48,6 +48,18 @@ template <class Archive>
 void serialize(Archive& archive, ObjectPoint& point) {
   archive(point.votes, point.position);
 }
+// As the std::map it holds: map files are the same as before the container counted its
+// changes.
+template <class Archive>
+void save(Archive& archive, const ObjectPoints& points) {
+  archive(points.container());
+}
+template <class Archive>
+void load(Archive& archive, ObjectPoints& points) {
+  ObjectPoints::Container kept;
+  archive(kept);
+  points = ObjectPoints(std::move(kept));
+}
 template <class Archive>
 void serialize(Archive& archive, MapObject& object) {
   archive(object.id, object.class_id, object.sightings, object.cuboid, object.has_cuboid,

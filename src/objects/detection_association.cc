@@ -10,31 +10,19 @@ namespace {
 
 constexpr double kCandidatePenalty = 0.05;  // a map object wins a tie against a candidate
 
-// An object's points as an association cue, each part computed on first use (a pass over
-// the object's points each): how many are its own (enough votes), and the bounds of its
-// point set, which only an object with a few own points needs (a frame meets many young
-// candidates that have none).
+// An object's points as an association cue: how many are its own (enough votes), and the
+// bounds of its point set, which only an object with a few own points needs. Both are kept
+// by the object's points between frames (ObjectPoints): a frame meets about a hundred
+// objects and candidates in a revisited room, most of them unchanged since the last.
 class PointCue {
  public:
   PointCue(const MapObject& object, int min_votes) : object_(&object), min_votes_(min_votes) {}
-  int OwnPoints() {
-    if (!own_points_) {
-      int own = 0;
-      for (const auto& [id, point] : object_->points) own += point.votes >= min_votes_ ? 1 : 0;
-      own_points_ = own;
-    }
-    return *own_points_;
-  }
-  const RobustBounds& Bounds() {
-    if (!bounds_) bounds_ = RobustPointBounds(ObjectPointSet(*object_, min_votes_), 3.0);
-    return *bounds_;
-  }
+  int OwnPoints() const { return object_->points.VotedCount(min_votes_); }
+  const RobustBounds& Bounds() const { return PointSetOf(*object_, min_votes_).bounds; }
 
  private:
   const MapObject* object_;
   int min_votes_;
-  std::optional<int> own_points_;
-  std::optional<RobustBounds> bounds_;
 };
 
 // Whether one of box_points is a point on the object (voted for, within its largest

@@ -28,32 +28,18 @@ std::optional<double> PointSetYaw(const MapObject& object, const ObjectMapContex
 
 }  // namespace
 
+const ObjectPoints::PointSet& PointSetOf(const MapObject& object, int min_votes) {
+  return object.points.Set(min_votes,
+                           object.has_cuboid ? std::optional(object.cuboid.centre) : std::nullopt,
+                           object.has_cuboid ? object.cuboid.size.maxCoeff() : 0.0);
+}
+
 std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes) {
-  // Where the boxes' rays meet says which of the points in them are on the object: the
-  // background behind it can hold most of them when the camera moves little.
-  const double reach = object.has_cuboid ? object.cuboid.size.maxCoeff() : 0.0;
-  std::vector<std::uint64_t> voted_ids;
-  std::vector<Eigen::Vector3d> voted;
-  for (const auto& [id, point] : object.points) {
-    if (point.votes < min_votes) continue;
-    if (object.has_cuboid && (point.position - object.cuboid.centre).norm() > reach) continue;
-    voted_ids.push_back(id);
-    voted.push_back(point.position);
-  }
-  const RobustBounds bounds = RobustPointBounds(voted, 3.0);
-  if (!bounds.valid) return voted_ids;
-  std::vector<std::uint64_t> kept;
-  for (std::size_t i = 0; i < voted.size(); ++i) {
-    if (bounds.Contains(voted[i])) kept.push_back(voted_ids[i]);
-  }
-  return kept;
+  return PointSetOf(object, min_votes).ids;
 }
 
 std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes) {
-  std::vector<Eigen::Vector3d> positions;
-  for (std::uint64_t id : ObjectPointIds(object, min_votes))
-    positions.push_back(object.points.at(id).position);
-  return positions;
+  return PointSetOf(object, min_votes).positions;
 }
 
 std::vector<Descriptor> ObjectAppearance(const MapObject& object, int min_votes) {

@@ -18,20 +18,12 @@
 #include "ocg/objects/colour_signature.h"
 #include "ocg/objects/map_cues.h"
 #include "ocg/objects/object_change.h"
+#include "ocg/objects/object_points.h"
 #include "ocg/objects/objects_options.h"
 #include "ocg/objects/sighting_history.h"
 #include "ocg/ocg/observation.h"
 
 namespace ocg {
-
-// A SLAM map point seen inside an object's boxes (SLAM runs only).
-struct ObjectPoint {
-  int votes = 0;                                       // boxes it was inside
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, when last tracked
-  // The map point's ORB descriptor as of the last FollowMap that gave one. Not kept in map
-  // files (the SLAM map holds it; the next FollowMap gives it back).
-  std::optional<Descriptor> descriptor;
-};
 
 // A map object, or a candidate (id < 0) not yet triangulated.
 struct MapObject {
@@ -46,8 +38,8 @@ struct MapObject {
   std::int64_t last_frame = 0;
   double first_timestamp = 0.0;
   double last_timestamp = 0.0;
-  std::int64_t keyframes_in_map = 0;            // keyframes since promotion
-  std::map<std::uint64_t, ObjectPoint> points;  // by SLAM map point id
+  std::int64_t keyframes_in_map = 0;  // keyframes since promotion
+  ObjectPoints points;                // by SLAM map point id
   // Objects.reestimate_share: the inputs changed since the last estimate and the sightings
   // that estimate had (ObjectMap; map files keep them from version 6 on).
   int changes_since_estimate = 0;
@@ -68,6 +60,9 @@ struct ObjectMapContext {
 std::vector<Eigen::Vector3d> ObjectPointSet(const MapObject& object, int min_votes);
 // The same points' ids (SLAM map point ids), in id order.
 std::vector<std::uint64_t> ObjectPointIds(const MapObject& object, int min_votes);
+// Both, with the set's robust bounds (3 robust sigmas), kept by the object's points until
+// they or its cuboid change: valid until then.
+const ObjectPoints::PointSet& PointSetOf(const MapObject& object, int min_votes);
 // The object's appearance: the descriptors of its point set (points without one left
 // out). An object keeps its texture when it is carried elsewhere, so the points of its new
 // place match these far better than those of another object of its class.
