@@ -20,6 +20,12 @@ endfunction()
 function(_ocg_apply_test_flags target)
   _ocg_apply_flags(${target})
   target_compile_options(${target} PRIVATE $<$<CONFIG:Release,RelWithDebInfo,MinSizeRel>:-O1>)
+  # The fuzzers' sanitizer build (tools/fuzz.sh) builds ocg_test too, for fuzz_smoke: at
+  # -O0 its test files and precompiled header took 85 CPU seconds instead of 127 at the
+  # build's -O1 (clang 14, address and undefined), and it still runs in under a second.
+  if(OCG_FUZZ)
+    target_compile_options(${target} PRIVATE -O0)
+  endif()
 endfunction()
 
 # ocg_add_library(<module> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])

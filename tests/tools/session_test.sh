@@ -8,7 +8,7 @@
 # static object once, none deleted, with the sessions that saw it. A scene the map does
 # not hold never relocalizes and makes no map of its own; a foreign or truncated map
 # file fails at startup, naming the file.
-#   session_test.sh <folder with the tool binaries>
+#   session_test.sh <folder with the tool binaries> [the smoke300 sequence, else generated here]
 set -euo pipefail
 BIN=$1
 WORK=$(mktemp -d)
@@ -16,19 +16,20 @@ trap 'rm -rf "$WORK"' EXIT
 fail() { echo "FAILED: $*"; exit 1; }
 json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 
-"$BIN/ocg_synth" --preset smoke --frames 300 --out "$WORK/smoke" --keyframe-interval 0 --log-level warn >/dev/null
+source "$(dirname "$0")/smoke300.sh"
+smoke300 "$BIN" "${2:-}"
 # Each session's folder lists its frames; images, detections and ground truth are shared.
 for session in 0 1; do
   mkdir -p "$WORK/s$session"
-  ln -s "$WORK/smoke/rgb" "$WORK/s$session/rgb"
+  ln -s "$SMOKE/rgb" "$WORK/s$session/rgb"
 done
-grep -v '^#' "$WORK/smoke/rgb.txt" | sed -n '1,140p' >"$WORK/s0/rgb.txt"
-grep -v '^#' "$WORK/smoke/rgb.txt" | sed -n '141,300p' >"$WORK/s1/rgb.txt"
+grep -v '^#' "$SMOKE/rgb.txt" | sed -n '1,140p' >"$WORK/s0/rgb.txt"
+grep -v '^#' "$SMOKE/rgb.txt" | sed -n '141,300p' >"$WORK/s1/rgb.txt"
 run() {  # run <session folder> <out> [options...]
   local sequence=$1 out=$2
   shift 2
-  "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$sequence" \
-    --detections "$WORK/smoke/detections" --snapshots none --out "$out" --log-level warn "$@"
+  "$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$sequence" \
+    --detections "$SMOKE/detections" --snapshots none --out "$out" --log-level warn "$@"
 }
 run "$WORK/s0" "$WORK/r0" --save-map "$WORK/maps/a.ocgmap" >"$WORK/r0.log"
 cat "$WORK/r0.log"
@@ -48,14 +49,14 @@ new=$(awk '$1 >= 1014.0' "$WORK/r1/KeyFrameTrajectory.txt" | wc -l)
 [ "$old" -ge 10 ] && [ "$new" -ge 10 ] || fail "the map holds $old keyframes of session 0, $new of session 1"
 loops=$(json "$WORK/r1/run.json" "len(d['loop_closing']['loops'])")
 [ "$loops" -ge 1 ] || fail "session 1 came back to session 0's start but closed no loop"
-"$BIN/ocg_eval" ate --gt "$WORK/smoke/groundtruth.txt" --est "$WORK/r1/KeyFrameTrajectory.txt" --align sim3 >"$WORK/ate.txt"
+"$BIN/ocg_eval" ate --gt "$SMOKE/groundtruth.txt" --est "$WORK/r1/KeyFrameTrajectory.txt" --align sim3 >"$WORK/ate.txt"
 cat "$WORK/ate.txt"
 rmse=$(awk '$1 == "rmse" {print $2}' "$WORK/ate.txt")
 awk -v r="$rmse" 'BEGIN { exit !(r < 0.02) }' || fail "both sessions' keyframes: ATE RMSE $rmse m under one Sim(3) (want < 0.02)"
 echo "passed: relocalized after $until frame(s), $loaded + $((keyframes - loaded)) keyframes ($old of session 0, $new of session 1), $loops loop(s), ATE RMSE $rmse m over both sessions"
 
-"$BIN/ocg_eval" objects --gt "$WORK/smoke/objects_gt.json" --run "$WORK/r1" \
-  --groundtruth "$WORK/smoke/groundtruth.txt" --json >"$WORK/objects.json"
+"$BIN/ocg_eval" objects --gt "$SMOKE/objects_gt.json" --run "$WORK/r1" \
+  --groundtruth "$SMOKE/groundtruth.txt" --json >"$WORK/objects.json"
 corr_s=$(json "$WORK/objects.json" "d['corr_s']")
 redun_s=$(json "$WORK/objects.json" "d['redun_s']")
 delet_s=$(json "$WORK/objects.json" "d['delet_s']")
@@ -71,7 +72,7 @@ echo "passed: $corr_s static objects, $redun_s redundant, none deleted, $both se
 
 # A place the map does not hold (another layout): it keeps trying and makes no map.
 "$BIN/ocg_synth" --preset smoke --seed 5 --frames 30 --out "$WORK/other" --keyframe-interval 0 --log-level warn >/dev/null
-"$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/other" --snapshots none \
+"$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$WORK/other" --snapshots none \
   --out "$WORK/r2" --load-map "$WORK/maps/b.ocgmap" --log-level warn >"$WORK/r2.log" 2>&1
 until=$(json "$WORK/r2/run.json" "d['session']['frames_until_relocalized']")
 [ "$until" = never ] || fail "relocalized in a scene the map does not hold (after $until frames)"
@@ -81,18 +82,18 @@ grep -q "never relocalized" "$WORK/r2.log" || fail "the run did not say it never
 echo "passed: an unknown place never relocalizes, no map of its own"
 
 # Foreign and truncated map files fail at startup, naming the file.
-if "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/s1" --out "$WORK/r3" \
-  --load-map "$WORK/smoke/rgb.txt" >"$WORK/r3.log" 2>&1; then fail "a foreign map file was accepted"; fi
-grep -q "'$WORK/smoke/rgb.txt' is not an OCG-SLAM map file" "$WORK/r3.log" || { cat "$WORK/r3.log"; fail "no clear error for a foreign file"; }
+if "$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$WORK/s1" --out "$WORK/r3" \
+  --load-map "$SMOKE/rgb.txt" >"$WORK/r3.log" 2>&1; then fail "a foreign map file was accepted"; fi
+grep -q "'$SMOKE/rgb.txt' is not an OCG-SLAM map file" "$WORK/r3.log" || { cat "$WORK/r3.log"; fail "no clear error for a foreign file"; }
 [ ! -e "$WORK/r3/run.json" ] || fail "a run went ahead with a foreign map file"
 head -c 100000 "$WORK/maps/a.ocgmap" >"$WORK/maps/cut.ocgmap"
-if "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/s1" --out "$WORK/r4" \
+if "$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$WORK/s1" --out "$WORK/r4" \
   --load-map "$WORK/maps/cut.ocgmap" >"$WORK/r4.log" 2>&1; then fail "a truncated map file was accepted"; fi
 grep -q "cut.ocgmap': truncated" "$WORK/r4.log" || { cat "$WORK/r4.log"; fail "no clear error for a truncated file"; }
 echo "passed: foreign and truncated map files refused at startup"
 
 # A --save-map that names a folder fails before any frame, naming the option.
-if "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/s1" --out "$WORK/r5" \
+if "$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$WORK/s1" --out "$WORK/r5" \
   --save-map "$WORK/maps" >"$WORK/r5.log" 2>&1; then fail "a folder was accepted as --save-map"; fi
 grep -q -- "--save-map '$WORK/maps' is a folder" "$WORK/r5.log" || { cat "$WORK/r5.log"; fail "no clear error for a --save-map folder"; }
 [ ! -e "$WORK/r5/run.json" ] || fail "a run went ahead with a folder as --save-map"

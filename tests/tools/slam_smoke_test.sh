@@ -5,17 +5,18 @@
 # RMSE (Sim(3) alignment) under 2 cm, two runs give byte-identical trajectories, object
 # maps and snapshots, and the object map (aligned through the trajectory) holds the
 # static objects seen so far, none twice, none deleted.
-#   slam_smoke_test.sh <folder with the tool binaries>
+#   slam_smoke_test.sh <folder with the tool binaries> [the smoke300 sequence, else generated here]
 set -euo pipefail
 BIN=$1
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 fail() { echo "FAILED: $*"; exit 1; }
 
-"$BIN/ocg_synth" --preset smoke --frames 300 --out "$WORK/smoke" --keyframe-interval 0 --log-level warn >/dev/null
+source "$(dirname "$0")/smoke300.sh"
+smoke300 "$BIN" "${2:-}"
 for run in a b; do
-  "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/smoke" \
-    --detections "$WORK/smoke/detections" --out "$WORK/$run" --log-level warn >"$WORK/$run.log"
+  "$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$SMOKE" \
+    --detections "$SMOKE/detections" --out "$WORK/$run" --log-level warn >"$WORK/$run.log"
 done
 cat "$WORK/a.log"
 for file in CameraTrajectory.txt KeyFrameTrajectory.txt objects.json changes.json ocg.json \
@@ -26,7 +27,7 @@ first=$(grep -o '"first_tracked_frame": [-0-9]*' "$WORK/a/run.json" | awk '{prin
 lost=$(grep -o '"frames_lost": [0-9]*' "$WORK/a/run.json" | awk '{print $2}')
 [ "$first" -ge 0 ] && [ "$first" -le 40 ] || fail "initialized at frame $first (want within 40)"
 [ "$lost" -eq 0 ] || fail "$lost frames lost"
-"$BIN/ocg_eval" ate --gt "$WORK/smoke/groundtruth.txt" --est "$WORK/a/CameraTrajectory.txt" --align sim3 >"$WORK/ate.txt"
+"$BIN/ocg_eval" ate --gt "$SMOKE/groundtruth.txt" --est "$WORK/a/CameraTrajectory.txt" --align sim3 >"$WORK/ate.txt"
 cat "$WORK/ate.txt"
 pairs=$(awk '$1 == "pairs" {print $2}' "$WORK/ate.txt")
 rmse=$(awk '$1 == "rmse" {print $2}' "$WORK/ate.txt")
@@ -38,8 +39,8 @@ echo "passed: initialized at frame $first, $pairs frames, ATE RMSE $rmse m, $loo
 
 # The object map of the SLAM run. In 300 frames the camera sees at least 7 of the 8
 # static objects (the moved one has not been revisited yet, so nothing may be removed).
-"$BIN/ocg_eval" objects --gt "$WORK/smoke/objects_gt.json" --run "$WORK/a" \
-  --groundtruth "$WORK/smoke/groundtruth.txt" --json >"$WORK/objects.json"
+"$BIN/ocg_eval" objects --gt "$SMOKE/objects_gt.json" --run "$WORK/a" \
+  --groundtruth "$SMOKE/groundtruth.txt" --json >"$WORK/objects.json"
 metric() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$WORK/objects.json" "$1"; }
 corr_s=$(metric corr_s); redun_s=$(metric redun_s); delet_s=$(metric delet_s)
 [ "$corr_s" -ge 6 ] || fail "only $corr_s static objects mapped (want at least 6)"
@@ -62,12 +63,12 @@ echo "passed: snapshots written by the run and by ocg_render"
 
 # Threaded mode: local mapping and loop closing on threads of their own; not
 # byte-reproducible, but as accurate, closing the same loop, and it shuts down cleanly.
-{ cat "$WORK/smoke/camera.yaml"; printf 'System:\n  sequential: false\n'; } >"$WORK/threaded.yaml"
-"$BIN/ocg_slam" run --settings "$WORK/threaded.yaml" --sequence "$WORK/smoke" \
-  --detections "$WORK/smoke/detections" --snapshots none --out "$WORK/t" --log-level warn >"$WORK/t.log"
+{ cat "$SMOKE/camera.yaml"; printf 'System:\n  sequential: false\n'; } >"$WORK/threaded.yaml"
+"$BIN/ocg_slam" run --settings "$WORK/threaded.yaml" --sequence "$SMOKE" \
+  --detections "$SMOKE/detections" --snapshots none --out "$WORK/t" --log-level warn >"$WORK/t.log"
 cat "$WORK/t.log"
 grep -q '"mode": "threaded"' "$WORK/t/run.json" || fail "the threaded run did not run threaded"
-"$BIN/ocg_eval" ate --gt "$WORK/smoke/groundtruth.txt" --est "$WORK/t/CameraTrajectory.txt" --align sim3 >"$WORK/ate_t.txt"
+"$BIN/ocg_eval" ate --gt "$SMOKE/groundtruth.txt" --est "$WORK/t/CameraTrajectory.txt" --align sim3 >"$WORK/ate_t.txt"
 rmse=$(awk '$1 == "rmse" {print $2}' "$WORK/ate_t.txt")
 awk -v r="$rmse" 'BEGIN { exit !(r < 0.02) }' || fail "threaded ATE RMSE $rmse m (want < 0.02)"
 [ -s "$WORK/t/objects.json" ] || fail "the threaded run wrote no objects.json"
@@ -97,7 +98,7 @@ PY
 echo "passed: threaded mode, ATE RMSE $rmse m, $loops loop(s) closed, $merged global adjustment(s) merged"
 
 # The first 200 frames do not come back to the start: no loop may be closed.
-"$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/smoke" \
+"$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$SMOKE" \
   --snapshots none --max-frames 200 --out "$WORK/s" --log-level warn >"$WORK/s.log"
 loops=$(python3 -c "import json,sys; print(len(json.load(open(sys.argv[1]))['loop_closing']['loops']))" "$WORK/s/run.json")
 [ "$loops" -eq 0 ] || fail "$loops loop(s) closed before the camera came back"
@@ -107,7 +108,7 @@ echo "passed: no loop closed before the camera comes back"
 # images jump back to frame 60: tracking must relocalize against the keyframes of that
 # place and track on.
 mkdir -p "$WORK/jump"
-ln -s "$WORK/smoke/rgb" "$WORK/jump/rgb"
+ln -s "$SMOKE/rgb" "$WORK/jump/rgb"
 python3 - "$WORK/jump/blank.png" <<'PY'
 import struct, sys, zlib
 def chunk(kind, data):
@@ -118,11 +119,11 @@ png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 640, 480, 8
 open(sys.argv[1], "wb").write(png)
 PY
 {
-  grep -v '^#' "$WORK/smoke/rgb.txt" | sed -n '1,150p'
+  grep -v '^#' "$SMOKE/rgb.txt" | sed -n '1,150p'
   for i in 1 2 3 4 5; do echo "1015.0$i blank.png"; done
-  grep -v '^#' "$WORK/smoke/rgb.txt" | sed -n '61,250p' | awk '{printf "%.6f %s\n", $1 + 20, $2}'
+  grep -v '^#' "$SMOKE/rgb.txt" | sed -n '61,250p' | awk '{printf "%.6f %s\n", $1 + 20, $2}'
 } >"$WORK/jump/rgb.txt"
-"$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/jump" --out "$WORK/j" --log-level warn >"$WORK/j.log"
+"$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$WORK/jump" --out "$WORK/j" --log-level warn >"$WORK/j.log"
 cat "$WORK/j.log"
 relocalized=$(grep -o '"relocalizations": [0-9]*' "$WORK/j/run.json" | awk '{print $2}')
 lost=$(grep -o '"frames_lost": [0-9]*' "$WORK/j/run.json" | awk '{print $2}')

@@ -5,21 +5,22 @@
 # "interrupted": true, the exit code is 128 + the signal, and the map continues in a
 # later session. A second signal exits at once. A run that never initializes writes no
 # map (an empty one), but all its other outputs.
-#   stop_test.sh <folder with the tool binaries>
+#   stop_test.sh <folder with the tool binaries> [the smoke300 sequence, else generated here]
 set -euo pipefail
 BIN=$1
 source "$(dirname "$0")/check_helpers.sh"
 json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 
-"$BIN/ocg_synth" --preset smoke --frames 300 --out "$WORK/smoke" --keyframe-interval 0 --log-level warn >/dev/null
+source "$(dirname "$0")/smoke300.sh"
+smoke300 "$BIN" "${2:-}"
 
 # Starts a run in the background, logging its progress every second; waits until it has
 # logged progress twice (it is then in the middle of its frames); PID in $pid.
 start_run() {  # start_run <out> [options...]
   local out=$1
   shift
-  "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/smoke" \
-    --detections "$WORK/smoke/detections" --snapshots none --out "$out" \
+  "$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$SMOKE" \
+    --detections "$SMOKE/detections" --snapshots none --out "$out" \
     --progress-seconds 1 "$@" >"$out.log" 2>&1 &
   pid=$!
   for _ in $(seq 600); do
@@ -75,8 +76,8 @@ EOF
 done
 
 # The map of the stopped run continues: the next session relocalizes in it.
-"$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/smoke" \
-  --detections "$WORK/smoke/detections" --snapshots none --out "$WORK/next" --max-frames 10 \
+"$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$SMOKE" \
+  --detections "$SMOKE/detections" --snapshots none --out "$WORK/next" --max-frames 10 \
   --load-map "$WORK/INT.ocgmap" --log-level warn >"$WORK/out" 2>&1 || failure "the stopped run's map does not load"
 output_has "the next session runs in the stopped run's map" "session 1 of the map"
 check "the next session relocalized" test "$(json "$WORK/next/run.json" "d['session']['frames_until_relocalized']")" != never
@@ -97,13 +98,13 @@ check "the second signal says it exits at once" grep -q "second signal: exiting 
 # A run that never initializes (a still camera: the first frame over and over) writes
 # its outputs but refuses an empty map, saying so.
 mkdir -p "$WORK/still"
-ln -s "$WORK/smoke/rgb" "$WORK/still/rgb"
+ln -s "$SMOKE/rgb" "$WORK/still/rgb"
 # awk reads the whole list: `grep | head -1` under pipefail fails at random, when head
 # exits before grep has written its last block (SIGPIPE, exit 141).
-first=$(awk '!/^#/ && !found { print $2; found = 1 }' "$WORK/smoke/rgb.txt")
+first=$(awk '!/^#/ && !found { print $2; found = 1 }' "$SMOKE/rgb.txt")
 for i in $(seq 0 19); do printf '%d.%06d %s\n' 100 $((i * 33333)) "$first"; done >"$WORK/still/rgb.txt"
 fails_with "an empty map is refused" "the map is empty" \
-  "$BIN/ocg_slam" run --settings "$WORK/smoke/camera.yaml" --sequence "$WORK/still" \
+  "$BIN/ocg_slam" run --settings "$SMOKE/camera.yaml" --sequence "$WORK/still" \
   --snapshots none --out "$WORK/still_out" --save-map "$WORK/still.ocgmap"
 check "no map file written for an empty map" test ! -e "$WORK/still.ocgmap"
 check "the never-initialized run's outputs are written" test -s "$WORK/still_out/run.json"
