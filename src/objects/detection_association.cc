@@ -10,21 +10,6 @@ namespace {
 
 constexpr double kCandidatePenalty = 0.05;  // a map object wins a tie against a candidate
 
-// An object's points as an association cue: how many are its own (enough votes), and the
-// bounds of its point set, which only an object with a few own points needs. Both are kept
-// by the object's points between frames (ObjectPoints): a frame meets about a hundred
-// objects and candidates in a revisited room, most of them unchanged since the last.
-class PointCue {
- public:
-  PointCue(const MapObject& object, int min_votes) : object_(&object), min_votes_(min_votes) {}
-  int OwnPoints() const { return object_->points.VotedCount(min_votes_); }
-  const RobustBounds& Bounds() const { return PointSetOf(*object_, min_votes_).bounds; }
-
- private:
-  const MapObject* object_;
-  int min_votes_;
-};
-
 // Whether one of box_points is a point on the object (voted for, within its largest
 // extent of its centre).
 bool HoldsOwnPoint(const MapObject& object, const std::vector<const PointObservation*>& box_points,
@@ -42,8 +27,8 @@ bool HoldsOwnPoint(const MapObject& object, const std::vector<const PointObserva
 
 double AssociationScore(const MapObject& object, const ObjectDetection& detection,
                         std::int64_t frame, const SE3& T_cw, int session,
-                        const std::vector<const PointObservation*>& box_points,
-                        PointCue* object_points, const ObjectMapContext& context) {
+                        const std::vector<const PointObservation*>& box_points, bool with_points,
+                        const ObjectMapContext& context) {
   if (object.has_cuboid) {
     // Geometry first: the ray through the box centre must pass near the object's centre.
     // Without this gate a detection of the same class close by (the object's new place
@@ -55,11 +40,15 @@ double AssociationScore(const MapObject& object, const ObjectDetection& detectio
       return 0.0;
     }
   }
-  // Past the gate (most objects of the class are elsewhere) the point cue's parts are
-  // computed as they are needed.
   const ObjectSighting& last = object.sightings.back();
-  if (object.has_cuboid && last.session < session && object_points != nullptr &&
-      box_points.size() >= 3 && object_points->OwnPoints() >= 5 &&
+  // Past the gate (most objects of the class are elsewhere), the point cue. The object's
+  // own points (enough votes) are counted, and its point set bounded, once for the frames
+  // between changes of its points (ObjectPoints): a frame meets about a hundred objects
+  // and candidates in a revisited room, most unchanged since the last.
+  const int min_votes = context.options.min_point_votes;
+  const bool points_cue =
+      with_points && box_points.size() >= 3 && object.points.VotedCount(min_votes) >= 5;
+  if (object.has_cuboid && last.session < session && points_cue &&
       !HoldsOwnPoint(object, box_points, context)) {
     // Found again in a later session: between the visits an object of its class may have
     // been put down anywhere along this view's ray, and one view has no depth, so the
@@ -101,12 +90,13 @@ double AssociationScore(const MapObject& object, const ObjectDetection& detectio
   }
   // Map points: the box holds the object's own points, and they lie where its points do.
   // Too few on either side says nothing (untextured objects, a new object).
-  if (object_points != nullptr && box_points.size() >= 3 && object_points->OwnPoints() >= 5) {
+  if (points_cue) {
+    const RobustBounds& bounds = PointSetOf(object, min_votes).bounds;
     int shared = 0, inside = 0;
     for (const PointObservation* point : box_points) {
       const auto own = object.points.find(point->id);
-      shared += own != object.points.end() && own->second.votes >= context.options.min_point_votes;
-      inside += object_points->Bounds().Contains(point->position) ? 1 : 0;
+      shared += own != object.points.end() && own->second.votes >= min_votes;
+      inside += bounds.Contains(point->position) ? 1 : 0;
     }
     const double count = static_cast<double>(box_points.size());
     sum += shared / count + inside / count;
@@ -122,20 +112,14 @@ std::vector<int> AssociateDetections(
     const std::vector<ObjectDetection>& detections,
     const std::vector<std::vector<const PointObservation*>>& box_points, bool with_points,
     std::int64_t frame, const SE3& T_cw, int session, const ObjectMapContext& context) {
-  // Each part built on first use: only entities of a detected class past the gate need one.
-  std::vector<PointCue> point_cues;
-  point_cues.reserve(entities.size());
-  for (const MapObject* entity : entities)
-    point_cues.emplace_back(*entity, context.options.min_point_votes);
   Eigen::MatrixXd cost =
       Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(detections.size()),
                                 static_cast<Eigen::Index>(entities.size()), kForbiddenCost);
   for (std::size_t d = 0; d < detections.size(); ++d) {
     for (std::size_t e = 0; e < entities.size(); ++e) {
       if (entities[e]->class_id != detections[d].class_id) continue;
-      const double score =
-          AssociationScore(*entities[e], detections[d], frame, T_cw, session, box_points[d],
-                           with_points ? &point_cues[e] : nullptr, context);
+      const double score = AssociationScore(*entities[e], detections[d], frame, T_cw, session,
+                                            box_points[d], with_points, context);
       if (score < context.options.min_association_score) continue;
       cost(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(e)) =
           1.0 - score + (e >= object_count ? kCandidatePenalty : 0.0);

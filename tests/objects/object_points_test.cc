@@ -2,6 +2,8 @@
 // then what a fresh computation gives.
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "ocg/objects/map_object.h"
 
 namespace ocg {
@@ -26,7 +28,7 @@ MapObject ObjectWithPoints(int n, int votes) {
 std::vector<std::uint64_t> FreshIds(const MapObject& object, int min_votes) {
   std::vector<std::uint64_t> ids;
   std::vector<Eigen::Vector3d> positions;
-  for (const auto& [id, point] : object.points.container()) {
+  for (const auto& [id, point] : std::as_const(object.points)) {
     if (point.votes < min_votes) continue;
     if (object.has_cuboid &&
         (point.position - object.cuboid.centre).norm() > object.cuboid.size.maxCoeff())

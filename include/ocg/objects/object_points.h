@@ -65,7 +65,6 @@ class ObjectPoints {
   ObjectPoint& operator[](std::uint64_t id) { return Changed()[id]; }
   iterator erase(iterator point) { return Changed().erase(point); }
   std::size_t erase(std::uint64_t id) { return Changed().erase(id); }
-  Container& container() { return Changed(); }
 
   // Counts the changes: a value derived at an older revision is stale.
   std::uint64_t revision() const { return revision_; }
