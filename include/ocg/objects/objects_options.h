@@ -86,8 +86,15 @@ struct ObjectsOptions {
   // Objects.merge_distance: two objects never seen in the same frame whose centres are
   // closer than this share of the larger one's largest extent (of the smaller one's when
   // their classes differ: one object under two classes has one size) are one object seen
-  // twice: merged.
+  // twice: merged. Of one class it applies only with merge_rays_ratio 0.
   double merge_distance = 0.5;
+  // Objects.merge_rays_ratio: two objects of one class never seen in the same frame are one
+  // object seen twice when the rays through their box centres, pooled, meet at one point
+  // (Objects.min_inlier_share of each object's rays its inliers) with an RMS distance at
+  // most this many times the larger of the two objects' own (map_hygiene.cc RaysMeetAsOne):
+  // one object that two stretches of views triangulated apart. It replaces merge_distance
+  // for one class; 0 turns it off (merge_distance again).
+  double merge_rays_ratio = 1.5;
   // Objects.merge_overlap: two objects of the same class whose boxes (world-axis extents
   // of their cuboids) share more than this share of the smaller one's volume are one
   // object, even when seen in the same frame: two solid objects cannot take up the same
@@ -259,7 +266,14 @@ struct ObjectsOptions {
     visit("Objects.merge_distance", self.merge_distance, OptionBound::NonNegative(),
           "two objects never seen in the same frame, closer than this share of the larger one's "
           "largest extent (of the smaller one's when their classes differ: one object under two "
-          "classes has one size), are merged (the majority class wins)");
+          "classes has one size), are merged (the majority class wins); of one class only with "
+          "`Objects.merge_rays_ratio` 0");
+    visit("Objects.merge_rays_ratio", self.merge_rays_ratio, OptionBound::NonNegative(),
+          "two objects of one class never seen in the same frame are merged when the rays "
+          "through their box centres, pooled, meet at one point (`Objects.min_inlier_share` of "
+          "each one's rays its inliers) with an RMS distance at most this many times the larger "
+          "of the two objects' own: one object two stretches of views triangulated apart; it "
+          "replaces `Objects.merge_distance` for one class; 0 turns it off");
     visit("Objects.merge_overlap", self.merge_overlap, share,
           "two objects of one class whose boxes (world-axis extents) share more than this share "
           "of the smaller one's volume are merged even when seen in the same frame (a detector's "
