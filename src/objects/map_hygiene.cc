@@ -145,7 +145,9 @@ std::optional<std::pair<ObjectId, ObjectId>> FindDuplicate(
       bool keep_first = first.sightings.total() >= second.sightings.total();
       if (!one_space) {
         // Most pairs were detected together at some time: the cheap test first.
-        if (SeenTogether(first, second, context.options.duplicate_box_iou)) continue;
+        if (SeenTogether(first, second, context.options.duplicate_box_iou,
+                         context.options.seen_together_frames))
+          continue;
         // Two objects of different classes are one object the detector named twice
         // only when a session saw both. Seen in different sessions, the new one near
         // the old one's place is more likely what was put there between the visits:
@@ -196,7 +198,8 @@ MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,
   std::vector<BoxFit> host_fits;
   std::pair<bool, double> best{false, context.options.min_inlier_share};
   for (auto& [id, object] : objects) {
-    if (!object.has_cuboid || SeenTogether(candidate, object, context.options.duplicate_box_iou))
+    if (!object.has_cuboid || SeenTogether(candidate, object, context.options.duplicate_box_iou,
+                                           context.options.seen_together_frames))
       continue;
     const bool same_class = object.class_id == candidate.class_id;
     // As in the keyframe hygiene: another class is the same object misnamed only when

@@ -108,6 +108,11 @@ struct ObjectsOptions {
   // starts another object, and that one frame kept the two apart for good (a cup mapped as
   // two objects 7 cm apart, issue 18). 1 turns it off (only identical boxes).
   double duplicate_box_iou = 0.3;
+  // Objects.seen_together_frames: two objects are "seen together" (never merged as one seen
+  // twice, nor joined) once detected together, with boxes that tell them apart (above), in
+  // this many frames. A detector's stray second box is an event of one frame; two objects
+  // side by side are detected together whenever both are found. 1: any such frame.
+  int seen_together_frames = 2;
   // Objects.merge_along_rays: an object never seen in the same frame as another, whose
   // untruncated boxes fit the other's projected cuboid (IoU at least min_reacquire_iou, or,
   // of one class, partial views: box.h FitOfBox; for min_inlier_share of them) is the other
@@ -283,6 +288,11 @@ struct ObjectsOptions {
           "object seen twice, nor joined) only when their boxes there overlap by less than this "
           "IoU: a detector's second box on an object (IoU below `Objects.nms_iou`, so both kept) "
           "feeds another object, and that frame kept the two apart for good; 1 turns it off");
+    visit("Objects.seen_together_frames", self.seen_together_frames, OptionBound::AtLeast(1),
+          "two objects are \"seen together\" (never merged as one object seen twice, nor "
+          "joined) once detected together, with boxes that tell them apart, in this many "
+          "frames: a stray second box is an event of one frame, two objects side by side are "
+          "detected together whenever both are found; 1: any such frame");
     visit("Objects.merge_along_rays", self.merge_along_rays, OptionBound::Any(),
           "an object never seen in the same frame as another, whose boxes fit the other's "
           "projected cuboid (IoU >= `Objects.min_reacquire_iou`, or of one class a partial view: "
