@@ -1,11 +1,20 @@
 #include "ocg/objects/map_hygiene.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <optional>
 #include <vector>
 
+#include "ocg/objects/object_geometry.h"
+
 namespace ocg {
 namespace {
+
+// The rays' noise floor of a triangulation (IntersectRays' min_sigma, as Reestimate uses).
+constexpr double kMinRaySigma = 0.01;
+// Two objects of one class whose centres are farther apart than this many times the larger
+// one's largest extent are not tested for one bundle of rays (RaysMeetAsOne).
+constexpr double kRaysMeetReach = 4.0;
 
 // Whether a box that fits a projected cuboid so counts as a view of that object. A partial
 // view counts only for an object of the box's class: a box inside a larger object's
@@ -63,6 +72,56 @@ std::optional<std::vector<BoxFit>> FitsOfTrack(const MapObject& track, const Map
   return fits;
 }
 
+// The rays through the centres of an object's untruncated, uncrowded boxes (thinned to
+// Objects.max_rays, as for its triangulation), appended to rays.
+void AppendBoxRays(const MapObject& object, const ObjectMapContext& context,
+                   std::vector<Ray>* rays) {
+  std::vector<const ObjectSighting*> usable;
+  for (const ObjectSighting& sighting : object.sightings) {
+    if (!sighting.truncated && !sighting.crowded) usable.push_back(&sighting);
+  }
+  for (std::size_t index :
+       Thinned(usable.size(), static_cast<std::size_t>(context.options.max_rays))) {
+    rays->push_back(PixelRay(usable[index]->box.Centre(), usable[index]->T_cw, context.camera));
+  }
+}
+
+// Whether the box rays of a and b (one class), pooled, meet at one point about as well as
+// each object's rays meet alone (Objects.merge_rays_ratio): one object, which two stretches
+// of views triangulated apart (box centres miss the object's centre by a bias of their own
+// in each direction of view; a small object's two estimates land a few centimetres apart,
+// beyond merge_distance times its size). Two objects give two bundles of rays: one point
+// leaves one bundle's rays far from it, or the robust fit takes one bundle alone and the
+// other's rays are not its inliers. A test of one point against two, in the rays' own
+// noise, so it needs no distance in map units (a monocular map has no metre).
+bool RaysMeetAsOne(const MapObject& a, const MapObject& b, const ObjectMapContext& context) {
+  std::vector<Ray> rays;
+  AppendBoxRays(a, context, &rays);
+  const std::size_t from_a = rays.size();
+  AppendBoxRays(b, context, &rays);
+  const std::size_t from_b = rays.size() - from_a;
+  if (from_a < 2 || from_b < 2) return false;
+  const double share = context.options.min_inlier_share;
+  const RayIntersection joint = IntersectRays(rays, kMinRaySigma, share);
+  if (!joint.valid) return false;
+  std::size_t inliers_a = 0, inliers_b = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (joint.inliers[i]) ++(i < from_a ? inliers_a : inliers_b);
+  }
+  if (static_cast<double>(inliers_a) < share * static_cast<double>(from_a) ||
+      static_cast<double>(inliers_b) < share * static_cast<double>(from_b)) {
+    return false;
+  }
+  const auto alone = [&](std::size_t begin, std::size_t end) {
+    return IntersectRays(std::vector<Ray>(rays.begin() + static_cast<std::ptrdiff_t>(begin),
+                                          rays.begin() + static_cast<std::ptrdiff_t>(end)),
+                         kMinRaySigma, 0.5)
+        .rms_distance;
+  };
+  const double apart = std::max(alone(0, from_a), alone(from_a, rays.size()));
+  return joint.rms_distance <= context.options.merge_rays_ratio * apart;
+}
+
 }  // namespace
 
 std::optional<std::pair<ObjectId, ObjectId>> FindDuplicate(
@@ -86,7 +145,9 @@ std::optional<std::pair<ObjectId, ObjectId>> FindDuplicate(
       bool keep_first = first.sightings.total() >= second.sightings.total();
       if (!one_space) {
         // Most pairs were detected together at some time: the cheap test first.
-        if (SeenTogether(first, second, context.options.duplicate_box_iou)) continue;
+        if (SeenTogether(first, second, context.options.duplicate_box_iou,
+                         context.options.seen_together_frames))
+          continue;
         // Two objects of different classes are one object the detector named twice
         // only when a session saw both. Seen in different sessions, the new one near
         // the old one's place is more likely what was put there between the visits:
@@ -101,6 +162,13 @@ std::optional<std::pair<ObjectId, ObjectId>> FindDuplicate(
           keep_first = true;
         } else if (along_rays(first, second)) {
           keep_first = false;
+        } else if (first.class_id == second.class_id && context.options.merge_rays_ratio > 0.0) {
+          // Of one class, the rays decide (a cheap reach first: beyond it two bundles
+          // never meet as one).
+          if ((first.cuboid.centre - second.cuboid.centre).norm() > kRaysMeetReach * larger ||
+              !RaysMeetAsOne(first, second, context)) {
+            continue;
+          }
         } else if ((first.cuboid.centre - second.cuboid.centre).norm() > reach) {
           continue;
         }
@@ -130,7 +198,8 @@ MapObject* HostOf(MapObject& candidate, std::map<ObjectId, MapObject>& objects,
   std::vector<BoxFit> host_fits;
   std::pair<bool, double> best{false, context.options.min_inlier_share};
   for (auto& [id, object] : objects) {
-    if (!object.has_cuboid || SeenTogether(candidate, object, context.options.duplicate_box_iou))
+    if (!object.has_cuboid || SeenTogether(candidate, object, context.options.duplicate_box_iou,
+                                           context.options.seen_together_frames))
       continue;
     const bool same_class = object.class_id == candidate.class_id;
     // As in the keyframe hygiene: another class is the same object misnamed only when

@@ -195,12 +195,15 @@ double OverlapShare(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& exte
   return (high - low).prod() / smaller;
 }
 
-bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_iou) {
+bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_iou,
+                  int min_frames) {
+  int frames = 0;
   auto i = a.sightings.begin();
   auto j = b.sightings.begin();
   while (i != a.sightings.end() && j != b.sightings.end()) {
     if (i->frame == j->frame) {
-      if (IntersectionOverUnion(i->box, j->box) < duplicate_box_iou) return true;
+      if (IntersectionOverUnion(i->box, j->box) < duplicate_box_iou && ++frames >= min_frames)
+        return true;
       ++i;
       ++j;
     } else if (i->frame < j->frame) {

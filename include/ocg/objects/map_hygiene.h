@@ -14,9 +14,11 @@ namespace ocg {
 // Two map objects that are one (kept first, absorbed second), the first such pair in id
 // order; none when there is none. The same object mapped twice (a lost association, a box
 // that jumped, a class the detector confused) shows as two objects at one place that were
-// never detected in the same frame: within Objects.merge_distance of each other, or
-// overlapping by Objects.merge_overlap (one class), or one's boxes fitting the other's
-// projection (Objects.merge_along_rays). The one with more sightings is kept.
+// never detected in the same frame: of one class, their box rays meeting as one bundle
+// (Objects.merge_rays_ratio; within Objects.merge_distance of each other when 0), of two
+// classes within merge_distance; or overlapping by Objects.merge_overlap (one class), or
+// one's boxes fitting the other's projection (Objects.merge_along_rays). The one with more
+// sightings is kept.
 std::optional<std::pair<ObjectId, ObjectId>> FindDuplicate(
     const std::map<ObjectId, MapObject>& objects, const ObjectMapContext& context);
 

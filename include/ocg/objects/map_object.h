@@ -92,11 +92,14 @@ Eigen::Vector3d WorldExtent(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg);
 // extent); 0 when either is flat.
 double OverlapShare(const Eigen::Vector3d& centre_a, const Eigen::Vector3d& extent_a,
                     const Eigen::Vector3d& centre_b, const Eigen::Vector3d& extent_b);
-// Whether a and b were detected in one frame with boxes that tell two objects apart. Boxes
-// overlapping by duplicate_box_iou or more (the detector's second box on one object, which
-// the non-maximum suppression let through) do not: each fed its own object, and one
-// such frame kept the object's two halves apart for good.
-bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_iou);
+// Whether a and b were detected together, with boxes that tell two objects apart, in at
+// least min_frames frames (Objects.seen_together_frames). Boxes overlapping by
+// duplicate_box_iou or more (the detector's second box on one object, which the
+// non-maximum suppression let through) do not: each fed its own object, and one such
+// frame kept the object's two halves apart for good. Nor does one frame alone: a stray
+// second box is an event of one frame, two objects side by side are detected together
+// whenever the detector finds both.
+bool SeenTogether(const MapObject& a, const MapObject& b, double duplicate_box_iou, int min_frames);
 // Whether one session saw both.
 bool SeenInOneSession(const MapObject& a, const MapObject& b);
 

@@ -86,8 +86,15 @@ struct ObjectsOptions {
   // Objects.merge_distance: two objects never seen in the same frame whose centres are
   // closer than this share of the larger one's largest extent (of the smaller one's when
   // their classes differ: one object under two classes has one size) are one object seen
-  // twice: merged.
+  // twice: merged. Of one class it applies only with merge_rays_ratio 0.
   double merge_distance = 0.5;
+  // Objects.merge_rays_ratio: two objects of one class never seen in the same frame are one
+  // object seen twice when the rays through their box centres, pooled, meet at one point
+  // (Objects.min_inlier_share of each object's rays its inliers) with an RMS distance at
+  // most this many times the larger of the two objects' own (map_hygiene.cc RaysMeetAsOne):
+  // one object that two stretches of views triangulated apart. It replaces merge_distance
+  // for one class; 0 turns it off (merge_distance again).
+  double merge_rays_ratio = 1.5;
   // Objects.merge_overlap: two objects of the same class whose boxes (world-axis extents
   // of their cuboids) share more than this share of the smaller one's volume are one
   // object, even when seen in the same frame: two solid objects cannot take up the same
@@ -101,6 +108,11 @@ struct ObjectsOptions {
   // starts another object, and that one frame kept the two apart for good (a cup mapped as
   // two objects 7 cm apart, issue 18). 1 turns it off (only identical boxes).
   double duplicate_box_iou = 0.3;
+  // Objects.seen_together_frames: two objects are "seen together" (never merged as one seen
+  // twice, nor joined) once detected together, with boxes that tell them apart (above), in
+  // this many frames. A detector's stray second box is an event of one frame; two objects
+  // side by side are detected together whenever both are found. 1: any such frame.
+  int seen_together_frames = 2;
   // Objects.merge_along_rays: an object never seen in the same frame as another, whose
   // untruncated boxes fit the other's projected cuboid (IoU at least min_reacquire_iou, or,
   // of one class, partial views: box.h FitOfBox; for min_inlier_share of them) is the other
@@ -259,7 +271,14 @@ struct ObjectsOptions {
     visit("Objects.merge_distance", self.merge_distance, OptionBound::NonNegative(),
           "two objects never seen in the same frame, closer than this share of the larger one's "
           "largest extent (of the smaller one's when their classes differ: one object under two "
-          "classes has one size), are merged (the majority class wins)");
+          "classes has one size), are merged (the majority class wins); of one class only with "
+          "`Objects.merge_rays_ratio` 0");
+    visit("Objects.merge_rays_ratio", self.merge_rays_ratio, OptionBound::NonNegative(),
+          "two objects of one class never seen in the same frame are merged when the rays "
+          "through their box centres, pooled, meet at one point (`Objects.min_inlier_share` of "
+          "each one's rays its inliers) with an RMS distance at most this many times the larger "
+          "of the two objects' own: one object two stretches of views triangulated apart; it "
+          "replaces `Objects.merge_distance` for one class; 0 turns it off");
     visit("Objects.merge_overlap", self.merge_overlap, share,
           "two objects of one class whose boxes (world-axis extents) share more than this share "
           "of the smaller one's volume are merged even when seen in the same frame (a detector's "
@@ -269,6 +288,11 @@ struct ObjectsOptions {
           "object seen twice, nor joined) only when their boxes there overlap by less than this "
           "IoU: a detector's second box on an object (IoU below `Objects.nms_iou`, so both kept) "
           "feeds another object, and that frame kept the two apart for good; 1 turns it off");
+    visit("Objects.seen_together_frames", self.seen_together_frames, OptionBound::AtLeast(1),
+          "two objects are \"seen together\" (never merged as one object seen twice, nor "
+          "joined) once detected together, with boxes that tell them apart, in this many "
+          "frames: a stray second box is an event of one frame, two objects side by side are "
+          "detected together whenever both are found; 1: any such frame");
     visit("Objects.merge_along_rays", self.merge_along_rays, OptionBound::Any(),
           "an object never seen in the same frame as another, whose boxes fit the other's "
           "projected cuboid (IoU >= `Objects.min_reacquire_iou`, or of one class a partial view: "
