@@ -176,9 +176,6 @@ void ObjectMap::FollowMap(
     const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
     const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point,
     const std::vector<std::int64_t>* frames, const std::vector<ChangedPoint>* changed_points) {
-  const auto by_frame = [](const ObjectSighting& sighting, std::int64_t frame) {
-    return sighting.frame < frame;
-  };
   // Incremental (a keyframe's changes): the objects whose sightings or points moved are
   // estimated again, the others only once the up direction turned by more than
   // kUpTurnForAll since they all were.
@@ -228,19 +225,14 @@ void ObjectMap::FollowMap(
           if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
         }
       } else {
-        // The kept sightings are in frame order (SightingHistory), as the frames are.
-        auto sighting = entity.sightings.begin();
-        for (const std::int64_t frame : *frames) {
-          sighting = std::lower_bound(sighting, entity.sightings.end(), frame, by_frame);
-          if (sighting == entity.sightings.end()) break;
-          if (sighting->frame != frame) continue;
+        entity.sightings.VisitFrames(*frames, [&](std::int64_t frame, auto first, auto last) {
           const std::optional<SE3> pose = pose_of_frame(frame);
-          if (!pose) continue;
-          for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting) {
+          if (!pose) return;
+          for (auto sighting = first; sighting != last; ++sighting) {
             sighting->T_cw = *pose;
             ++entity_moved;
           }
-        }
+        });
       }
       if (changed_points == nullptr) {
         for (auto point = entity.points.begin(); point != entity.points.end();) {
