@@ -186,8 +186,7 @@ void ObjectMap::FollowMap(
   // of the cuboid's centre before or after). The point takes the map point's state:
   // position (null: gone from the map, and from the entity) and descriptor (null: keeps
   // its own).
-  const auto follow_point = [&](MapObject& entity,
-                                std::map<std::uint64_t, ObjectPoint>::iterator point,
+  const auto follow_point = [&](MapObject& entity, ObjectPoints::const_iterator point,
                                 const Eigen::Vector3d* position, const Descriptor* descriptor) {
     const double reach = entity.cuboid.size.maxCoeff();
     const auto counts = [&](const ObjectPoint& kept, const Eigen::Vector3d& at) {
@@ -199,19 +198,18 @@ void ObjectMap::FollowMap(
       entity.points.erase(point);
       return entity_moved;
     }
-    if (descriptor != nullptr) point->second.descriptor = *descriptor;
+    if (descriptor != nullptr) entity.points.SetDescriptor(point, *descriptor);
     // Incremental: a point that moved less than Objects.follow_tolerance keeps the
     // position the object was estimated with (the copy lags the map by less than that).
     const double shift = (*position - point->second.position).norm();
     if (incremental && shift <= options_.follow_tolerance) return false;
     const bool entity_moved = shift > 0.0 && (counts(point->second, point->second.position) ||
                                               counts(point->second, *position));
-    point->second.position = *position;
+    entity.points.Move(point, *position);
     return entity_moved;
   };
   // A point's state by the callbacks.
-  const auto follow_point_by_id = [&](MapObject& entity,
-                                      std::map<std::uint64_t, ObjectPoint>::iterator point) {
+  const auto follow_point_by_id = [&](MapObject& entity, ObjectPoints::const_iterator point) {
     const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
     const Descriptor* descriptor =
         position && descriptor_of_point ? descriptor_of_point(point->first) : nullptr;
