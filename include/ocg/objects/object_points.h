@@ -1,6 +1,6 @@
 #pragma once
 // An object's SLAM map points (the points seen inside its boxes, by map point id) and what
-// is derived from them, kept until they change.
+// is derived from them, kept until a change that can alter it.
 //
 // Association scores every detection against every object and candidate of its class at
 // every frame, and its point cue needs two things of each: how many points the object
