@@ -131,11 +131,7 @@ bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& conte
 
 void Absorb(MapObject& into, const MapObject& from, int max_sightings) {
   into.sightings.Merge(from.sightings, static_cast<std::size_t>(max_sightings));
-  for (const auto& [id, point] : from.points) {
-    ObjectPoint& entry = into.points[id];
-    if (entry.votes == 0) entry.position = point.position;
-    entry.votes += point.votes;
-  }
+  for (const auto& [id, point] : from.points) into.points.Join(id, point);
   into.class_id = into.sightings.MajorityClass();
   into.first_frame = std::min(into.first_frame, from.first_frame);
   into.first_timestamp = std::min(into.first_timestamp, from.first_timestamp);
@@ -144,11 +140,8 @@ void Absorb(MapObject& into, const MapObject& from, int max_sightings) {
 }
 
 void AddPointVotes(MapObject& object, const std::vector<const PointObservation*>& box_points) {
-  for (const PointObservation* point : box_points) {
-    ObjectPoint& entry = object.points[point->id];
-    ++entry.votes;
-    entry.position = point->position;
-  }
+  for (const PointObservation* point : box_points)
+    object.points.Vote(point->id, 1, point->position);
 }
 
 void BoundPoints(MapObject& object, int max_points) {

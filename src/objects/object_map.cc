@@ -176,9 +176,6 @@ void ObjectMap::FollowMap(
     const std::function<std::optional<Eigen::Vector3d>(std::uint64_t point)>& position_of_point,
     const std::function<const Descriptor*(std::uint64_t point)>& descriptor_of_point,
     const std::vector<std::int64_t>* frames, const std::vector<ChangedPoint>* changed_points) {
-  const auto by_frame = [](const ObjectSighting& sighting, std::int64_t frame) {
-    return sighting.frame < frame;
-  };
   // Incremental (a keyframe's changes): the objects whose sightings or points moved are
   // estimated again, the others only once the up direction turned by more than
   // kUpTurnForAll since they all were.
@@ -189,8 +186,7 @@ void ObjectMap::FollowMap(
   // of the cuboid's centre before or after). The point takes the map point's state:
   // position (null: gone from the map, and from the entity) and descriptor (null: keeps
   // its own).
-  const auto follow_point = [&](MapObject& entity,
-                                std::map<std::uint64_t, ObjectPoint>::iterator point,
+  const auto follow_point = [&](MapObject& entity, ObjectPoints::const_iterator point,
                                 const Eigen::Vector3d* position, const Descriptor* descriptor) {
     const double reach = entity.cuboid.size.maxCoeff();
     const auto counts = [&](const ObjectPoint& kept, const Eigen::Vector3d& at) {
@@ -202,19 +198,18 @@ void ObjectMap::FollowMap(
       entity.points.erase(point);
       return entity_moved;
     }
-    if (descriptor != nullptr) point->second.descriptor = *descriptor;
+    if (descriptor != nullptr) entity.points.SetDescriptor(point, *descriptor);
     // Incremental: a point that moved less than Objects.follow_tolerance keeps the
     // position the object was estimated with (the copy lags the map by less than that).
     const double shift = (*position - point->second.position).norm();
     if (incremental && shift <= options_.follow_tolerance) return false;
     const bool entity_moved = shift > 0.0 && (counts(point->second, point->second.position) ||
                                               counts(point->second, *position));
-    point->second.position = *position;
+    entity.points.Move(point, *position);
     return entity_moved;
   };
   // A point's state by the callbacks.
-  const auto follow_point_by_id = [&](MapObject& entity,
-                                      std::map<std::uint64_t, ObjectPoint>::iterator point) {
+  const auto follow_point_by_id = [&](MapObject& entity, ObjectPoints::const_iterator point) {
     const std::optional<Eigen::Vector3d> position = position_of_point(point->first);
     const Descriptor* descriptor =
         position && descriptor_of_point ? descriptor_of_point(point->first) : nullptr;
@@ -228,19 +223,14 @@ void ObjectMap::FollowMap(
           if (const std::optional<SE3> pose = pose_of_frame(sighting.frame)) sighting.T_cw = *pose;
         }
       } else {
-        // The kept sightings are in frame order (SightingHistory), as the frames are.
-        auto sighting = entity.sightings.begin();
-        for (const std::int64_t frame : *frames) {
-          sighting = std::lower_bound(sighting, entity.sightings.end(), frame, by_frame);
-          if (sighting == entity.sightings.end()) break;
-          if (sighting->frame != frame) continue;
+        entity.sightings.VisitFrames(*frames, [&](std::int64_t frame, auto first, auto last) {
           const std::optional<SE3> pose = pose_of_frame(frame);
-          if (!pose) continue;
-          for (; sighting != entity.sightings.end() && sighting->frame == frame; ++sighting) {
+          if (!pose) return;
+          for (auto sighting = first; sighting != last; ++sighting) {
             sighting->T_cw = *pose;
             ++entity_moved;
           }
-        }
+        });
       }
       if (changed_points == nullptr) {
         for (auto point = entity.points.begin(); point != entity.points.end();) {

@@ -2,11 +2,70 @@
 
 namespace ocg {
 
+namespace {
+
+bool Counted(const ObjectPoint* point, int min_votes) {
+  return point != nullptr && point->votes >= min_votes;
+}
+
+}  // namespace
+
+void ObjectPoints::Vote(std::uint64_t id, int votes, const Eigen::Vector3d& position) {
+  const auto [entry, added] = points_.try_emplace(id);
+  const ObjectPoint before{entry->second.votes, entry->second.position, std::nullopt};
+  entry->second.votes += votes;
+  entry->second.position = position;
+  Changed(added ? nullptr : &before, &entry->second);
+}
+
+void ObjectPoints::Join(std::uint64_t id, const ObjectPoint& from) {
+  const auto [entry, added] = points_.try_emplace(id);
+  const ObjectPoint before{entry->second.votes, entry->second.position, std::nullopt};
+  if (entry->second.votes == 0) entry->second.position = from.position;
+  entry->second.votes += from.votes;
+  Changed(added ? nullptr : &before, &entry->second);
+}
+
+void ObjectPoints::Move(const_iterator point, const Eigen::Vector3d& position) {
+  const iterator entry = points_.erase(point, point);  // the same point, writable
+  const ObjectPoint before{entry->second.votes, entry->second.position, std::nullopt};
+  entry->second.position = position;
+  Changed(&before, &entry->second);
+}
+
+void ObjectPoints::SetDescriptor(const_iterator point, const Descriptor& descriptor) {
+  points_.erase(point, point)->second.descriptor = descriptor;  // not in what is cached
+}
+
+ObjectPoints::const_iterator ObjectPoints::erase(const_iterator point) {
+  Changed(&point->second, nullptr);
+  return points_.erase(point);
+}
+
+std::size_t ObjectPoints::erase(std::uint64_t id) {
+  const auto point = points_.find(id);
+  if (point == points_.end()) return 0;
+  erase(point);
+  return 1;
+}
+
+void ObjectPoints::Changed(const ObjectPoint* before, const ObjectPoint* after) {
+  if (voted_) {
+    voted_->count +=
+        (Counted(after, voted_->min_votes) ? 1 : 0) - (Counted(before, voted_->min_votes) ? 1 : 0);
+  }
+  if (set_) {
+    const bool was = Counted(before, set_->min_votes), is = Counted(after, set_->min_votes);
+    // A counted point's position is in the set, its bounds and the reach test.
+    if (was != is || (is && before->position != after->position)) set_.reset();
+  }
+}
+
 int ObjectPoints::VotedCount(int min_votes) const {
-  if (!voted_ || voted_->revision != revision_ || voted_->min_votes != min_votes) {
+  if (!voted_ || voted_->min_votes != min_votes) {
     int count = 0;
     for (const auto& [id, point] : points_) count += point.votes >= min_votes ? 1 : 0;
-    voted_ = VotedCache{revision_, min_votes, count};
+    voted_ = VotedCache{min_votes, count};
   }
   return voted_->count;
 }
@@ -14,8 +73,7 @@ int ObjectPoints::VotedCount(int min_votes) const {
 const ObjectPoints::PointSet& ObjectPoints::Set(int min_votes,
                                                 const std::optional<Eigen::Vector3d>& centre,
                                                 double reach) const {
-  if (set_ && set_->revision == revision_ && set_->min_votes == min_votes &&
-      set_->centre == centre && set_->reach == reach) {
+  if (set_ && set_->min_votes == min_votes && set_->centre == centre && set_->reach == reach) {
     return set_->set;
   }
   // Where the boxes' rays meet says which of the points in them are on the object: the
@@ -28,6 +86,7 @@ const ObjectPoints::PointSet& ObjectPoints::Set(int min_votes,
     voted_ids.push_back(id);
     voted.push_back(point.position);
   }
+  ++sets_computed_;
   PointSet set;
   const RobustBounds voted_bounds = RobustPointBounds(voted, 3.0);
   if (!voted_bounds.valid) {
@@ -41,7 +100,7 @@ const ObjectPoints::PointSet& ObjectPoints::Set(int min_votes,
     }
   }
   set.bounds = RobustPointBounds(set.positions, 3.0);
-  set_ = SetCache{revision_, min_votes, centre, reach, std::move(set)};
+  set_ = SetCache{min_votes, centre, reach, std::move(set)};
   return set_->set;
 }
 

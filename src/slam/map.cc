@@ -108,6 +108,7 @@ std::vector<KeyFrameId> Map::EraseMap(int map) {
   for (auto it = points_.begin(); it != points_.end();) {
     if (it->second->map == map) {
       it->second->bad = true;
+      point_index_.erase(it->first);
       it = points_.erase(it);
     } else {
       ++it;
@@ -164,6 +165,7 @@ void Map::Clear() {
   merged_into_.clear();
   keyframes_.clear();
   points_.clear();
+  point_index_.clear();
   next_keyframe_id_ = 0;
   next_point_id_ = 0;
   current_map_ = 0;
@@ -201,6 +203,7 @@ void Map::ErasePoint(const MapPointPtr& point) {
   }
   point->observations.clear();
   points_.erase(point->id);
+  point_index_.erase(point->id);
   journal_.Point(point->id);
 }
 
@@ -221,6 +224,7 @@ void Map::ReplacePoint(const MapPointPtr& old_point, const MapPointPtr& new_poin
   new_point->found += old_point->found;
   new_point->visible += old_point->visible;
   points_.erase(old_point->id);
+  point_index_.erase(old_point->id);
   journal_.Point(old_point->id);
 }
 

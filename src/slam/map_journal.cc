@@ -12,36 +12,26 @@ void SortUnique(std::vector<std::uint64_t>* ids) {
   ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
 }
 
-// found: the map's entry for id, or its points().end().
-MapPointState StateOf(const Map& map, MapPointId id,
-                      std::map<MapPointId, MapPointPtr>::const_iterator found) {
+// point: the map's point with this id, or null.
+MapPointState StateOf(const Map& map, MapPointId id, MapPoint* point) {
   MapPointState state;
   state.id = id;
-  if (found == map.points().end()) return state;
-  const MapPoint& point = *found->second;
-  if (point.bad || point.map != map.current_map()) return state;
+  if (point == nullptr || point->bad || point->map != map.current_map()) return state;
   state.live = true;
-  state.position = point.position;
-  found->second->read_position = point.position;  // the reader holds it from here on
-  state.descriptor = point.descriptor;
+  state.position = point->position;
+  point->read_position = point->position;  // the reader holds it from here on
+  state.descriptor = point->descriptor;
   return state;
 }
 
-// The states of the points with these ids (sorted): a walk along the map's points from
-// one id to the next when they are near (a keyframe's adjustment changes the points of a
-// few neighbouring keyframes, mostly made one after another), a search from the root when
-// they are not.
+// The states of the points with these ids (sorted), each found by hash (Map::FindPoint): a
+// keyframe's adjustment changes the points of the local window, which spreads over more
+// of the map's ids as the map grows, so a walk along the map's ordered points or a search
+// from its root would cost more per point on a long run.
 std::vector<MapPointState> StatesOf(const Map& map, const std::vector<std::uint64_t>& ids) {
-  constexpr int kMaxSteps = 8;
   std::vector<MapPointState> states;
   states.reserve(ids.size());
-  const std::map<MapPointId, MapPointPtr>& points = map.points();
-  auto at = points.begin();
-  for (const std::uint64_t id : ids) {
-    for (int step = 0; step < kMaxSteps && at != points.end() && at->first < id; ++step) ++at;
-    if (at != points.end() && at->first < id) at = points.lower_bound(id);
-    states.push_back(StateOf(map, id, at != points.end() && at->first == id ? at : points.end()));
-  }
+  for (const std::uint64_t id : ids) states.push_back(StateOf(map, id, map.FindPoint(id)));
   return states;
 }
 
@@ -109,8 +99,8 @@ MapChanges ChangesSince(const Map& map, std::optional<std::uint64_t> version) {
       !version || !map.journal().ChangedSince(*version, &points, &keyframes, &changes.version);
   if (changes.everything) {
     changes.version = map.journal().version();
-    for (auto point = map.points().begin(); point != map.points().end(); ++point) {
-      MapPointState state = StateOf(map, point->first, point);
+    for (const auto& [id, point] : map.points()) {
+      MapPointState state = StateOf(map, id, point.get());
       if (state.live) changes.points.push_back(state);
     }
     for (const auto& [id, keyframe] : map.keyframes()) {

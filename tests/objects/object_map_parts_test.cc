@@ -51,10 +51,11 @@ struct Scene {
       object.cuboid.size = Eigen::Vector3d(0.1, 0.2, 0.3);
     }
     for (std::uint64_t point = 0; point < 6; ++point) {
-      ObjectPoint& own = objects[3].points[point];
-      own.votes = 3;
-      own.position = objects[3].cuboid.centre +
-                     Eigen::Vector3d(0.01 * static_cast<double>(point) - 0.025, 0.0, 0.0);
+      objects[3].points.Vote(
+          point, 3,
+          objects[3].cuboid.centre +
+              Eigen::Vector3d(0.01 * static_cast<double>(point) - 0.025, 0.0, 0.0));
+      const ObjectPoint& own = objects[3].points.at(point);
       tracked.push_back({point, Eigen::Vector2d::Zero(), own.position});
     }
   }

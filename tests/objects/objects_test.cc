@@ -1429,8 +1429,7 @@ MapObject ObjectOfTenPoints(const SE3& T_cw) {
   for (std::uint64_t id = 0; id < 10; ++id) {
     const Eigen::Vector3d offset(0.02 * (static_cast<int>(id % 5) - 2),
                                  0.04 * static_cast<int>(id / 5) - 0.02, 0.0);
-    object.points[id].votes = 3;
-    object.points[id].position = object.cuboid.centre + offset;
+    object.points.Vote(id, 3, object.cuboid.centre + offset);
   }
   return object;
 }

@@ -53,9 +53,8 @@ MapObject TexturedObject(std::mt19937_64& random) {
   for (std::uint64_t id = 0; id < 10; ++id) {
     const Eigen::Vector3d offset(0.0, 0.02 * (static_cast<int>(id % 5) - 2),
                                  0.04 * static_cast<int>(id / 5) - 0.02);
-    object.points[id].votes = 3;
-    object.points[id].position = object.cuboid.centre + offset;
-    object.points[id].descriptor = RandomDescriptor(random);
+    object.points.Vote(id, 3, object.cuboid.centre + offset);
+    object.points.SetDescriptor(object.points.find(id), RandomDescriptor(random));
   }
   return object;
 }
@@ -172,7 +171,8 @@ TEST(PresentByPoints, TheOldPlaceOfAMovedObjectDoesNotSayPresent) {
   EXPECT_FALSE(PresentByPoints(object, {}, T_cw, Camera(), options, &search_old_place));
   MapObject moved = object;  // 0.3 m to the side: its texture there, the table at its place
   moved.cuboid.centre += Eigen::Vector3d(0, 0.3, 0);
-  for (auto& [id, point] : moved.points) point.position += Eigen::Vector3d(0, 0.3, 0);
+  for (auto point = moved.points.begin(); point != moved.points.end(); ++point)
+    moved.points.Move(point, point->second.position + Eigen::Vector3d(0, 0.3, 0));
   const ExtractedFeatures new_place = FrameAtTheObjectsPlace(moved, T_cw, true, random);
   const FrameFeatureSearch search_new_place = SearchOf(new_place);
   EXPECT_TRUE(PresentByPoints(moved, {}, T_cw, Camera(), options, &search_new_place));

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <set>
 
 namespace ocg {
@@ -148,6 +149,55 @@ TEST(SightingHistory, AClassSpanDatesItsSightingsBySupport) {
     EXPECT_EQ(a.SupportedLast(), 8.0) << "split " << split;
     EXPECT_EQ(a.first_timestamp, 1.0);
     EXPECT_EQ(a.last_timestamp, 9.0);
+  }
+}
+
+// VisitFrames finds, frame by frame, the same sightings a search of each frame finds:
+// frames before, among, between and after the kept ones, near each other and far apart,
+// with two sightings at one frame, over histories of every length up to a few hundred.
+TEST(SightingHistory, VisitingFramesFindsWhatASearchOfEachFrameFinds) {
+  std::mt19937 random(7);
+  for (int length = 0; length < 300; length += 1 + length / 8) {
+    SightingHistory history;
+    std::int64_t frame = 3;
+    for (int i = 0; i < length; ++i) {
+      history.Add(SightingAt(frame), 0);
+      if (i % 17 == 5) history.Add(SightingAt(frame), 0);  // two boxes at one frame
+      frame += 1 + static_cast<std::int64_t>(random() % 4);
+    }
+    for (int trial = 0; trial < 20; ++trial) {
+      std::set<std::int64_t> chosen;
+      const int count = 1 + static_cast<int>(random() % 40);
+      for (int i = 0; i < count; ++i) {
+        // Mostly recent frames (as a keyframe re-poses them), some anywhere, some beyond.
+        const std::int64_t span = frame + 10;
+        chosen.insert(i % 3 == 0 ? static_cast<std::int64_t>(random() % span)
+                                 : frame - static_cast<std::int64_t>(random() % 60));
+      }
+      const std::vector<std::int64_t> frames(chosen.begin(), chosen.end());
+      std::vector<std::pair<std::int64_t, std::size_t>> visited;  // (frame, first index)
+      std::size_t sightings = 0;
+      history.VisitFrames(frames, [&](std::int64_t at, auto first, auto last) {
+        visited.emplace_back(at, static_cast<std::size_t>(first - history.begin()));
+        for (auto sighting = first; sighting != last; ++sighting) {
+          EXPECT_EQ(sighting->frame, at);
+          ++sightings;
+        }
+      });
+      std::vector<std::pair<std::int64_t, std::size_t>> expected;
+      std::size_t expected_sightings = 0;
+      for (const std::int64_t at : frames) {
+        const auto first = std::find_if(history.begin(), history.end(),
+                                        [at](const ObjectSighting& s) { return s.frame == at; });
+        if (first == history.end()) continue;
+        expected.emplace_back(at, static_cast<std::size_t>(first - history.begin()));
+        expected_sightings += static_cast<std::size_t>(
+            std::count_if(history.begin(), history.end(),
+                          [at](const ObjectSighting& s) { return s.frame == at; }));
+      }
+      EXPECT_EQ(visited, expected) << "length " << length << ", trial " << trial;
+      EXPECT_EQ(sightings, expected_sightings);
+    }
   }
 }
 

@@ -189,10 +189,9 @@ TEST(MapJournal, ChangesReadDoNotDependOnTheMapSize) {
   EXPECT_EQ(read[1], 35u);
 }
 
-// The changed points' states are found by walking the map's points from one changed id
-// to the next when they are near and by a search when they are far: runs of neighbours,
-// lone points far apart, the first and the last point, culled ones, all read as a full
-// read gives them.
+// The changed points' states, each found by id (Map::FindPoint): runs of neighbours, lone
+// points far apart, the first and the last point, culled ones, all read as a full read
+// gives them.
 TEST(MapJournal, ChangedPointsNearAndFarApartReadAsAFullRead) {
   Map map;
   testing::FillRandomMap(200, 60, 3, &map);

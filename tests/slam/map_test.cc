@@ -147,6 +147,60 @@ TEST(Map, ReplacingAPointMovesItsObservations) {
   EXPECT_EQ(b->points[1], nullptr);  // b saw both: the second slot is freed
 }
 
+// FindPoint's hash index holds what points() holds, through every way a point enters or
+// leaves the map: added (also again under its id), culled, replaced, a map reset, Clear.
+TEST(Map, FindPointAgreesWithThePointsAfterAddsCullsReplacementsAndResets) {
+  Map map;
+  const auto expect_agrees = [&map](const char* after) {
+    SCOPED_TRACE(after);
+    for (MapPointId id = 0; id < map.next_map_point_id() + 2; ++id) {
+      const auto held = map.points().find(id);
+      EXPECT_EQ(map.FindPoint(id), held == map.points().end() ? nullptr : held->second.get())
+          << "point " << id;
+    }
+  };
+  std::vector<KeyFramePtr> keyframes;
+  for (int k = 0; k < 6; ++k) keyframes.push_back(AddKeyFrame(map, 40));
+  std::vector<MapPointPtr> points;
+  for (int i = 0; i < 30; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i % 3);
+    points.push_back(AddPoint(
+        map,
+        {{keyframes[k], i}, {keyframes[k + 1], i}, {keyframes[k + 2], i}, {keyframes[k + 3], i}}));
+  }
+  expect_agrees("adds");
+  map.ErasePoint(points[0]);
+  map.ErasePoint(points[29]);
+  map.EraseObservation(keyframes[0], points[3]);
+  map.EraseObservation(keyframes[1], points[3]);  // two views left: culled
+  expect_agrees("culls");
+  map.ReplacePoint(points[7], points[8]);
+  map.ReplacePoint(points[10], points[9]);
+  expect_agrees("replacements");
+  auto again = std::make_shared<MapPoint>(*points[12]);  // the same id, another point
+  map.Add(again);
+  expect_agrees("an id added again");
+  EXPECT_EQ(map.FindPoint(points[12]->id), again.get());
+  EXPECT_EQ(map.FindPoint(map.next_map_point_id()), nullptr);  // never made
+  const int second = map.StartNewMap();
+  const KeyFramePtr other = AddKeyFrame(map, 4);
+  other->map = second;
+  const KeyFramePtr other_b = AddKeyFrame(map, 4);
+  other_b->map = second;
+  const KeyFramePtr other_c = AddKeyFrame(map, 4);
+  other_c->map = second;
+  const MapPointPtr in_second = AddPoint(map, {{other, 0}, {other_b, 0}, {other_c, 0}});
+  in_second->map = second;
+  expect_agrees("a second map");
+  map.EraseMap(second);
+  expect_agrees("a map reset");
+  EXPECT_EQ(map.FindPoint(in_second->id), nullptr);
+  EXPECT_NE(map.FindPoint(points[1]->id), nullptr);
+  map.Clear();
+  expect_agrees("Clear");
+  EXPECT_EQ(map.FindPoint(points[1]->id), nullptr);
+}
+
 TEST(Map, ErasingAKeyFrameHandsItsChildrenToItsParent) {
   Map map;
   const KeyFramePtr a = AddKeyFrame(map, 60);

@@ -16,6 +16,7 @@
 // Below capacity nothing is dropped: a run whose objects are never seen more than
 // `capacity` times (Objects.max_sightings) behaves as with every sighting kept.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -122,6 +123,14 @@ class SightingHistory {
   std::vector<ObjectSighting>::const_iterator begin() const { return kept_.begin(); }
   std::vector<ObjectSighting>::const_iterator end() const { return kept_.end(); }
   std::size_t size() const { return kept_.size(); }  // kept; total() for all
+  // The kept sightings at some of these frames (sorted, as the kept ones are), frame by
+  // frame: visit(frame, first, last) with [first, last) that frame's sightings, for each
+  // frame that has some. Costs what the frames hit, not the history's length: a history
+  // ending before the first frame is passed at once, and the search from one frame to the
+  // next gallops forward from where the last stopped (the frames a keyframe re-poses are
+  // mostly recent and near each other).
+  template <typename Visit>
+  void VisitFrames(const std::vector<std::int64_t>& frames, Visit&& visit);
   bool empty() const { return kept_.empty(); }
   ObjectSighting& operator[](std::size_t i) { return kept_[i]; }
   const ObjectSighting& operator[](std::size_t i) const { return kept_[i]; }
@@ -153,5 +162,27 @@ class SightingHistory {
   Spans spans_;
   int level_ = 0;
 };
+
+template <typename Visit>
+void SightingHistory::VisitFrames(const std::vector<std::int64_t>& frames, Visit&& visit) {
+  if (kept_.empty() || frames.empty() || kept_.back().frame < frames.front()) return;
+  const auto before = [](const ObjectSighting& sighting, std::int64_t frame) {
+    return sighting.frame < frame;
+  };
+  auto at = kept_.begin();
+  for (const std::int64_t frame : frames) {
+    // Gallop: the first sighting at or after frame is within [at + step / 2, at + step].
+    std::ptrdiff_t step = 1;
+    while (step < kept_.end() - at && at[step - 1].frame < frame) step *= 2;
+    at = std::lower_bound(at + step / 2, at + std::min(step, kept_.end() - at), frame, before);
+    if (at == kept_.end()) return;
+    if (at->frame != frame) continue;
+    auto last = at;
+    while (last != kept_.end() && last->frame == frame) ++last;
+    visit(frame, at, last);
+    at = last;
+    if (at == kept_.end()) return;
+  }
+}
 
 }  // namespace ocg

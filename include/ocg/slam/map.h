@@ -18,6 +18,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "ocg/core/lie.h"
@@ -225,9 +226,17 @@ class Map {
   void Add(const KeyFramePtr& keyframe);
   void Add(const MapPointPtr& point) {
     points_[point->id] = point;
+    point_index_[point->id] = point.get();
     journal_.Point(point->id);
   }
   KeyFramePtr GetKeyFrame(KeyFrameId id) const;
+  // The point with this id, null when the map does not hold it: a hash lookup, the same
+  // cost however large the map (the map journal's reader looks up a keyframe's changed
+  // points, a thousand ids spread over the local window, at every keyframe).
+  MapPoint* FindPoint(MapPointId id) const {
+    const auto found = point_index_.find(id);
+    return found == point_index_.end() ? nullptr : found->second;
+  }
   // Every keyframe ever added, the culled ones (bad) included: frames placed relative to
   // a culled keyframe still follow it to its parent.
   const std::map<KeyFrameId, KeyFramePtr>& keyframes() const { return keyframes_; }
@@ -286,6 +295,8 @@ class Map {
   std::map<int, KeyFrameId> first_keyframes_;          // per map
   std::map<KeyFrameId, KeyFramePtr> keyframes_;
   std::map<MapPointId, MapPointPtr> points_;
+  // points_ by hash (FindPoint): the same points, held by points_ (an entry leaves both).
+  std::unordered_map<MapPointId, MapPoint*> point_index_;
   mutable MapJournal journal_;
 };
 
