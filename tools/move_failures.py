@@ -4,8 +4,9 @@
 Usage:
   tools/move_failures.py [--tau-doubt 50] RUN_DIR SEQUENCE_DIR [RUN_DIR SEQUENCE_DIR ...]
 
-For each pair (a run folder of `ocg_slam objects` or `ocg_slam run`, scored on ground-truth
-poses, and the `ocg_synth` folder it ran on), every move of `objects_gt.json` (an object
+For each pair (a run folder of `ocg_slam objects` on the sequence's ground-truth poses, and
+the `ocg_synth` folder it ran on; a SLAM run's objects are in its own frame and scale, which
+this tool does not align), every move of `objects_gt.json` (an object
 present at one place, then at another; a new place no frame shows is left out, as
 `ocg_eval objects` leaves it out of gt_moves) gets one kind. A run object is near a place
 as for `ocg_eval objects`: of the place's class, its centre within half the object's
