@@ -77,19 +77,18 @@ def classify(run_dir, sequence, tau_doubt):
     # A removal a `restored` entry undid is no run object of the old place (as ocg_eval).
     restored = {e["object_id"] for e in changes if e["type"] == "restored"}
     gone_from = {}  # gt id -> the `removed` and `moved` entries near its old place
+    moved_from = {}  # gt id -> the `moved` ones among them
     for move in moves:
         gone_from[move.gt_id] = [
             e for e in changes
             if (e["type"] == "moved" or (e["type"] == "removed" and e["object_id"] not in restored))
             and near(e["class_id"], e["centroid"], move, move.old)]
-
-    def moved_to(move):
-        return [e["to"]["cuboid"]["centre"] for e in gone_from[move.gt_id] if e["type"] == "moved"]
+        moved_from[move.gt_id] = [e for e in gone_from[move.gt_id] if e["type"] == "moved"]
 
     rows = []
     for move in moves:
         gone = gone_from[move.gt_id]
-        moved = [e for e in gone if e["type"] == "moved"]
+        moved = moved_from[move.gt_id]
         right = [e for e in moved if near(move.class_id, e["to"]["cuboid"]["centre"], move, move.new)]
         still = [o for o in live if near(o["class_id"], o["cuboid"]["centre"], move, move.old)]
         if right:
@@ -103,7 +102,8 @@ def classify(run_dir, sequence, tau_doubt):
             for other in moves:
                 if other is move or not near(move.class_id, to_centre, other, other.new):
                     continue
-                swapped = any(near(move.class_id, c, move, move.new) for c in moved_to(other))
+                swapped = any(near(move.class_id, e["to"]["cuboid"]["centre"], move, move.new)
+                              for e in moved_from[other.gt_id])
                 detail += "; %s %d" % ("swapped with" if swapped else "to the new place of",
                                        other.gt_id)
                 break
