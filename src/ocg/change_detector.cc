@@ -268,23 +268,67 @@ KeyframeResult ObjectChangeDetector::EndSession() {
   KeyframeResult result;
   result.keyframe_id = last_keyframe_;
   if (modes_.strategy != ChangeStrategy::kGraph) return result;
-  std::vector<ObjectId> outliers;
+  // "successor": objects of each class by the keyframe they entered, to find one that
+  // entered after a suspicious object was last observed (few objects: a linear pass).
+  std::unordered_map<int, std::vector<std::pair<std::int64_t, ObjectId>>> entered_by_class;
+  if (modes_.successor) {
+    for (const auto& [id, record] : records_) {
+      if (record.class_id >= 0)
+        entered_by_class[record.class_id].push_back({record.first_keyframe, id});
+    }
+  }
+  const auto successor = [&](ObjectId id, const Record& record) -> std::optional<ObjectId> {
+    const auto it = entered_by_class.find(record.class_id);
+    if (it == entered_by_class.end()) return std::nullopt;
+    std::optional<ObjectId> found;
+    for (const auto& [entered, other] : it->second) {
+      if (other == id || entered <= record.last_observed_keyframe ||
+          graph_.EdgeWeight(id, other) > 0)
+        continue;
+      // A successor in doubt itself explains nothing.
+      const StateAndDoubt& its = records_.at(other).state;
+      if (its.state == ObjectState::kSuspicious && its.doubt > options_.tau_doubt) continue;
+      // Among its neighbours: carried within the region it was seen in, not a new region's
+      // object of its class first seen after it.
+      bool shares_neighbour = false;
+      for (const CovisibilityEdge& edge : graph_.Neighbours(other)) {
+        if (edge.neighbour != id && graph_.EdgeWeight(id, edge.neighbour) > 0) {
+          shares_neighbour = true;
+          break;
+        }
+      }
+      if (!shares_neighbour) continue;
+      if (!found || other < *found) found = other;
+    }
+    return found;
+  };
+  std::vector<std::pair<ObjectId, std::optional<ObjectId>>> outliers;
   for (const auto& [id, record] : records_) {
-    if (!record.observed_in_session && record.suspected_in_session &&
-        record.state.state == ObjectState::kSuspicious && record.state.doubt > options_.tau_doubt) {
-      outliers.push_back(id);
+    if (!record.suspected_in_session || record.state.state != ObjectState::kSuspicious ||
+        record.state.doubt <= options_.tau_doubt)
+      continue;
+    if (!record.observed_in_session) {
+      outliers.push_back({id, std::nullopt});
+    } else if (const std::optional<ObjectId> next = successor(id, record)) {
+      outliers.push_back({id, next});
     }
   }
   std::sort(outliers.begin(), outliers.end());
-  for (ObjectId id : outliers) {
+  for (const auto& [id, next] : outliers) {
     RemovalEvent event = MakeRemoval(id, last_keyframe_, last_timestamp_);
     // What happened, in the detector's terms: the generic "outlier" reads as a removal on
     // leaving a region the camera never left.
     std::ostringstream reason;
-    reason << std::fixed << std::setprecision(1)
-           << "session ended: not observed in this session while its neighbours were "
-              "(suspicious), doubt "
-           << event.doubt << " > tau_doubt " << options_.tau_doubt;
+    reason << std::fixed << std::setprecision(1);
+    if (next) {
+      reason << "session ended: suspicious, doubt " << event.doubt << " > tau_doubt "
+             << options_.tau_doubt << ", and object " << *next
+             << " of its class, never seen with it, entered after its last observation";
+    } else {
+      reason << "session ended: not observed in this session while its neighbours were "
+                "(suspicious), doubt "
+             << event.doubt << " > tau_doubt " << options_.tau_doubt;
+    }
     event.reason = reason.str();
     result.removed.push_back(event);
     KeepGeometryForReentry(id);

@@ -103,6 +103,12 @@ std::vector<JudgementTerm> MakeTerms() {
   terms.push_back({"restore", true, &OcgModes::restore, "restored",
                    "an object removed and detected again comes back with its history"});
 
+  // Acts in the change detector at a session's end (EndSession), not here.
+  terms.push_back({"successor", true, &OcgModes::successor,
+                   "class, first and last observed keyframes, edges",
+                   "at a session's end, a suspicious object above tau_doubt is removed when an "
+                   "object of its class, never seen with it, entered after its last observation"});
+
   JudgementTerm dropout{"dropout", true, &OcgModes::dropout_discount,
                         "observed_weight; gathers the weight of the neighbours in view",
                         "a miss weighs by the detected share of the neighbours in view"};

@@ -64,10 +64,13 @@ class ObjectChangeDetector {
   // EndSession: the camera leaves at the session's end, so every object leaves its
   // observable region; an object not observed in this session that became suspicious
   // (state 4) in it and is still, with its doubt above tau_doubt, becomes an outlier, as
-  // on leaving (SPEC 3.4), and is removed (at the last keyframe). Objects observed in this session
-  // keep their state: a static object the detector misses from one side gathers doubt too (TUM fr3
-  // long_office: 3 in state 4 above tau_doubt at its end), and nothing else tells them
-  // apart. Graph strategy only; a run that started no session (session 0) removes nothing.
+  // on leaving (SPEC 3.4), and is removed (at the last keyframe). An object observed in this
+  // session keeps its state (a static object the detector misses from one side gathers doubt
+  // too) unless a move explains its doubt ("successor" mode): an object of its class that
+  // entered the graph after its last observation, never seen with it, shares a neighbour
+  // with it (it came up in the same region) and is not itself suspicious above tau_doubt.
+  // Graph strategy only; in a run that started no session (session 0) only "successor"
+  // removes.
   void StartSession();
   KeyframeResult EndSession();
   // Removes an object that the object map dropped for its own reasons (a merge): no

@@ -39,6 +39,7 @@ struct OcgModes {
   bool dropout_discount = false;       // "dropout"
   bool point_presence = false;         // "points"
   bool occlusion = false;              // "occlusion"
+  bool successor = false;              // "successor"
 };
 
 // Parses OCG.mode; throws OptionError naming the key when it is not a valid mode.
