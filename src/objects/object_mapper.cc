@@ -5,6 +5,7 @@
 
 #include "ocg/core/cpu_time.h"
 #include "ocg/core/statistics.h"
+#include "ocg/objects/change_log.h"
 #include "ocg/ocg/replay_format.h"
 
 namespace ocg {
@@ -172,7 +173,20 @@ void ObjectMapper::StartSession(int session, std::int64_t first_frame) {
 }
 
 void ObjectMapper::Finish() {
-  manager_.EndSession();
+  // A successor of another colour is another object, not this one carried (the change
+  // log's pairing refuses the same pair: AppearanceOptions::min_colour_similarity).
+  const AppearanceOptions appearance;
+  std::map<ObjectId, ColourHistogram> colours;
+  {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    colours = map_.ColourAppearances(appearance.min_colour_signatures);
+  }
+  manager_.EndSession([&](ObjectId object, ObjectId successor) {
+    const auto a = colours.find(object);
+    const auto b = colours.find(successor);
+    return a == colours.end() || b == colours.end() ||
+           ColourSimilarity(a->second, b->second) >= appearance.min_colour_similarity;
+  });
   manager_.Shutdown();
   // The outputs tell every sighting (Objects.reestimate_share lets estimates wait).
   std::lock_guard<std::mutex> lock(map_mutex_);

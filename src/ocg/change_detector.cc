@@ -264,7 +264,7 @@ void ObjectChangeDetector::StartSession() {
   }
 }
 
-KeyframeResult ObjectChangeDetector::EndSession() {
+KeyframeResult ObjectChangeDetector::EndSession(const SuccessorCheck& may_have_become) {
   KeyframeResult result;
   result.keyframe_id = last_keyframe_;
   if (modes_.strategy != ChangeStrategy::kGraph) return result;
@@ -298,6 +298,7 @@ KeyframeResult ObjectChangeDetector::EndSession() {
         }
       }
       if (!shares_neighbour) continue;
+      if (may_have_become && !may_have_become(id, other)) continue;
       if (!found || other < *found) found = other;
     }
     return found;

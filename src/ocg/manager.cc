@@ -104,9 +104,9 @@ void OcgManager::StartSession() {
   detector_.StartSession();
 }
 
-void OcgManager::EndSession() {
+void OcgManager::EndSession(const ObjectChangeDetector::SuccessorCheck& may_have_become) {
   WaitUntilIdle();
-  Publish([&] { return detector_.EndSession(); });
+  Publish([&] { return detector_.EndSession(may_have_become); });
 }
 
 void OcgManager::Shutdown() {

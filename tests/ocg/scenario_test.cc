@@ -647,7 +647,8 @@ TEST_F(SessionStory, DetectedInThisSessionAndMissedAtItsEndIsKept) {
 // back at the table the camera sees its old neighbours and a new object of its class (7)
 // among them, and the run ends there, before the camera leaves again.
 TEST_F(SessionStory, MissedAtTheEndWithANewObjectOfItsClassAmongItsNeighboursIsMoved) {
-  const auto end_of_story = [&](const std::string& mode, bool seen_together) {
+  const auto end_of_story = [&](const std::string& mode, bool seen_together,
+                                ObjectChangeDetector::SuccessorCheck check = {}) {
     ObjectChangeDetector detector(Options(mode));
     std::swap(detector_, detector);
     keyframe_ = 0;
@@ -658,7 +659,7 @@ TEST_F(SessionStory, MissedAtTheEndWithANewObjectOfItsClassAmongItsNeighboursIsM
     AtTable({2, 3, 4, 7});
     EXPECT_EQ(StateOf(1), S::kSuspicious);
     EXPECT_GT(DoubtOf(1), detector_.options().tau_doubt);
-    return detector_.EndSession();
+    return detector_.EndSession(check);
   };
   const KeyframeResult moved = end_of_story("improved", false);
   ASSERT_EQ(moved.removed.size(), 1u);
@@ -674,6 +675,14 @@ TEST_F(SessionStory, MissedAtTheEndWithANewObjectOfItsClassAmongItsNeighboursIsM
   EXPECT_TRUE(end_of_story("improved", true).removed.empty());
   // The paper's rule alone waits for the camera to leave.
   EXPECT_TRUE(end_of_story("paper", false).removed.empty());
+  // The caller's evidence (an object map's colours) says 7 is another object.
+  std::vector<std::pair<ObjectId, ObjectId>> asked;
+  const auto another_object = [&](ObjectId object, ObjectId successor) {
+    asked.push_back({object, successor});
+    return false;
+  };
+  EXPECT_TRUE(end_of_story("improved", false, another_object).removed.empty());
+  EXPECT_EQ(asked, (std::vector<std::pair<ObjectId, ObjectId>>{{1, 7}}));
 }
 
 TEST_F(SessionStory, DoubtOfTheEarlierSessionAloneRemovesNothing) {

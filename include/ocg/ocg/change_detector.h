@@ -7,6 +7,7 @@
 // state 3 are visited too (they can only be judged geometrically).
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -70,9 +71,12 @@ class ObjectChangeDetector {
   // entered the graph after its last observation, never seen with it, shares a neighbour
   // with it (it came up in the same region) and is not itself suspicious above tau_doubt.
   // Graph strategy only; in a run that started no session (session 0) only "successor"
-  // removes.
+  // removes. may_have_become(object, successor): whether the caller's evidence allows the
+  // successor to be the object carried elsewhere (an object map that knows their colours
+  // refuses two objects of different colours); none: every successor may be.
+  using SuccessorCheck = std::function<bool(ObjectId object, ObjectId successor)>;
   void StartSession();
-  KeyframeResult EndSession();
+  KeyframeResult EndSession(const SuccessorCheck& may_have_become = {});
   // Removes an object that the object map dropped for its own reasons (a merge): no
   // change-log entry, and geometry given for it but not yet used is dropped too.
   // Returns false when unknown.

@@ -52,7 +52,7 @@ class OcgManager {
   // (producer thread). EndSession's removals go to the callback like a keyframe's, on
   // the producer's thread.
   void StartSession();
-  void EndSession();
+  void EndSession(const ObjectChangeDetector::SuccessorCheck& may_have_become = {});
 
   std::vector<ObjectStatus> Snapshot() const;
   std::optional<ObjectStatus> Status(ObjectId id) const;
