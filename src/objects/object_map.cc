@@ -539,6 +539,10 @@ int ObjectMap::SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
   for (auto& [id, object] : objects_) set += SetSightingColoursOf(object, frame, bgr, options);
   for (auto& [id, object] : removed_in_run_)
     set += SetSightingColoursOf(object, frame, bgr, options);
+  // A candidate's sightings too: the object it becomes keeps them, and a newcomer's colours
+  // then go back to its first keyframes, not only to those after it became an object.
+  for (auto& [id, candidate] : candidates_)
+    set += SetSightingColoursOf(candidate, frame, bgr, options);
   return set;
 }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/mat.hpp>
@@ -155,6 +156,46 @@ TEST(ObjectMapper, MovesWithinASessionFollowTheObjectsColours) {
   blind.colour.clear();
   EXPECT_EQ(moves_of(blind), (std::map<std::size_t, std::size_t>{{cups.red, cups.blue_moved},
                                                                  {cups.blue, cups.red_moved}}));
+}
+
+// The red cup is taken away while the camera looks away (frames 60-69), and a cup appears
+// elsewhere on the table; the run ends at frame 100, before the camera leaves the table
+// again, with the red cup's place suspicious above tau_doubt. OCG.mode "successor" removes
+// it at the end when the newcomer may be it carried: a red newcomer may, and so may any
+// without images; a blue one, in images that show it blue, is another cup.
+TEST(ObjectMapper, AtTheEndANewcomerOfAnotherColourIsNoSuccessor) {
+  const auto red_removed_at_end = [](bool newcomer_red, bool images) {
+    testing::CarriedCups cups = testing::CupsCarriedPastEachOther();
+    // The blue cup stays; only the newcomer of the chosen colour appears.
+    cups.options.objects[cups.blue].present_until = std::numeric_limits<int>::max();
+    cups.options.objects[newcomer_red ? cups.blue_moved : cups.red_moved].present_from =
+        std::numeric_limits<int>::max();
+    const testing::SyntheticScene scene = testing::SynthesizeScene(cups.options);
+    OcgOptions ocg;
+    ocg.mode = "successor";
+    ObjectMapper mapper(ObjectsOptions{}, ocg, scene.options.camera, true);
+    for (int frame = 0; frame < 100; ++frame) {
+      const auto f = static_cast<std::size_t>(frame);
+      const bool keyframe = frame % kKeyframeInterval == 0;
+      mapper.AddFrame(frame, scene.timestamps[f], scene.T_cw[f], scene.detections[f], nullptr,
+                      keyframe && images ? cups.ColourImage(scene, f) : cv::Mat());
+      if (keyframe)
+        mapper.AddKeyframe(frame / kKeyframeInterval, scene.timestamps[f], scene.T_cw[f]);
+    }
+    mapper.Finish();
+    int removed_red = 0;
+    for (const ObjectChange& change : mapper.Changes()) {
+      if (change.type == "removed" && cups.PlaceOf(change.cuboid.centre) == cups.red) {
+        EXPECT_NE(change.reason.find("session ended: suspicious"), std::string::npos)
+            << change.reason;
+        ++removed_red;
+      }
+    }
+    return removed_red;
+  };
+  EXPECT_EQ(red_removed_at_end(/*newcomer_red=*/true, /*images=*/true), 1);
+  EXPECT_EQ(red_removed_at_end(/*newcomer_red=*/false, /*images=*/false), 1);
+  EXPECT_EQ(red_removed_at_end(/*newcomer_red=*/false, /*images=*/true), 0);
 }
 
 TEST(ObjectMapper, RecordsTheOcgInputOfEveryKeyframe) {

@@ -151,7 +151,8 @@ class ObjectMap {
                                                              const BoxAppearanceOptions& options,
                                                              int max_distance) const;
   // Sets the colour signature (BoxColourSignature of bgr, the image of frame) of every
-  // sighting made at frame, of the live objects and of those removed in this run.
+  // sighting made at frame, of the live objects, the candidates and those removed in this
+  // run.
   // Returns how many were given one.
   int SetSightingColours(std::int64_t frame, const cv::Mat& bgr,
                          const ColourSignatureOptions& options);
