@@ -97,10 +97,7 @@ std::vector<MoveLink> PairMoves(const std::vector<ObjectRecord>& removed,
             candidate.from_boxes
                 ? MatchFrom(*from_look, *to_look, context.appearance_options.max_distance)
                 : MatchAppearance(*from_look, *to_look, context.appearance_options.max_distance);
-      const auto from_colour = context.colour.find(from.id);
-      const auto to_colour = context.colour.find(to.id);
-      if (from_colour != context.colour.end() && to_colour != context.colour.end())
-        candidate.colour = ColourSimilarity(from_colour->second, to_colour->second);
+      candidate.colour = ColourSimilarityOf(context.colour, from.id, to.id);
       if (candidates != nullptr) candidates->push_back(candidate);
       if (ColourRefuses(candidate, context.appearance_options)) continue;
       cost(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(a)) =
@@ -138,6 +135,14 @@ double TimeOr(const std::map<ObjectId, double>& times, ObjectId id, double fallb
 }
 
 }  // namespace
+
+std::optional<double> ColourSimilarityOf(const std::map<ObjectId, ColourHistogram>& colours,
+                                         ObjectId a, ObjectId b) {
+  const auto colour_a = colours.find(a);
+  const auto colour_b = colours.find(b);
+  if (colour_a == colours.end() || colour_b == colours.end()) return std::nullopt;
+  return ColourSimilarity(colour_a->second, colour_b->second);
+}
 
 AppearanceMatch MatchAppearance(const std::vector<Descriptor>& a, const std::vector<Descriptor>& b,
                                 int max_distance) {

@@ -173,8 +173,9 @@ void ObjectMapper::StartSession(int session, std::int64_t first_frame) {
 }
 
 void ObjectMapper::Finish() {
-  // A successor of another colour is another object, not this one carried (the change
-  // log's pairing refuses the same pair: AppearanceOptions::min_colour_similarity).
+  // A successor of another colour is another object, not this one carried: colours less
+  // alike than the change log's min_colour_similarity (its pairing refuses such a pair too,
+  // unless descriptors vouch for it; those are not gathered here).
   const AppearanceOptions appearance;
   std::map<ObjectId, ColourHistogram> colours;
   {
@@ -182,10 +183,8 @@ void ObjectMapper::Finish() {
     colours = map_.ColourAppearances(appearance.min_colour_signatures);
   }
   manager_.EndSession([&](ObjectId object, ObjectId successor) {
-    const auto a = colours.find(object);
-    const auto b = colours.find(successor);
-    return a == colours.end() || b == colours.end() ||
-           ColourSimilarity(a->second, b->second) >= appearance.min_colour_similarity;
+    const std::optional<double> similarity = ColourSimilarityOf(colours, object, successor);
+    return !similarity || *similarity >= appearance.min_colour_similarity;
   });
   manager_.Shutdown();
   // The outputs tell every sighting (Objects.reestimate_share lets estimates wait).

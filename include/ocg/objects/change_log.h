@@ -46,6 +46,11 @@ struct AppearanceOptions {
   void Check() const;
 };
 
+// ColourSimilarity of the colours of objects a and b (by id, as ChangeLogContext::colour and
+// ObjectMap::ColourAppearances hold them); none when either has none.
+std::optional<double> ColourSimilarityOf(const std::map<ObjectId, ColourHistogram>& colours,
+                                         ObjectId a, ObjectId b);
+
 struct ChangeLogContext {
   // The session the run is (0: a run from an empty map; later: continuing a loaded map).
   int session = 0;
