@@ -127,22 +127,31 @@ std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 12> CuboidEdges(
   return edges;
 }
 
-std::optional<Box2> ProjectCuboid(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,
-                                  const SE3& T_cw, const PinholeCamera& camera) {
+std::optional<Box2> CuboidImageBounds(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,
+                                      const SE3& T_cw, const PinholeCamera& camera,
+                                      bool with_distortion) {
   Box2 box{1e300, 1e300, -1e300, -1e300};
   for (const Eigen::Vector3d& corner : CuboidCorners(cuboid, R_wg)) {
     const Eigen::Vector3d point = T_cw * corner;
     if (point.z() <= 1e-3) return std::nullopt;
-    // Undistorted projection: boxes are compared in the image the detector saw, but for
-    // the mild distortion of the cameras in use the difference is a pixel or two.
-    const Eigen::Vector2d pixel = camera.ProjectUndistorted(point);
+    const Eigen::Vector2d pixel =
+        with_distortion ? camera.Project(point) : camera.ProjectUndistorted(point);
     box = {std::min(box.x0, pixel.x()), std::min(box.y0, pixel.y()), std::max(box.x1, pixel.x()),
            std::max(box.y1, pixel.y())};
   }
-  box = {std::max(box.x0, 0.0), std::max(box.y0, 0.0),
-         std::min(box.x1, static_cast<double>(camera.width)),
-         std::min(box.y1, static_cast<double>(camera.height))};
-  if (box.Area() <= 0) return std::nullopt;
+  return box;
+}
+
+std::optional<Box2> ProjectCuboid(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,
+                                  const SE3& T_cw, const PinholeCamera& camera) {
+  // Undistorted projection: boxes are compared in the image the detector saw, but for
+  // the mild distortion of the cameras in use the difference is a pixel or two.
+  std::optional<Box2> box = CuboidImageBounds(cuboid, R_wg, T_cw, camera, false);
+  if (!box) return std::nullopt;
+  box = Box2{std::max(box->x0, 0.0), std::max(box->y0, 0.0),
+             std::min(box->x1, static_cast<double>(camera.width)),
+             std::min(box->y1, static_cast<double>(camera.height))};
+  if (box->Area() <= 0) return std::nullopt;
   return box;
 }
 

@@ -124,6 +124,15 @@ bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& conte
   }
   const std::optional<double> yaw = PointSetYaw(object, context);
   object.cuboid = EstimateCuboid(intersection.point, views, context.camera, context.R_wg, yaw);
+  if (context.options.fit_cuboid_to_edges) {
+    // The edges place the centre; the extents are taken again from the boxes at that
+    // centre. The cuboid that bounds a cylinder's (a cup's, a bottle's) boxes from every
+    // side has a footprint smaller than its diameter, and association and merging compare
+    // the cuboid with the boxes' widths: with the fitted extents, fr3 long_office lost two
+    // bottles' detections to their neighbours and removed them.
+    const Cuboid fitted = FitCuboidToBoxes(object.cuboid, views, context.camera, context.R_wg);
+    object.cuboid = EstimateCuboid(fitted.centre, views, context.camera, context.R_wg, yaw);
+  }
   object.yaw_from_points = yaw.has_value();
   object.has_cuboid = true;
   return true;

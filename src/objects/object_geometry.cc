@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <ceres/ceres.h>
 #include <Eigen/Dense>
 
 #include "ocg/core/convex_hull.h"
@@ -267,6 +268,131 @@ Rectangle2 MinAreaRectangle(const std::vector<Eigen::Vector2d>& points) {
     best.width = width;
   }
   return best;
+}
+
+namespace {
+
+// log(2): the factor by which FitCuboidToBoxes may change an extent.
+constexpr double kExtentFreedom = 0.6931471805599453;
+// The boxes FitCuboidToBoxes fits at most.
+constexpr std::size_t kMaxFitViews = 60;
+
+// The residuals of one view's box for FitCuboidToBoxes: the bounding rectangle of the
+// cuboid's corners projected with the camera's distortion (as CuboidImageBounds), minus the
+// box, x edges over its width, y edges over its height. Parameters: the centre (world,
+// metres) and the log of the extents (so they stay positive). Templated for Ceres's
+// automatic derivatives.
+class BoxEdgeResidual {
+ public:
+  BoxEdgeResidual(const BoxView& view, const PinholeCamera& camera, const Eigen::Matrix3d& R_wg,
+                  double yaw)
+      : box_(view.box),
+        camera_(camera),
+        R_cw_(view.T_cw.rotation()),
+        t_cw_(view.T_cw.translation()),
+        axes_(R_cw_ * R_wg * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix()) {}
+
+  template <typename T>
+  bool operator()(const T* centre, const T* log_size, T* residual) const {
+    // In the camera: the centre, and the cuboid's three half axes (corners are the centre
+    // plus or minus each), with the rotations' products taken in doubles once.
+    T point_centre[3], half_axis[3][3];
+    for (int row = 0; row < 3; ++row) {
+      point_centre[row] = T(t_cw_[row]);
+      for (int col = 0; col < 3; ++col) point_centre[row] += R_cw_(row, col) * centre[col];
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      const T half_extent = 0.5 * exp(log_size[axis]);
+      for (int row = 0; row < 3; ++row) half_axis[axis][row] = axes_(row, axis) * half_extent;
+    }
+    T x0(1e300), y0(1e300), x1(-1e300), y1(-1e300);
+    for (int i = 0; i < 8; ++i) {
+      T point[3] = {point_centre[0], point_centre[1], point_centre[2]};
+      for (int axis = 0; axis < 3; ++axis) {
+        const bool plus = (i >> axis) & 1;
+        for (int row = 0; row < 3; ++row)
+          point[row] += plus ? half_axis[axis][row] : -half_axis[axis][row];
+      }
+      if (point[2] <= T(1e-6)) return false;
+      const T x = point[0] / point[2], y = point[1] / point[2];
+      const T r2 = x * x + y * y;
+      const T radial = T(1.0) + r2 * (camera_.k1 + r2 * (camera_.k2 + r2 * camera_.k3));
+      const T u =
+          camera_.fx * (x * radial + 2.0 * camera_.p1 * x * y + camera_.p2 * (r2 + 2.0 * x * x)) +
+          camera_.cx;
+      const T v =
+          camera_.fy * (y * radial + camera_.p1 * (r2 + 2.0 * y * y) + 2.0 * camera_.p2 * x * y) +
+          camera_.cy;
+      if (u < x0) x0 = u;
+      if (u > x1) x1 = u;
+      if (v < y0) y0 = v;
+      if (v > y1) y1 = v;
+    }
+    const double width = std::max(box_.Width(), 1.0);
+    const double height = std::max(box_.Height(), 1.0);
+    residual[0] = (x0 - box_.x0) / width;
+    residual[1] = (x1 - box_.x1) / width;
+    residual[2] = (y0 - box_.y0) / height;
+    residual[3] = (y1 - box_.y1) / height;
+    return true;
+  }
+
+ private:
+  Box2 box_;
+  const PinholeCamera& camera_;
+  Eigen::Matrix3d R_cw_;
+  Eigen::Vector3d t_cw_;
+  Eigen::Matrix3d axes_;  // the cuboid's axes (gravity frame and yaw) in the camera
+};
+
+}  // namespace
+
+Cuboid FitCuboidToBoxes(const Cuboid& initial, const std::vector<BoxView>& views,
+                        const PinholeCamera& camera, const Eigen::Matrix3d& R_wg,
+                        double edge_loss_scale) {
+  if (views.empty() || (initial.size.array() <= 0.0).any()) return initial;
+  Eigen::Vector3d centre = initial.centre;
+  Eigen::Vector3d log_size = initial.size.array().log();
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  ceres::CauchyLoss loss(edge_loss_scale);
+  // At most kMaxFitViews, evenly thinned: six unknowns are fixed by a few dozen boxes, and
+  // an object is refitted at every keyframe that brings it new ones.
+  const std::size_t step = (views.size() + kMaxFitViews - 1) / kMaxFitViews;
+  for (std::size_t index = 0; index < views.size(); index += step) {
+    const BoxView& view = views[index];
+    auto* cost = new ceres::AutoDiffCostFunction<BoxEdgeResidual, 4, 3, 3>(
+        new BoxEdgeResidual(view, camera, R_wg, initial.yaw));
+    problem.AddResidualBlock(cost, &loss, centre.data(), log_size.data());
+  }
+  // Extents stay within a factor of those the boxes gave at the rays' point: a side seen
+  // from too few directions is not fixed by the edges, and would shrink to nothing.
+  for (int axis = 0; axis < 3; ++axis) {
+    problem.SetParameterLowerBound(log_size.data(), axis, log_size[axis] - kExtentFreedom);
+    problem.SetParameterUpperBound(log_size.data(), axis, log_size[axis] + kExtentFreedom);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 15;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  if (!summary.IsSolutionUsable() || !(summary.final_cost < summary.initial_cost)) return initial;
+  Cuboid fitted = initial;
+  fitted.centre = centre;
+  fitted.size = log_size.array().exp();
+  // The robust loss may fit some boxes by giving up others: the fit is kept only when its
+  // projections overlap the boxes at least as well, taken over all of them.
+  double initial_overlap = 0.0, fitted_overlap = 0.0;
+  for (const BoxView& view : views) {
+    const std::optional<Box2> before = CuboidImageBounds(initial, R_wg, view.T_cw, camera, true);
+    const std::optional<Box2> after = CuboidImageBounds(fitted, R_wg, view.T_cw, camera, true);
+    if (before) initial_overlap += IntersectionOverUnion(*before, view.box);
+    if (after) fitted_overlap += IntersectionOverUnion(*after, view.box);
+  }
+  return fitted_overlap >= initial_overlap ? fitted : initial;
 }
 
 }  // namespace ocg

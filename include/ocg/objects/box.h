@@ -78,6 +78,12 @@ std::array<Eigen::Vector3d, 8> CuboidCorners(const Cuboid& cuboid, const Eigen::
 std::array<std::pair<Eigen::Vector3d, Eigen::Vector3d>, 12> CuboidEdges(
     const Cuboid& cuboid, const Eigen::Matrix3d& R_wg);
 
+// The bounding rectangle of the cuboid's projected corners, not clipped, with the camera's
+// distortion or without; none when a corner is behind the camera (z <= 1 mm).
+std::optional<Box2> CuboidImageBounds(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,
+                                      const SE3& T_cw, const PinholeCamera& camera,
+                                      bool with_distortion);
+
 // The bounding rectangle of the cuboid's projected corners, clipped to the image; none
 // when a corner is behind the camera or the rectangle misses the image.
 std::optional<Box2> ProjectCuboid(const Cuboid& cuboid, const Eigen::Matrix3d& R_wg,

@@ -1,7 +1,7 @@
 #pragma once
 // Where an object is and how big, from its boxes in views of known pose: the centre from
-// the rays through the box centres (robust multi-view triangulation), extents and yaw
-// from the box sizes and the depth.
+// the rays through the box centres (robust multi-view triangulation), refined on the
+// boxes' edges (FitCuboidToBoxes); extents and yaw from the box sizes and the depth.
 
 #include <optional>
 #include <vector>
@@ -73,6 +73,23 @@ double ParallaxDeg(const Eigen::Vector3d& point, const SE3& T_cw_a, const SE3& T
 Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>& views,
                       const PinholeCamera& camera, const Eigen::Matrix3d& R_wg,
                       std::optional<double> known_yaw = std::nullopt);
+
+// The cuboid whose projected corners best bound the boxes (centre and extents; yaw kept):
+// Levenberg-Marquardt (Ceres) from initial on the four edges of every view's box, the
+// corners projected with the camera's distortion, each residual a share of that box's
+// width or height, under a Cauchy loss of scale edge_loss_scale (a box that does not fit
+// stops pulling). Why not the rays through the box centres alone: a box's centre is not
+// where the object's centre projects (an object seen from above and aside shows more of
+// its top and one side), and that offset turns with the view, so rays from stretches of
+// views a few degrees apart meet beside the object, mostly in depth (docs/objects.md,
+// "Edges, not centres"). The edges carry that offset. Views must be untruncated boxes (a
+// cut box's edge is the image's). Each extent stays within a factor 2 of initial's (a side
+// seen from too few directions is not fixed by the edges). Returns initial when there are
+// no views, when the fit does not lower the cost, or when its projections overlap the
+// boxes less (summed IoU) than initial's.
+Cuboid FitCuboidToBoxes(const Cuboid& initial, const std::vector<BoxView>& views,
+                        const PinholeCamera& camera, const Eigen::Matrix3d& R_wg,
+                        double edge_loss_scale = 0.1);
 
 // The smallest-area rectangle holding 2-D points (rotating calipers on their convex hull):
 // yaw of its first side in [0, 90) degrees, the side lengths along yaw and across it.

@@ -59,6 +59,12 @@ struct ObjectsOptions {
   // object was never mapped (issue 18). 0: candidates take boxes through the predicted
   // box only.
   double candidate_gap_seconds = 30.0;
+  // Objects.fit_cuboid_to_edges: an object's centre is fitted to its boxes' edges
+  // (object_geometry.h FitCuboidToBoxes) after the rays through their centres placed it,
+  // and its extents are taken from the boxes at that centre: box centres are off the
+  // object's projected centre by a share of its size that changes with the view
+  // (docs/objects.md, "Edges, not centres"). False: the centre is where those rays meet.
+  bool fit_cuboid_to_edges = true;
 
   // Objects.min_inlier_share: of a candidate's rays, the share that must meet at its centre
   // for promotion (a candidate fed by two objects of one class meets nowhere).
@@ -248,6 +254,11 @@ struct ObjectsOptions {
           "candidates whose boxes fit a map object's projection join it at the next keyframe. 0: "
           "the rule before it (predicted box only, dropped after "
           "`Objects.candidate_max_missed_frames`)");
+    visit("Objects.fit_cuboid_to_edges", self.fit_cuboid_to_edges, OptionBound::Any(),
+          "an object's centre is fitted to its boxes' edges after the rays through their "
+          "centres placed it, its extents taken from the boxes there (box centres are off the "
+          "object's projected centre by a share of its size that changes with the view; "
+          "objects.md, \"Edges, not centres\"). false: the centre is where those rays meet");
     visit("Objects.min_inlier_share", self.min_inlier_share, share,
           "share of a candidate's rays that must meet at its centre");
     visit("Objects.min_sightings", self.min_sightings, OptionBound::NonNegative(),
