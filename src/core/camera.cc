@@ -33,17 +33,16 @@ bool PinholeCamera::HasDistortion() const {
 }
 
 Eigen::Vector2d PinholeCamera::Distort(const Eigen::Vector2d& normalized) const {
-  const double x = normalized.x();
-  const double y = normalized.y();
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-  return {x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
-          y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y};
+  Eigen::Vector2d distorted;
+  DistortNormalized(*this, normalized.x(), normalized.y(), &distorted.x(), &distorted.y());
+  return distorted;
 }
 
 Eigen::Vector2d PinholeCamera::Project(const Eigen::Vector3d& point_camera) const {
-  const Eigen::Vector2d distorted = Distort(point_camera.head<2>() / point_camera.z());
-  return {fx * distorted.x() + cx, fy * distorted.y() + cy};
+  Eigen::Vector2d pixel;
+  ProjectNormalized(*this, point_camera.x() / point_camera.z(), point_camera.y() / point_camera.z(),
+                    &pixel.x(), &pixel.y());
+  return pixel;
 }
 
 Eigen::Vector2d PinholeCamera::ProjectUndistorted(const Eigen::Vector3d& point_camera) const {

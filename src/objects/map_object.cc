@@ -131,7 +131,9 @@ bool Reestimate(MapObject& object, bool candidate, const ObjectMapContext& conte
     // the cuboid with the boxes' widths: with the fitted extents, fr3 long_office lost two
     // bottles' detections to their neighbours and removed them.
     const Cuboid fitted = FitCuboidToBoxes(object.cuboid, views, context.camera, context.R_wg);
-    object.cuboid = EstimateCuboid(fitted.centre, views, context.camera, context.R_wg, yaw);
+    // A refused fit returns its start, whose extents are already the boxes' there.
+    if (fitted.centre != object.cuboid.centre)
+      object.cuboid = EstimateCuboid(fitted.centre, views, context.camera, context.R_wg, yaw);
   }
   object.yaw_from_points = yaw.has_value();
   object.has_cuboid = true;

@@ -274,8 +274,6 @@ namespace {
 
 // log(2): the factor by which FitCuboidToBoxes may change an extent.
 constexpr double kExtentFreedom = 0.6931471805599453;
-// The boxes FitCuboidToBoxes fits at most.
-constexpr std::size_t kMaxFitViews = 60;
 
 // The residuals of one view's box for FitCuboidToBoxes: the bounding rectangle of the
 // cuboid's corners projected with the camera's distortion (as CuboidImageBounds), minus the
@@ -314,15 +312,8 @@ class BoxEdgeResidual {
           point[row] += plus ? half_axis[axis][row] : -half_axis[axis][row];
       }
       if (point[2] <= T(1e-6)) return false;
-      const T x = point[0] / point[2], y = point[1] / point[2];
-      const T r2 = x * x + y * y;
-      const T radial = T(1.0) + r2 * (camera_.k1 + r2 * (camera_.k2 + r2 * camera_.k3));
-      const T u =
-          camera_.fx * (x * radial + 2.0 * camera_.p1 * x * y + camera_.p2 * (r2 + 2.0 * x * x)) +
-          camera_.cx;
-      const T v =
-          camera_.fy * (y * radial + camera_.p1 * (r2 + 2.0 * y * y) + 2.0 * camera_.p2 * x * y) +
-          camera_.cy;
+      T u, v;
+      ProjectNormalized(camera_, T(point[0] / point[2]), T(point[1] / point[2]), &u, &v);
       if (u < x0) x0 = u;
       if (u > x1) x1 = u;
       if (v < y0) y0 = v;
@@ -357,11 +348,7 @@ Cuboid FitCuboidToBoxes(const Cuboid& initial, const std::vector<BoxView>& views
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   ceres::CauchyLoss loss(edge_loss_scale);
-  // At most kMaxFitViews, evenly thinned: six unknowns are fixed by a few dozen boxes, and
-  // an object is refitted at every keyframe that brings it new ones.
-  const std::size_t step = (views.size() + kMaxFitViews - 1) / kMaxFitViews;
-  for (std::size_t index = 0; index < views.size(); index += step) {
-    const BoxView& view = views[index];
+  for (const BoxView& view : views) {
     auto* cost = new ceres::AutoDiffCostFunction<BoxEdgeResidual, 4, 3, 3>(
         new BoxEdgeResidual(view, camera, R_wg, initial.yaw));
     problem.AddResidualBlock(cost, &loss, centre.data(), log_size.data());

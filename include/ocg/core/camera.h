@@ -42,4 +42,23 @@ struct PinholeCamera {
   bool IsInImage(const Eigen::Vector2d& pixel, double margin = 0.0) const;
 };
 
+// The camera's distortion model, written once: normalized coordinates (x, y) = (X/Z, Y/Z)
+// to distorted ones (PinholeCamera::Distort), and to the pixel (PinholeCamera::Project).
+// Templated for automatic derivatives (Ceres Jets); T = double gives those methods' values.
+template <typename T>
+void DistortNormalized(const PinholeCamera& camera, const T& x, const T& y, T* x_distorted,
+                       T* y_distorted) {
+  const T r2 = x * x + y * y;
+  const T radial = 1.0 + r2 * (camera.k1 + r2 * (camera.k2 + r2 * camera.k3));
+  *x_distorted = x * radial + 2.0 * camera.p1 * x * y + camera.p2 * (r2 + 2.0 * x * x);
+  *y_distorted = y * radial + camera.p1 * (r2 + 2.0 * y * y) + 2.0 * camera.p2 * x * y;
+}
+template <typename T>
+void ProjectNormalized(const PinholeCamera& camera, const T& x, const T& y, T* u, T* v) {
+  T x_distorted, y_distorted;
+  DistortNormalized(camera, x, y, &x_distorted, &y_distorted);
+  *u = camera.fx * x_distorted + camera.cx;
+  *v = camera.fy * y_distorted + camera.cy;
+}
+
 }  // namespace ocg

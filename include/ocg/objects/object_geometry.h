@@ -83,7 +83,8 @@ Cuboid EstimateCuboid(const Eigen::Vector3d& centre, const std::vector<BoxView>&
 // its top and one side), and that offset turns with the view, so rays from stretches of
 // views a few degrees apart meet beside the object, mostly in depth (docs/objects.md,
 // "Edges, not centres"). The edges carry that offset. Views must be untruncated boxes (a
-// cut box's edge is the image's). Each extent stays within a factor 2 of initial's (a side
+// cut box's edge is the image's), as many as the caller thought worth their cost
+// (Reestimate: Objects.max_rays). Each extent stays within a factor 2 of initial's (a side
 // seen from too few directions is not fixed by the edges). Returns initial when there are
 // no views, when the fit does not lower the cost, or when its projections overlap the
 // boxes less (summed IoU) than initial's.
